@@ -1,0 +1,108 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+#
+# Cross-builds lib/ for Cortex-M0+ (Q15 runtime only) and Cortex-M4 (all of
+# it), prints the code size of every object, and fails when the firmware
+# library would drag in things a microcontroller build must not need:
+#   - heap or stdio, on either core;
+#   - any floating-point helper or libm call in the M0+ (no FPU) objects.
+# The checks read undefined symbols (arm-none-eabi-nm -u), i.e. what each
+# object asks the final link to supply.
+set -euo pipefail
+
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+log() { printf '[firmware] %s\n' "$*"; }
+
+for tool in cmake arm-none-eabi-gcc arm-none-eabi-nm arm-none-eabi-size; do
+  if ! command -v "$tool" >/dev/null 2>&1; then
+    log "missing $tool: run scripts/setup.sh first"
+    exit 1
+  fi
+done
+
+# Extended regexes, matched against whole symbol names.
+# Allocation, including newlib's reentrant _malloc_r and friends.
+heap_re='^_?(malloc|calloc|realloc|reallocarray|free|aligned_alloc|memalign|posix_memalign|valloc|strdup|strndup|sbrk)(_r)?$'
+# Formatted and stream I/O. GCC may turn printf into puts/putchar and
+# fprintf(stderr, ...) into fputc + _impure_ptr, so the stream objects count too.
+stdio_re='^_?[a-z]*(printf|scanf)(_r)?$'
+stdio_re+='|^_?(puts|fputs|putchar|putc|fputc|getchar|getc|fgetc|gets|fgets|fopen|fdopen|freopen|fclose|fread|fwrite|fflush|fseek|fseeko|ftell|ftello|rewind|fgetpos|fsetpos|perror|setbuf|setvbuf|ungetc|tmpfile|tmpnam|remove|rename|fileno|clearerr|feof|ferror)(_r)?$'
+stdio_re+='|^(stdin|stdout|stderr|_impure_ptr|_global_impure_ptr|__sF)$'
+# Soft-float helpers (EABI and generic libgcc names) and libm.
+float_re='^__aeabi_[fd]|^__aeabi_[iul]+2[fd]$'
+float_re+='|^__(add|sub|mul|div|neg|eq|ne|lt|le|gt|ge|un|cmp)[sdt]f[23]$|^__(float|fix|extend|trunc)'
+float_re+='|^(__ieee754_)?(sqrt|cbrt|exp|exp2|expm1|log|log2|log10|log1p|pow|sin|cos|tan|asin|acos|atan|atan2|sinh|cosh|tanh|floor|ceil|round|lround|llround|trunc|fmod|remainder|modf|frexp|ldexp|scalbn|hypot|fabs|fmin|fmax|fma|rint|lrint|llrint|nearbyint|erf|erfc|tgamma|lgamma|copysign)[fl]?$'
+
+# Objects that must exist in the M0+ archive: the per-sample Q15 path.
+m0_required_objects=(pf_fracop_q15.c.obj pf_ctrl_q15.c.obj)
+
+violations=()
+
+# Prints "<object> <symbol>" for every undefined symbol in an archive.
+undefined_symbols() {
+  # POSIX format: "archive[member]: symbol U"
+  arm-none-eabi-nm -u -A -P "$1" | awk '{
+    obj = $1; sub(/^.*\[/, "", obj); sub(/\]:$/, "", obj)
+    print obj, $2
+  }'
+}
+
+# check <archive> <what> <regex>: records each undefined symbol matching regex.
+check() {
+  local archive=$1 what=$2 re=$3 obj sym
+  while read -r obj sym; do
+    if [[ $sym =~ $re ]]; then
+      violations+=("$archive: $obj references $sym ($what)")
+    fi
+  done < <(undefined_symbols "$archive")
+}
+
+# Chained with && because errexit is off inside an "if" condition.
+build() {
+  local cpu=$1 dir=$2
+  log "building lib/ for $cpu in $dir/"
+  cmake -S . -B "$dir" --log-level=WARNING \
+    -DCMAKE_TOOLCHAIN_FILE="$PWD/cmake/arm-none-eabi.cmake" \
+    -DCMAKE_BUILD_TYPE=MinSizeRel \
+    -DPNEUFRAC_CPU="$cpu" &&
+    cmake --build "$dir" --parallel "$(nproc 2>/dev/null || echo 2)"
+}
+
+status=0
+for target in cortex-m0plus:build-arm-m0 cortex-m4:build-arm-m4; do
+  cpu=${target%%:*}
+  dir=${target#*:}
+  if ! build "$cpu" "$dir"; then
+    log "FAIL: the $cpu build did not compile"
+    status=1
+    continue
+  fi
+  archive=$dir/lib/libpneufrac.a
+
+  log "size of $archive ($cpu), Berkeley format:"
+  arm-none-eabi-size -B -t "$archive"
+
+  check "$archive" "heap" "$heap_re"
+  check "$archive" "stdio" "$stdio_re"
+
+  if [[ $cpu == cortex-m0plus ]]; then
+    members=$(arm-none-eabi-ar t "$archive")
+    for obj in "${m0_required_objects[@]}"; do
+      grep -qx "$obj" <<<"$members" || violations+=("$archive: $obj is missing from the M0+ archive")
+    done
+    # Every object of the M0+ archive is Q15 runtime, so none may touch floats.
+    check "$archive" "floating point on a core without FPU" "$float_re"
+  fi
+done
+
+if ((${#violations[@]} > 0)); then
+  log "FAIL: the firmware library breaks its rules (no heap, no stdio; no float on M0+):"
+  printf '  %s\n' "${violations[@]}"
+  status=1
+fi
+
+if ((status == 0)); then
+  log "ok: no heap, no stdio, and no floating point in the M0+ objects"
+fi
+exit "$status"

@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+#
+# Prepares a Debian 12 machine for pneufrac and builds it into build/.
+# Safe to run again: each step is skipped when its result is already there.
+#   1. Debian packages (apt only when one is missing)
+#   2. Python venv in .venv/ with the analysis and test packages
+#   3. CMake configure + build (Release, tests on)
+set -euo pipefail
+
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+log() { printf '[setup] %s\n' "$*"; }
+
+apt_packages=(
+  cmake make gcc libc6-dev pkg-config
+  libcmocka-dev libmodbus-dev mbpoll
+  gcc-arm-none-eabi libnewlib-arm-none-eabi
+  valgrind cppcheck
+  python3 python3-venv
+)
+# Each of these imports under its own PyPI name.
+python_packages=(numpy scipy matplotlib pymodbus pytest)
+
+# --- 1. Debian packages ------------------------------------------------------
+missing=()
+for pkg in "${apt_packages[@]}"; do
+  if [[ $(dpkg-query -W -f='${db:Status-Status}' "$pkg" 2>/dev/null) != installed ]]; then
+    missing+=("$pkg")
+  fi
+done
+
+if ((${#missing[@]} > 0)); then
+  log "installing Debian packages: ${missing[*]}"
+  sudo=()
+  if ((EUID != 0)); then
+    sudo=(sudo)
+  fi
+  apt_log=$(mktemp)
+  trap 'rm -f "$apt_log"' EXIT
+  if ! { "${sudo[@]}" apt-get update -qq &&
+         "${sudo[@]}" env DEBIAN_FRONTEND=noninteractive \
+           apt-get install -y -qq --no-install-recommends "${missing[@]}"; } >"$apt_log" 2>&1; then
+    cat "$apt_log" >&2
+    log "apt-get failed"
+    exit 1
+  fi
+else
+  log "Debian packages: all present"
+fi
+
+# --- 2. Python venv ----------------------------------------------------------
+venv_python=.venv/bin/python
+if ! "$venv_python" -c 'import sys' >/dev/null 2>&1; then
+  # Missing, or left broken by a Python that is gone: start over.
+  log "creating Python venv in .venv/"
+  rm -rf .venv
+  python3 -m venv .venv
+fi
+
+import_check="import $(IFS=,; echo "${python_packages[*]}")"
+if "$venv_python" -c "$import_check" >/dev/null 2>&1; then
+  log "Python packages: all present"
+else
+  log "installing Python packages: ${python_packages[*]}"
+  "$venv_python" -m pip install --quiet "${python_packages[@]}"
+fi
+
+# --- 3. Build ----------------------------------------------------------------
+log "configuring build/ (Release, tests on)"
+cmake -S . -B build --log-level=WARNING \
+  -DCMAKE_BUILD_TYPE=Release \
+  -DPNEUFRAC_BUILD_TESTS=ON
+log "building"
+cmake --build build --parallel "$(nproc 2>/dev/null || echo 2)"
+log "done: library in build/lib/, run scripts/test.sh for the tests"

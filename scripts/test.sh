@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# shellcheck disable=SC2317  # the step_* functions are called through run_step
+#
+# Sets up (scripts/setup.sh), then runs every check. A failing step does not
+# stop the later ones; the exit status is non-zero if any step failed.
+#   ctest     unit and reference tests of the Release build in build/
+#   asan      the same tests built with ASan + UBSan in build-asan/
+#   firmware  cross builds for Cortex-M0+/M4 and their symbol rules
+#   pytest    Python tests in tests/python/, when there are any
+set -euo pipefail
+
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+log() { printf '[test] %s\n' "$*"; }
+
+./scripts/setup.sh
+
+jobs=$(nproc 2>/dev/null || echo 2)
+summary=()
+failed=0
+skip_reason=""
+
+# run_step <name> <command...>: runs one step and records its outcome;
+# exit status 77 means skipped, with the reason in skip_reason.
+# Step functions chain with && because errexit is off inside a condition.
+run_step() {
+  local name=$1 rc=0
+  shift
+  log "=== $name ==="
+  "$@" || rc=$?
+  if ((rc == 0)); then
+    summary+=("$name: ok")
+  elif ((rc == 77)); then
+    summary+=("$name: skipped ($skip_reason)")
+  else
+    summary+=("$name: FAILED (exit $rc)")
+    failed=1
+  fi
+}
+
+step_ctest() {
+  ctest --test-dir build --output-on-failure --no-tests=error --parallel "$jobs"
+}
+
+step_asan() {
+  cmake -S . -B build-asan --log-level=WARNING \
+    -DCMAKE_BUILD_TYPE=Debug \
+    -DPNEUFRAC_SANITIZE=ON \
+    -DPNEUFRAC_BUILD_TESTS=ON &&
+    cmake --build build-asan --parallel "$jobs" &&
+    UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1} \
+    ctest --test-dir build-asan --output-on-failure --no-tests=error --parallel "$jobs"
+}
+
+step_firmware() {
+  ./scripts/firmware-check.sh
+}
+
+step_pytest() {
+  if [[ ! -d tests/python ]] ||
+     [[ -z $(find tests/python -name 'test_*.py' -o -name '*_test.py' | head -n 1) ]]; then
+    skip_reason="no tests in tests/python"
+    return 77
+  fi
+  # Test files exist, so pytest's "no tests collected" (exit 5) is a failure too.
+  PNEUFRAC_BUILD_DIR="$PWD/build" \
+  PNEUFRAC_LIBRARY="$PWD/build/lib/libpneufrac.so" \
+    .venv/bin/python -m pytest -q tests/python
+}
+
+run_step ctest step_ctest
+run_step asan step_asan
+run_step firmware step_firmware
+run_step pytest step_pytest
+
+log "=== summary ==="
+for line in "${summary[@]}"; do
+  log "$line"
+done
+exit "$failed"
