@@ -1,0 +1,29 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file pf_config.h
+ * @brief Compile-time limits of pneufrac, overridable before inclusion
+ *        (define them on the compiler command line or in a header named by
+ *        PF_CONFIG_HEADER), in the style of lwIP's opt.h.
+ *
+ * They size the instance structs, so static allocation needs no malloc.
+ */
+#ifndef PNEUFRAC_PF_CONFIG_H
+#define PNEUFRAC_PF_CONFIG_H
+
+#ifdef PF_CONFIG_HEADER
+#include PF_CONFIG_HEADER
+#endif
+
+/** Largest Oustaloup order N accepted by the design (2N+1 zero/pole pairs). */
+#ifndef PF_MAX_ORDER
+#define PF_MAX_ORDER 8
+#endif
+
+/** Largest number of first-order sections one operator may use:
+ *  2N+1 from the product, plus 2 for the refined variant's correction factor. */
+#define PF_MAX_SEC (2 * PF_MAX_ORDER + 3)
+
+/** Largest |integer part| of an operator order (|alpha| < 2 rounds to <= 2). */
+#define PF_MAX_INT 2
+
+#endif /* PNEUFRAC_PF_CONFIG_H */

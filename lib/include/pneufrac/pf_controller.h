@@ -1,0 +1,216 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file pf_controller.h
+ * @brief The paper's pneumatic controllers as one sampled instance each.
+ *
+ * Block diagram (Figs. 3, 5, 7 of the paper), every configuration:
+ *
+ *     x   = b/(a+b) e - a/(a+b) y                   flapper lever, eq. 15
+ *     p_b = k1 x                                    nozzle, eq. 9
+ *     z   = (1+(tau s)^beta)/(pmin+pmax (tau s)^beta) p_b   relay, eqs. 11-14
+ *     p_c = k2 z                                    eq. 13
+ *     y   = (A/ks) s^-q m                           bellows, eq. 16
+ *     m   = p_c                 (p,  eq. 17)
+ *         = Rv p_c              (dd, eq. 18)
+ *         = p_c - Rw p_c        (id, eq. 20)
+ *         = Rv p_c - Rw p_c     (pid, docs/pid.md)
+ *     Rv  = 1/(RC s^nu + 1),  Rw = 1/(RC s^w + 1)   restrictors
+ *
+ * Each fractional operator is realised as y = D*u + S over a sample (see
+ * pf_fracop.h), so the loops flapper-bellows, relay-diaphragm and the
+ * restrictors are solved exactly each sample, with no unit delay:
+ *  - relay: with v = (tau s)^beta w, pmin w + pmax v = p_b, where
+ *    w = (tau s)^-beta v is the operator; one division by a constant;
+ *  - restrictor: r = (1/RC) s^-nu (p_c - r), likewise;
+ *  - main loop: affine in x, one multiplication by a precomputed reciprocal.
+ * With backlash, nozzle curve or saturation on, the main loop equation
+ * g(x) = 0 is strictly increasing in x (all three effects are monotone and
+ * the feedback is negative), so it has exactly one root. One evaluation
+ * brackets it; false position (Illinois) then converges; see pf_ctrl_float.
+ */
+#ifndef PNEUFRAC_PF_CONTROLLER_H
+#define PNEUFRAC_PF_CONTROLLER_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "pf_effects.h"
+#include "pf_fracop.h"
+#include "pf_params.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Runtime coefficients in double (the f64 runtime's coefficient set). */
+typedef struct pf_ctrl_coeffs_f64 {
+    uint8_t has_q, has_v, has_w;  /**< which operators the configuration uses */
+    uint8_t in_loop_fx;           /**< backlash, nozzle or saturation is on */
+    uint8_t hold;                 /**< held-input model (pf_input_model) */
+    pf_fracop_design P, Q, V, W;  /**< relay (tau s)^-beta, bellows (A/ks) s^-q,
+                                       restrictors (1/RC) s^-nu, s^-w */
+    double ce, cy;                /**< lever ratios b/(a+b), a/(a+b) */
+    double k1, k2, kA;            /**< nozzle, relay, A/ks (bellows if q = 0) */
+    double pmin;                  /**< Psi_min */
+    double relay_den_inv;         /**< 1/(pmax + pmin*D_P) */
+    double relay_d0, relay_w;     /**< 1/pmax, 1 - pmin/pmax */
+    double relay_sz;              /**< sigma_z per S_P: (pmax-pmin)/(pmax+pmin D_P) */
+    double v_a, v_den_inv;        /**< D_V/(1+D_V), 1/(1+D_V) */
+    double w_a, w_den_inv;        /**< D_W/(1+D_W), 1/(1+D_W) */
+    double alpha_z, alpha_y;      /**< dz/dp_b and dy/dp_c within one sample */
+    double loop_inv;              /**< 1/(1 + cy*alpha_y*k2*alpha_z*k1) */
+    double play_r, nozzle_xh;     /**< backlash half-width; nozzle x_1/2 */
+    uint8_t saturate;
+    double sat_lo, sat_hi;
+    double lag_lam;               /**< 1 - exp(-1/(fs*lag)); 0 = off */
+    uint32_t delay_len;           /**< dead time in samples */
+} pf_ctrl_coeffs_f64;
+
+/** Runtime coefficients in float (same fields, float operators). */
+typedef struct pf_ctrl_coeffs_f32 {
+    uint8_t has_q, has_v, has_w, in_loop_fx, hold;
+    pf_fracop_coeffs_f32 P, Q, V, W;
+    float ce, cy, k1, k2, kA, pmin;
+    float relay_den_inv, relay_d0, relay_w, relay_sz;
+    float v_a, v_den_inv, w_a, w_den_inv;
+    float alpha_z, alpha_y, loop_inv;
+    float play_r, nozzle_xh;
+    uint8_t saturate;
+    float sat_lo, sat_hi, lag_lam;
+    uint32_t delay_len;
+} pf_ctrl_coeffs_f32;
+
+/** A complete controller design: what was asked and what was derived. */
+typedef struct pf_ctrl_design {
+    pf_params p;
+    pf_effects fx;
+    pf_design_opts opt;       /**< resolved: every default filled in */
+    pf_ctrl_coeffs_f64 rt;
+} pf_ctrl_design;
+
+/** Design a controller. @p fx and may be NULL (no effects).
+ *  @return PF_OK or the status of the first invalid parameter; on error
+ *          @p d is left unusable and nothing else is touched. */
+pf_status pf_ctrl_design_make(pf_ctrl_design *d, const pf_params *p,
+                              const pf_effects *fx, const pf_design_opts *opt);
+
+/** Internal signals of the last sample, physical units. */
+typedef struct pf_ctrl_signals_f64 { double e, x, pb, z, pc, y, out; } pf_ctrl_signals_f64;
+typedef struct pf_ctrl_signals_f32 { float e, x, pb, z, pc, y, out; } pf_ctrl_signals_f32;
+
+/** Double runtime instance. The dead-time buffer is caller-owned. */
+typedef struct pf_ctrl_f64 {
+    const pf_ctrl_coeffs_f64 *c;
+    pf_fracop_f64 P, Q, V, W;
+    double e1, xb, lag;
+    double *dbuf;
+    uint32_t didx;
+    pf_ctrl_signals_f64 sig;
+} pf_ctrl_f64;
+
+/** Float runtime instance. */
+typedef struct pf_ctrl_f32 {
+    const pf_ctrl_coeffs_f32 *c;
+    pf_fracop_f32 P, Q, V, W;
+    float e1, xb, lag;
+    float *dbuf;
+    uint32_t didx;
+    pf_ctrl_signals_f32 sig;
+} pf_ctrl_f32;
+
+/** Discrete frequency response P_c/E of the designed (linear) controller at
+ *  omega rad/s, z = exp(j omega/fs), including the held-input mean. */
+void pf_ctrl_freqresp(const pf_ctrl_design *d, double omega, double *re,
+                      double *im);
+
+/** Derive the float coefficient set from a design's double one. */
+void pf_ctrl_coeffs_f32_make(pf_ctrl_coeffs_f32 *cf, const pf_ctrl_coeffs_f64 *c);
+
+/** Bind a coefficient set. @p dbuf must hold c->delay_len elements (NULL if
+ *  0). @return PF_OK, PF_E_NULL or PF_E_BUFFER. The state starts at rest. */
+pf_status pf_ctrl_init_f64(pf_ctrl_f64 *in, const pf_ctrl_coeffs_f64 *c,
+                           double *dbuf, size_t dlen);
+pf_status pf_ctrl_init_f32(pf_ctrl_f32 *in, const pf_ctrl_coeffs_f32 *c,
+                           float *dbuf, size_t dlen);
+void pf_ctrl_reset_f64(pf_ctrl_f64 *in);
+void pf_ctrl_reset_f32(pf_ctrl_f32 *in);
+/** One sample: error e in, line output p_c out (physical units). Total. */
+double pf_ctrl_step_f64(pf_ctrl_f64 *in, double e);
+float pf_ctrl_step_f32(pf_ctrl_f32 *in, float e);
+/** Block of n samples; identical to n calls of step (any split of a
+ *  sequence into blocks gives the same output). @p e and @p pc may alias. */
+void pf_ctrl_run_f64(pf_ctrl_f64 *in, const double *e, double *pc, size_t n);
+void pf_ctrl_run_f32(pf_ctrl_f32 *in, const float *e, float *pc, size_t n);
+
+/* ---------------- Q15 ---------------- */
+
+/** Internal nodes of the Q15 controller (also the order of its scales). */
+enum pf_ctrl_node {
+    PF_N_E, PF_N_X, PF_N_PB, PF_N_V, PF_N_W, PF_N_PC, PF_N_DV, PF_N_RV,
+    PF_N_DW, PF_N_RW, PF_N_M, PF_N_Y, PF_N_FP, PF_N_FQ, PF_N_FV, PF_N_FW,
+    PF_N_COUNT
+};
+
+/** Q15 coefficient set: integers only, usable as static const data on an
+ *  MCU without FPU. Every pf_qc multiplies one internal signal into the
+ *  scale of another; scales were chosen at design time (pf_ctrl_q15.c). */
+typedef struct pf_ctrl_coeffs_q15 {
+    uint8_t has_q, has_v, has_w, saturate, hold;
+    pf_fracop_coeffs_q15 P, Q, V, W;
+    pf_qc e_in;                    /**< Q15 e -> internal e */
+    pf_qc ce, cy;                  /**< e -> x, y -> x */
+    pf_qc k1;                      /**< x -> p_b */
+    pf_qc relay_v_pb, relay_v_s;   /**< p_b, S_P -> v */
+    pf_qc relay_z_pb, relay_z_w;   /**< p_b, w -> p_c (k2 folded in) */
+    pf_qc v_a, v_b, w_a, w_b;      /**< restrictors: p_c, S -> r */
+    pf_qc m_v, m_pc, m_w;          /**< r_V or p_c, r_W -> m */
+    pf_qc kA_m;                    /**< m -> y when q = 0 */
+    pf_qc dv_pc, dv_r, dw_pc, dw_r;/**< p_c, r -> restrictor operator input */
+    pf_qc loop_e, loop_sy, loop_sz;/**< closed-form x from e, sigma_y, sigma_z */
+    pf_qc sy_m, sy_s;              /**< sigma_y from sigma_m, S_Q */
+    pf_qc sz_s;                    /**< sigma_z from S_P */
+    pf_qc sm_v, sm_w;              /**< sigma_m from b_V, b_W */
+    pf_qc pc_out;                  /**< internal p_c -> Q15 output */
+    pf_qc pc_x;                    /**< x -> p_c (for saturation re-solve) */
+    pf_qc x_pc;                    /**< p_c -> x through y (alpha_y*cy) */
+    int32_t sat_lo, sat_hi;        /**< saturation limits, internal p_c */
+    int32_t lag_m; uint8_t lag_sh; /**< output lag leak */
+    uint32_t delay_len;
+    pf_qc mon[PF_N_COUNT];         /**< internal node -> Q15 of its full scale */
+} pf_ctrl_coeffs_q15;
+
+/** Q15 runtime instance. */
+typedef struct pf_ctrl_q15 {
+    const pf_ctrl_coeffs_q15 *c;
+    pf_fracop_q15 P, Q, V, W;
+    int32_t node[PF_N_COUNT];      /**< last value of every internal node */
+    int16_t e1;                    /**< previous input (held-input model) */
+    int32_t lag; int64_t lag_r;
+    int16_t *dbuf;
+    uint32_t didx;
+} pf_ctrl_q15;
+
+/** Derive the Q15 coefficient set. e = in_fs maps to Q15 +1.0 at the input,
+ *  p_c = out_fs to +1.0 at the output. Supports saturation, lag and dead
+ *  time; backlash and the nozzle curve are float/double only.
+ *  @return PF_OK, PF_E_PARAM(PF_P_IN_FS | PF_P_OUT_FS), PF_E_UNSUPPORTED
+ *          or PF_E_SCALE. */
+pf_status pf_ctrl_coeffs_q15_make(pf_ctrl_coeffs_q15 *cq,
+                                  const pf_ctrl_design *d, double in_fs,
+                                  double out_fs);
+pf_status pf_ctrl_init_q15(pf_ctrl_q15 *in, const pf_ctrl_coeffs_q15 *c,
+                           int16_t *dbuf, size_t dlen);
+void pf_ctrl_reset_q15(pf_ctrl_q15 *in);
+/** One sample. e and the result in Q15 of in_fs and out_fs; saturates. */
+int16_t pf_ctrl_step_q15(pf_ctrl_q15 *in, int16_t e);
+/** Block of n samples, as n calls of pf_ctrl_step_q15(). */
+void pf_ctrl_run_q15(pf_ctrl_q15 *in, const int16_t *e, int16_t *pc, size_t n);
+
+/** Full scales of the monitored signals in Q15 mode: x and y use in_fs,
+ *  p_b uses k1*in_fs, p_c uses out_fs. Writes Q15 values of x, p_b, y, p_c. */
+void pf_ctrl_monitor_q15(const pf_ctrl_q15 *in, int16_t *x, int16_t *pb,
+                         int16_t *y, int16_t *pc);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* PNEUFRAC_PF_CONTROLLER_H */

@@ -1,0 +1,56 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file pf_effects.h
+ * @brief What the linear model leaves out, as blocks at their physical places.
+ *
+ * | place                | effect                                        |
+ * |----------------------|-----------------------------------------------|
+ * | flapper displacement | backlash (play operator), nozzle curve        |
+ * | relay output p_c     | saturation at the supply limits (in the loop) |
+ * | output line          | extra first-order lag, then dead time          |
+ *
+ * All are off in a zeroed struct. The in-loop effects are monotone, so the
+ * loop equation stays uniquely solvable each sample (see pf_controller.h).
+ */
+#ifndef PNEUFRAC_PF_EFFECTS_H
+#define PNEUFRAC_PF_EFFECTS_H
+
+#include "pf_status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Effect parameters; zero means off. */
+typedef struct pf_effects {
+    double backlash;  /**< dead-band full width on x (units of x), >= 0 */
+    double nozzle_xh; /**< x_1/2 of p_b/p_s = 1/(1+(x/x_1/2)^2), units of x,
+                           >= 0; 0 = linear nozzle (eq. 9) */
+    int saturate;     /**< non-zero: clip p_c to [sat_lo, sat_hi] */
+    double sat_lo, sat_hi; /**< supply limits on p_c, sat_lo < sat_hi */
+    double dead_time; /**< output line transport delay, s, >= 0 */
+    double lag;       /**< output line extra lag time constant, s, >= 0 */
+} pf_effects;
+
+/** Check effect parameters. @return PF_OK or PF_E_PARAM(PF_P_BACKLASH ...). */
+pf_status pf_effects_validate(const pf_effects *fx);
+
+/** @return non-zero if any effect is on. */
+int pf_effects_any(const pf_effects *fx);
+
+/** Play (backlash) operator of half-width @p r: the output stays at
+ *  @p prev until the input moves more than r away, then follows it at
+ *  distance r. Monotone non-decreasing in @p x. */
+double pf_play(double prev, double x, double r);
+
+/** Nozzle characteristic around its operating point, normalised to unit
+ *  slope at x = 0: h(x) = xh*(F(u0) - F(u0 + x/xh))/|F'(u0)|, with
+ *  F(u) = 1/(1+u^2) and u0 = 1/sqrt(3), the point of steepest slope (where
+ *  a nozzle is biased for gain). The gap u cannot close below 0, where p_b
+ *  reaches supply. Monotone non-decreasing; p_b = k1*h(x). */
+double pf_nozzle(double x, double xh);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* PNEUFRAC_PF_EFFECTS_H */

@@ -1,0 +1,71 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file pf_params.h
+ * @brief Controller configurations and their physical parameters, named as
+ *        in Razminia & Baleanu, "Fractional Order Models of Industrial
+ *        Pneumatic Controllers" (the paper).
+ */
+#ifndef PNEUFRAC_PF_PARAMS_H
+#define PNEUFRAC_PF_PARAMS_H
+
+#include "pf_status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Controller configuration. */
+typedef enum pf_config {
+    PF_CFG_P = 0,  /**< nozzle-flapper-relay with bellows feedback, eq. 17 */
+    PF_CFG_DD = 1, /**< restrictor in the feedback path (FrDD), eq. 18 */
+    PF_CFG_ID = 2, /**< restricted positive-feedback bellows (FrID), eq. 20 */
+    PF_CFG_PID = 3,/**< both restrictors (fractional PID, Remark 3), docs/pid.md */
+    PF_CFG_COUNT
+} pf_config;
+
+/** Physical parameters. Units are the paper's (consistent, unspecified);
+ *  times in seconds. */
+typedef struct pf_params {
+    pf_config config;
+    double a, b;      /**< flapper lever arms (eq. 15), > 0 */
+    double k1;        /**< nozzle gain p_b = k1 x (eq. 9), > 0 */
+    double k2;        /**< relay gain p_c = k2 z (eq. 13), > 0 */
+    double A;         /**< bellows effective area (eq. 16), > 0 */
+    double ks;        /**< bellows pseudo-spring constant (eq. 16), > 0 */
+    double tau;       /**< relay time constant tau_new, s, > 0 (eq. 11) */
+    double pmin, pmax;/**< Psi_min <= Psi_max, > 0 (eq. 11) */
+    double beta;      /**< relay diaphragm order, (0, 1] */
+    double q;         /**< bellows order, [0, 1]; 0 is a linear spring */
+    double nu;        /**< derivative restrictor order, (0, 1] (dd, pid) */
+    double w;         /**< reset restrictor order, (0, 1] (id, pid) */
+    double RC;        /**< restrictor time constant, s, > 0 (dd, id) */
+    double RCd;       /**< pid derivative restrictor, s, > 0, < RCi */
+    double RCi;       /**< pid reset restrictor, s, > 0 */
+} pf_params;
+
+/** Defaults: Example 4 (p, q = 0.9), Example 6 (dd, q = 0.9), Example 7
+ *  (id), and for pid Example 7's values with nu = w = 0.94, RCd = 0.01 s,
+ *  RCi = 0.1 s (the paper gives none; see docs/pid.md). */
+void pf_params_default(pf_params *p, pf_config cfg);
+
+/** Check every parameter the configuration uses.
+ *  @return PF_OK or PF_E_PARAM(id) naming the first offending parameter. */
+pf_status pf_params_validate(const pf_params *p);
+
+/** Set or get a parameter by id (PF_P_A .. PF_P_RCI). Set does not validate.
+ *  @return PF_OK or PF_E_PARAM(id) for an id that is not a model parameter. */
+pf_status pf_params_set(pf_params *p, pf_param_id id, double v);
+double pf_params_get(const pf_params *p, pf_param_id id);
+
+/** @return non-zero if configuration @p cfg uses parameter @p id. */
+int pf_param_used(pf_config cfg, pf_param_id id);
+
+/** @return "p", "dd", "id", "pid", or "?". */
+const char *pf_config_name(pf_config cfg);
+/** @return the configuration named @p name, or PF_CFG_COUNT. */
+pf_config pf_config_lookup(const char *name);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* PNEUFRAC_PF_PARAMS_H */

@@ -1,0 +1,22 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file pneufrac.h
+ * @brief Umbrella header: fractional-order models of industrial pneumatic
+ *        controllers, in double, float and Q15.
+ */
+#ifndef PNEUFRAC_H
+#define PNEUFRAC_H
+
+#define PNEUFRAC_VERSION_MAJOR 0
+#define PNEUFRAC_VERSION_MINOR 1
+#define PNEUFRAC_VERSION_PATCH 0
+#define PNEUFRAC_VERSION_STRING "0.1.0"
+
+#include "pf_config.h"
+#include "pf_status.h"
+#include "pf_fracop.h"
+#include "pf_params.h"
+#include "pf_effects.h"
+#include "pf_controller.h"
+
+#endif /* PNEUFRAC_H */

@@ -1,0 +1,141 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Q15 controller design: choose a scale for every internal node, then fold
+ * the scales into integer coefficients.
+ *
+ * Scaling: each node's peak gain from e is estimated from the closed-loop
+ * discrete frequency response (same block algebra as the runtime, in
+ * complex double) over a log grid up to Nyquist. A full-scale input e =
+ * in_fs then maps the node's peak to 2^28: a factor 4 of headroom below the
+ * +-2^30 clamp covers step overshoot beyond the sinusoidal peak, and the
+ * resolution left is 2^-28 of the node's own range, so a small error signal
+ * x in a high-gain loop is not starved of bits.
+ */
+#include <math.h>
+#include <stddef.h>
+#include <string.h>
+
+#include "pf_ctrl_internal.h"
+
+#define PF_PI 3.14159265358979323846
+
+static void node_scales(const pf_ctrl_design *d, double in_fs,
+                        double s[PF_N_COUNT])
+{
+    double peak[PF_N_COUNT] = {0};
+    int i, n;
+    for (i = 0; i < PF_GRID; i++) {
+        double complex g[PF_N_COUNT];
+        pf_ctrl_node_resp(&d->rt, pf_grid_omega(&d->rt.P, d->opt.wb, i), g);
+        for (n = 0; n < PF_N_COUNT; n++)
+            if (cabs(g[n]) > peak[n])
+                peak[n] = cabs(g[n]);
+    }
+    /* A node the configuration does not use (peak 0) borrows p_c's scale,
+     * so the coefficients that touch it stay finite (they multiply 0). */
+    for (n = 0; n < PF_N_COUNT; n++)
+        s[n] = peak[n] > 0.0 && isfinite(peak[n]) ? PF_Q_TARGET / (peak[n] * in_fs)
+                                                   : 0.0;
+    for (n = 0; n < PF_N_COUNT; n++)
+        if (s[n] == 0.0)
+            s[n] = s[PF_N_PC];
+}
+
+/* q = v * s[to] / s[from]: a physical coefficient between two nodes. */
+#define QC(field, v, to, from)                                                 \
+    do {                                                                       \
+        if (st == PF_OK)                                                       \
+            st = pf_qc_make(&cq->field, (v) * s[to] / s[from]);                \
+    } while (0)
+
+static int32_t q_limit(double v)
+{
+    if (v > PF_Q_TARGET * 4.0)
+        return (int32_t)1 << 30;
+    if (v < -PF_Q_TARGET * 4.0)
+        return -((int32_t)1 << 30);
+    return (int32_t)llround(v);
+}
+
+pf_status pf_ctrl_coeffs_q15_make(pf_ctrl_coeffs_q15 *cq,
+                                  const pf_ctrl_design *d, double in_fs,
+                                  double out_fs)
+{
+    const pf_ctrl_coeffs_f64 *c;
+    double s[PF_N_COUNT];
+    pf_status st = PF_OK;
+    if (cq == NULL || d == NULL)
+        return PF_E_NULL;
+    if (!isfinite(in_fs) || !(in_fs > 0.0) || in_fs > 1e12)
+        return PF_E_PARAM(PF_P_IN_FS);
+    if (!isfinite(out_fs) || !(out_fs > 0.0) || out_fs > 1e12)
+        return PF_E_PARAM(PF_P_OUT_FS);
+    c = &d->rt;
+    if (c->play_r > 0.0 || c->nozzle_xh > 0.0)
+        return PF_E_UNSUPPORTED;
+    node_scales(d, in_fs, s);
+    memset(cq, 0, sizeof *cq);
+    cq->has_q = c->has_q;
+    cq->has_v = c->has_v;
+    cq->has_w = c->has_w;
+    cq->saturate = c->saturate;
+    cq->hold = c->hold;
+    cq->delay_len = c->delay_len;
+
+    st = pf_q15_op_make(&cq->P, &c->P, s[PF_N_V], s[PF_N_FP], s[PF_N_W]);
+    if (st == PF_OK && c->has_q)
+        st = pf_q15_op_make(&cq->Q, &c->Q, s[PF_N_M], s[PF_N_FQ], s[PF_N_Y]);
+    if (st == PF_OK && c->has_v)
+        st = pf_q15_op_make(&cq->V, &c->V, s[PF_N_DV], s[PF_N_FV], s[PF_N_RV]);
+    if (st == PF_OK && c->has_w)
+        st = pf_q15_op_make(&cq->W, &c->W, s[PF_N_DW], s[PF_N_FW], s[PF_N_RW]);
+
+    /* Q15 e (one LSB = in_fs/32768) into the e node; the held-input mean's
+     * 1/2 is folded in here, so the sum of two samples is exact. */
+    if (st == PF_OK)
+        st = pf_qc_make(&cq->e_in, s[PF_N_E] * in_fs / 32768.0 * (c->hold ? 0.5 : 1.0));
+    QC(v_b, c->v_den_inv, PF_N_RV, PF_N_RV);
+    QC(w_b, c->w_den_inv, PF_N_RW, PF_N_RW);
+    QC(sm_v, 1.0, PF_N_M, PF_N_RV);
+    QC(sm_w, 1.0, PF_N_M, PF_N_RW);
+    QC(sy_m, c->has_q ? c->Q.D : c->kA, PF_N_Y, PF_N_M);
+    QC(sz_s, c->k2 * c->relay_sz, PF_N_PC, PF_N_W);
+    QC(loop_e, c->loop_inv * c->ce, PF_N_X, PF_N_E);
+    QC(loop_sy, c->loop_inv * c->cy, PF_N_X, PF_N_Y);
+    QC(loop_sz, c->loop_inv * c->cy * c->alpha_y, PF_N_X, PF_N_PC);
+    QC(pc_x, c->k2 * c->alpha_z * c->k1, PF_N_PC, PF_N_X);
+    QC(ce, c->ce, PF_N_X, PF_N_E);
+    QC(cy, c->cy, PF_N_X, PF_N_Y);
+    QC(x_pc, c->cy * c->alpha_y, PF_N_X, PF_N_PC);
+    QC(k1, c->k1, PF_N_PB, PF_N_X);
+    QC(relay_v_pb, c->relay_den_inv, PF_N_V, PF_N_PB);
+    QC(relay_v_s, -c->pmin * c->relay_den_inv, PF_N_V, PF_N_W);
+    QC(relay_z_pb, c->k2 * c->relay_d0, PF_N_PC, PF_N_PB);
+    QC(relay_z_w, c->k2 * c->relay_w, PF_N_PC, PF_N_W);
+    QC(v_a, c->v_a, PF_N_RV, PF_N_PC);
+    QC(w_a, c->w_a, PF_N_RW, PF_N_PC);
+    QC(dv_pc, 1.0, PF_N_DV, PF_N_PC);
+    QC(dv_r, 1.0, PF_N_DV, PF_N_RV);
+    QC(dw_pc, 1.0, PF_N_DW, PF_N_PC);
+    QC(dw_r, 1.0, PF_N_DW, PF_N_RW);
+    QC(m_v, 1.0, PF_N_M, PF_N_RV);
+    QC(m_pc, 1.0, PF_N_M, PF_N_PC);
+    QC(m_w, 1.0, PF_N_M, PF_N_RW);
+    QC(kA_m, c->kA, PF_N_Y, PF_N_M);
+    if (st == PF_OK)
+        st = pf_qc_make(&cq->pc_out, 32768.0 / (out_fs * s[PF_N_PC]));
+    if (st == PF_OK && c->lag_lam > 0.0)
+        st = pf_qc_leak(&cq->lag_m, &cq->lag_sh, c->lag_lam);
+    cq->sat_lo = q_limit(c->sat_lo * s[PF_N_PC]);
+    cq->sat_hi = q_limit(c->sat_hi * s[PF_N_PC]);
+    /* Monitoring: x and y in Q15 of in_fs, p_b of k1*in_fs, p_c of out_fs. */
+    if (st == PF_OK)
+        st = pf_qc_make(&cq->mon[PF_N_X], 32768.0 / (in_fs * s[PF_N_X]));
+    if (st == PF_OK)
+        st = pf_qc_make(&cq->mon[PF_N_Y], 32768.0 / (in_fs * s[PF_N_Y]));
+    if (st == PF_OK)
+        st = pf_qc_make(&cq->mon[PF_N_PB], 32768.0 / (c->k1 * in_fs * s[PF_N_PB]));
+    if (st == PF_OK)
+        st = pf_qc_make(&cq->mon[PF_N_PC], 32768.0 / (out_fs * s[PF_N_PC]));
+    return st;
+}

@@ -1,0 +1,35 @@
+/* SPDX-License-Identifier: MIT */
+/* Design-side helpers shared between the double and Q15 designs (host or
+ * MCU init code; never on a per-sample path). */
+#ifndef PF_DESIGN_INTERNAL_H
+#define PF_DESIGN_INTERNAL_H
+
+#include <complex.h>
+#include "pneufrac/pf_fracop.h"
+
+/* Discrete response of an operator at omega rad/s; *frac (if not NULL)
+ * receives the fractional part alone (before the integer stages). */
+double complex pf_op_resp(const pf_fracop_design *op, double omega,
+                          double complex *frac);
+
+/* Quantise v to m * 2^-sh with |m| in [2^30, 2^31) (or [2^29, 2^30) when
+ * lam is set, the leak format). PF_E_SCALE if |v| >= 2^31. */
+pf_status pf_qc_make(pf_qc *q, double v);
+pf_status pf_qc_leak(int32_t *m, uint8_t *sh, double lam);
+
+/* Q15 coefficients of one operator whose input, fractional-part output
+ * and output are held in the internal scales s_in, s_frac and s_out
+ * (internal units per physical unit). */
+pf_status pf_q15_op_make(pf_fracop_coeffs_q15 *cq, const pf_fracop_design *op,
+                         double s_in, double s_frac, double s_out);
+
+/* Log-spaced frequency grid for peak-gain estimates: PF_GRID points from
+ * wb/100 to just below Nyquist. */
+#define PF_GRID 240
+double pf_grid_omega(const pf_fracop_design *op, double wb, int i);
+
+/* Internal full-scale target: a node's estimated peak maps to 2^28, which
+ * leaves a factor 4 of headroom below the +-2^30 clamp. */
+#define PF_Q_TARGET 268435456.0
+
+#endif

@@ -1,0 +1,41 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Per-sample operator kernels shared by the float and double runtimes.
+ * Template: define PF_T (float or double), PF_SFX (f32 or f64), PF_OPC (the
+ * operator coefficient type) and PF_OPI (its instance type) before including.
+ *
+ * A sample is split in two so that loops can be solved in between:
+ *   S = op_state(op, &sf)      what the state contributes (u unknown yet);
+ *   y = op_update(op, u, sf)   y = D*u + S, and the state advances with u.
+ */
+#include "pf_tmpl.h"
+
+static inline PF_T PF_FN(op_state_)(const PF_OPI *in, PF_T *sf)
+{
+    const PF_OPC *c = in->c;
+    PF_T s = 0;
+    int k;
+    for (k = 0; k < c->n_sec; k++)
+        s += c->G[k] * in->s[k];
+    *sf = s;
+    for (k = 0; k < (c->n_int < 0 ? -c->n_int : c->n_int); k++)
+        s = c->int_d * s + in->si[k];
+    return s;
+}
+
+static inline PF_T PF_FN(op_update_)(PF_OPI *in, PF_T u, PF_T sf)
+{
+    const PF_OPC *c = in->c;
+    PF_T y = c->d * u + sf;
+    int k;
+    /* Leaky form: the state moves toward u by lam of the distance, so a pole
+     * at 1 - 1e-7 costs no precision in lam itself. */
+    for (k = 0; k < c->n_sec; k++)
+        in->s[k] += c->lam[k] * (u - in->s[k]);
+    for (k = 0; k < (c->n_int < 0 ? -c->n_int : c->n_int); k++) {
+        PF_T yk = c->int_d * y + in->si[k];
+        in->si[k] = (c->int_rho > 0 ? in->si[k] : -in->si[k]) + c->int_k * y;
+        y = yk;
+    }
+    return y;
+}

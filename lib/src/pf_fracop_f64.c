@@ -1,0 +1,10 @@
+/* SPDX-License-Identifier: MIT */
+/* Double-precision operator runtime: the design itself is its coefficient set. */
+#include "pneufrac/pf_fracop.h"
+
+#define PF_T double
+#define PF_SFX f64
+#define PF_OPC pf_fracop_design
+#define PF_OPI pf_fracop_f64
+#include "pf_float_ops.h"
+#include "pf_fracop_float.inc"

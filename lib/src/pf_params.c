@@ -1,0 +1,162 @@
+/* SPDX-License-Identifier: MIT */
+/* Paper parameters: defaults (Examples 4, 6, 7), validation, access by id. */
+#include "pneufrac/pf_params.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <string.h>
+
+/* Magnitudes beyond this are refused: they are not physical in the paper's
+ * units and would overflow products formed in the design. */
+#define PF_PARAM_MAX 1e9
+
+void pf_params_default(pf_params *p, pf_config cfg)
+{
+    if (p == NULL)
+        return;
+    memset(p, 0, sizeof *p);
+    p->config = cfg;
+    /* Example 4 (shared by Examples 6 and 7 unless overridden). */
+    p->b = 9.0;
+    p->a = 1.0;
+    p->k1 = 0.1;
+    p->k2 = 0.1;
+    p->A = 2.0;
+    p->ks = 20.0;
+    p->tau = 0.001;
+    p->pmin = 1.0;
+    p->pmax = 10.0;
+    p->beta = 0.8;
+    p->q = 0.9;
+    /* Example 6: nu = 0.94, RC = 0.1. Example 7: w = 0.94, RC = 0.1. */
+    p->nu = 0.94;
+    p->w = 0.94;
+    p->RC = 0.1;
+    /* pid has no example in the paper: a derivative restrictor ten times
+     * faster than the reset one, as in a commercial pneumatic PID. */
+    p->RCd = 0.01;
+    p->RCi = 0.1;
+    if (cfg == PF_CFG_ID || cfg == PF_CFG_PID) {
+        /* Example 7 */
+        p->k1 = 2.0;
+        p->k2 = 5.0;
+        p->q = 0.0;
+    }
+}
+
+static double *field(pf_params *p, pf_param_id id)
+{
+    switch (id) {
+    case PF_P_A: return &p->a;
+    case PF_P_B: return &p->b;
+    case PF_P_K1: return &p->k1;
+    case PF_P_K2: return &p->k2;
+    case PF_P_AREA: return &p->A;
+    case PF_P_KS: return &p->ks;
+    case PF_P_TAU: return &p->tau;
+    case PF_P_PMIN: return &p->pmin;
+    case PF_P_PMAX: return &p->pmax;
+    case PF_P_BETA: return &p->beta;
+    case PF_P_Q: return &p->q;
+    case PF_P_NU: return &p->nu;
+    case PF_P_W: return &p->w;
+    case PF_P_RC: return &p->RC;
+    case PF_P_RCD: return &p->RCd;
+    case PF_P_RCI: return &p->RCi;
+    default: return NULL;
+    }
+}
+
+pf_status pf_params_set(pf_params *p, pf_param_id id, double v)
+{
+    double *f;
+    if (p == NULL)
+        return PF_E_NULL;
+    f = field(p, id);
+    if (f == NULL)
+        return PF_E_PARAM(id);
+    *f = v;
+    return PF_OK;
+}
+
+double pf_params_get(const pf_params *p, pf_param_id id)
+{
+    double *f;
+    if (p == NULL)
+        return NAN;
+    f = field((pf_params *)p, id);
+    return f ? *f : NAN;
+}
+
+int pf_param_used(pf_config cfg, pf_param_id id)
+{
+    switch (id) {
+    case PF_P_NU: return cfg == PF_CFG_DD || cfg == PF_CFG_PID;
+    case PF_P_W: return cfg == PF_CFG_ID || cfg == PF_CFG_PID;
+    case PF_P_RC: return cfg == PF_CFG_DD || cfg == PF_CFG_ID;
+    case PF_P_RCD:
+    case PF_P_RCI: return cfg == PF_CFG_PID;
+    default: return id <= PF_P_RCI;
+    }
+}
+
+static int in_range(double v, double lo, int lo_open, double hi)
+{
+    if (!isfinite(v))
+        return 0;
+    if (lo_open ? !(v > lo) : !(v >= lo))
+        return 0;
+    return v <= hi;
+}
+
+pf_status pf_params_validate(const pf_params *p)
+{
+    int i;
+    if (p == NULL)
+        return PF_E_NULL;
+    if ((unsigned)p->config >= (unsigned)PF_CFG_COUNT)
+        return PF_E_PARAM(PF_P_CONFIG);
+    for (i = 0; i <= (int)PF_P_RCI; i++) {
+        pf_param_id id = (pf_param_id)i;
+        double v = pf_params_get(p, id);
+        int ok;
+        if (!pf_param_used(p->config, id))
+            continue;
+        switch (id) {
+        case PF_P_BETA:
+        case PF_P_NU:
+        case PF_P_W: ok = in_range(v, 0.0, 1, 1.0); break;
+        case PF_P_Q: ok = in_range(v, 0.0, 0, 1.0); break;
+        default: ok = in_range(v, 0.0, 1, PF_PARAM_MAX); break;
+        }
+        if (!ok)
+            return PF_E_PARAM(id);
+    }
+    /* Psi_max and Psi_min are the maximum and minimum stiffness (eq. 11). */
+    if (p->pmax < p->pmin)
+        return PF_E_PARAM(PF_P_PMAX);
+    /* A pid whose derivative restrictor is slower than its reset restrictor
+     * turns the net bellows feedback positive: that is not a controller. */
+    if (p->config == PF_CFG_PID && !(p->RCd < p->RCi))
+        return PF_E_PARAM(PF_P_RCD);
+    return PF_OK;
+}
+
+const char *pf_config_name(pf_config cfg)
+{
+    static const char *const names[PF_CFG_COUNT] = {"p", "dd", "id", "pid"};
+    if ((unsigned)cfg >= (unsigned)PF_CFG_COUNT)
+        return "?";
+    return names[cfg];
+}
+
+pf_config pf_config_lookup(const char *name)
+{
+    int i;
+    if (name == NULL)
+        return PF_CFG_COUNT;
+    for (i = 0; i < (int)PF_CFG_COUNT; i++)
+        if (strcmp(name, pf_config_name((pf_config)i)) == 0)
+            return (pf_config)i;
+    return PF_CFG_COUNT;
+}

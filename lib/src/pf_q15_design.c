@@ -1,0 +1,133 @@
+/* SPDX-License-Identifier: MIT */
+/* Quantisation of designs into Q15 coefficient sets (design side, double). */
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "pf_design_internal.h"
+
+#define PF_PI 3.14159265358979323846
+
+static pf_status qc_norm(int32_t *m, uint8_t *sh, double v, int bits)
+{
+    int e, s;
+    double f;
+    if (!isfinite(v))
+        return PF_E_SCALE;
+    if (v == 0.0) {
+        *m = 0;
+        *sh = 0;
+        return PF_OK;
+    }
+    f = frexp(v, &e);          /* v = f 2^e, 0.5 <= |f| < 1 */
+    s = bits - e;              /* m = v 2^s has |m| in [2^(bits-1), 2^bits) */
+    if (s < 0)
+        return PF_E_SCALE;
+    if (s > 62) {              /* below 2^-32 of a unit: keep what fits */
+        *m = (int32_t)llround(ldexp(v, 62));
+        *sh = 62;
+        return PF_OK;
+    }
+    (void)f;
+    f = llround(ldexp(v, s));
+    if (fabs(f) >= ldexp(1.0, bits)) { /* rounding carried into a new bit */
+        if (s == 0)
+            return PF_E_SCALE;
+        s--;
+        f = llround(ldexp(v, s));
+    }
+    *m = (int32_t)f;
+    *sh = (uint8_t)s;
+    return PF_OK;
+}
+
+pf_status pf_qc_make(pf_qc *q, double v) { return qc_norm(&q->m, &q->sh, v, 31); }
+
+pf_status pf_qc_leak(int32_t *m, uint8_t *sh, double lam)
+{
+    pf_status st = qc_norm(m, sh, lam, 30);
+    /* A leak must stay a leak: a rounded-away pole would be an integrator. */
+    if (st == PF_OK && (*m <= 0 || *sh < 1))
+        return PF_E_SCALE;
+    return st;
+}
+
+double pf_grid_omega(const pf_fracop_design *op, double wb, int i)
+{
+    double lo = wb / 100.0, hi = 0.999 * PF_PI * op->fs;
+    return lo * pow(hi / lo, (double)i / (PF_GRID - 1));
+}
+
+pf_status pf_q15_op_make(pf_fracop_coeffs_q15 *cq, const pf_fracop_design *op,
+                         double s_in, double s_frac, double s_out)
+{
+    pf_status st;
+    int k, n = abs(op->n_int);
+    double gmax = 0.0, prev = s_frac;
+    memset(cq, 0, sizeof *cq);
+    cq->n_int = (int8_t)op->n_int;
+    cq->int_rho = (int8_t)op->int_rho;
+    cq->n_sec = (uint8_t)op->n_sec;
+    cq->hold = (uint8_t)op->hold;
+    if (n == 0)
+        s_frac = s_out;
+    st = pf_qc_make(&cq->d, op->d * s_frac / s_in);
+    for (k = 0; st == PF_OK && k < op->n_sec; k++) {
+        st = pf_qc_leak(&cq->lam_m[k], &cq->lam_sh[k], op->lam[k]);
+        if (fabs(op->G[k]) > gmax)
+            gmax = fabs(op->G[k]);
+    }
+    if (st == PF_OK && op->n_sec > 0) {
+        /* One shift for all branches, the largest |G_m| in [2^25, 2^26):
+         * 19 products of 2^56 sum below 2^61. */
+        int e, sh;
+        (void)frexp(gmax * s_frac / s_in, &e);
+        sh = 26 - e;
+        if (sh < 0 || sh > 62)
+            return PF_E_SCALE;
+        cq->G_sh = (uint8_t)sh;
+        for (k = 0; k < op->n_sec; k++)
+            cq->G_m[k] = (int32_t)llround(ldexp(op->G[k] * s_frac / s_in, sh));
+    }
+    for (k = 0; st == PF_OK && k < n; k++) {
+        /* Integer stages: the last ends in s_out; an intermediate one
+         * (|n| = 2) sits at the geometric mean of its neighbours. */
+        double s_k = k == n - 1 ? s_out : sqrt(prev * s_out);
+        st = pf_qc_make(&cq->int_d[k], op->int_d * s_k / prev);
+        if (st == PF_OK)
+            st = pf_qc_make(&cq->int_k[k], op->int_k * s_k / prev);
+        prev = s_k;
+    }
+    return st;
+}
+
+pf_status pf_fracop_coeffs_q15_make(pf_fracop_coeffs_q15 *cq,
+                                    const pf_fracop_design *op, double in_fs,
+                                    double out_fs)
+{
+    double s_in, s_frac, s_out, peak = 0.0;
+    pf_status st;
+    int i;
+    if (cq == NULL || op == NULL)
+        return PF_E_NULL;
+    if (!isfinite(in_fs) || !(in_fs > 0.0))
+        return PF_E_PARAM(PF_P_IN_FS);
+    if (!isfinite(out_fs) || !(out_fs > 0.0))
+        return PF_E_PARAM(PF_P_OUT_FS);
+    for (i = 0; i < PF_GRID; i++) {
+        double complex f;
+        (void)pf_op_resp(op, pf_grid_omega(op, 2.0 * PF_PI * op->fs * 1e-9, i), &f);
+        if (cabs(f) > peak)
+            peak = cabs(f);
+    }
+    s_in = PF_Q_TARGET / in_fs;
+    s_frac = PF_Q_TARGET / (peak * in_fs);
+    s_out = PF_Q_TARGET / out_fs;
+    st = pf_q15_op_make(cq, op, s_in, s_frac, s_out);
+    if (st == PF_OK)
+        st = pf_qc_make(&cq->in_q, s_in * in_fs / 32768.0 * (op->hold ? 0.5 : 1.0));
+    if (st == PF_OK)
+        st = pf_qc_make(&cq->out_q, 32768.0 / (out_fs * s_out));
+    return st;
+}

@@ -1,0 +1,58 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Q15 operator kernels, shared by the operator and controller runtimes.
+ * Same two-phase split as the float kernels (pf_float_ops.h):
+ *   S = pf_q_op_state(op, &sf);   y = pf_q_op_update(op, u, sf).
+ * Integer only: this is the code the Cortex-M0+ build must keep free of
+ * floating-point helpers.
+ *
+ * Leaky branch:  s <- s + lam*(u - s), lam = lam_m * 2^-lam_sh, lam_m in
+ * [2^29, 2^30): the pole's distance from z = 1 keeps 30 bits of relative
+ * precision however small it is, and the residue makes the decay exact.
+ * The states are in the scale of the operator input; the G_m products are
+ * summed in int64 and rounded once.
+ */
+#ifndef PF_Q15_OPS_H
+#define PF_Q15_OPS_H
+
+#include "pf_qmath.h"
+
+/* *sf keeps the fractional part's sum unsaturated: for a differentiating
+ * operator it nearly cancels the feedthrough d*u, and clamping either term
+ * alone before the sum would be wrong. */
+static inline int32_t pf_q_op_state(const pf_fracop_q15 *in, int64_t *sf)
+{
+    const pf_fracop_coeffs_q15 *c = in->c;
+    int64_t acc = 0;
+    int32_t s;
+    int k, n = c->n_int < 0 ? -c->n_int : c->n_int;
+    for (k = 0; k < c->n_sec; k++)
+        acc += (int64_t)c->G_m[k] * in->s[k];
+    *sf = pf_round_shift(acc, c->G_sh);
+    s = pf_q_sat(*sf);
+    for (k = 0; k < n; k++)
+        s = pf_q_sat((int64_t)pf_mulc(c->int_d[k], s) + in->si[k]);
+    return s;
+}
+
+static inline int32_t pf_q_op_update(pf_fracop_q15 *in, int32_t u, int64_t sf)
+{
+    const pf_fracop_coeffs_q15 *c = in->c;
+    int32_t y = pf_q_sat(pf_round_shift((int64_t)c->d.m * u, c->d.sh) + sf);
+    int k, n = c->n_int < 0 ? -c->n_int : c->n_int;
+    for (k = 0; k < c->n_sec; k++) {
+        int64_t inc = pf_q_accum(&in->r[k], c->lam_m[k],
+                                 (int64_t)u - in->s[k], c->lam_sh[k]);
+        in->s[k] = pf_q_sat(in->s[k] + inc);
+    }
+    for (k = 0; k < n; k++) {
+        int32_t yk = pf_q_sat((int64_t)pf_mulc(c->int_d[k], y) + in->si[k]);
+        int64_t inc = pf_q_accum(&in->ri[k], c->int_k[k].m, y, c->int_k[k].sh);
+        in->si[k] = pf_q_sat((c->int_rho > 0 ? (int64_t)in->si[k]
+                                               : -(int64_t)in->si[k]) + inc);
+        y = yk;
+    }
+    return y;
+}
+
+#endif /* PF_Q15_OPS_H */
