@@ -48,7 +48,7 @@ static int16_t output_line(pf_ctrl_q15 *in, int32_t pc)
 int16_t pf_ctrl_step_q15(pf_ctrl_q15 *in, int16_t e_q15)
 {
     const pf_ctrl_coeffs_q15 *c = in->c;
-    int32_t *n = in->node;
+    int32_t n[PF_N_COUNT] = {0};
     int32_t e, sP, sQ = 0, sV, sW;
     int64_t fP, fQ = 0, fV = 0, fW = 0;
     int32_t bV = 0, bW = 0, sig_m, sig_y, sig_pc, x, pc, rv = 0, rw = 0;
@@ -107,6 +107,10 @@ int16_t pf_ctrl_step_q15(pf_ctrl_q15 *in, int16_t e_q15)
                          (c->has_w ? pf_mulc(c->m_w, rw) : 0));
     n[PF_N_Y] = c->has_q ? pf_q_op_update(&in->Q, n[PF_N_M], fQ)
                          : pf_mulc(c->kA_m, n[PF_N_M]);
+    in->x = n[PF_N_X];
+    in->pb = n[PF_N_PB];
+    in->y = n[PF_N_Y];
+    in->pc = pc;
     return output_line(in, pc);
 }
 
@@ -125,7 +129,7 @@ void pf_ctrl_reset_q15(pf_ctrl_q15 *in)
     pf_fracop_reset_q15(&in->Q);
     pf_fracop_reset_q15(&in->V);
     pf_fracop_reset_q15(&in->W);
-    memset(in->node, 0, sizeof in->node);
+    in->x = in->pb = in->y = in->pc = 0;
     in->e1 = 0;
     in->lag = 0;
     in->lag_r = 0;
@@ -157,11 +161,11 @@ void pf_ctrl_monitor_q15(const pf_ctrl_q15 *in, int16_t *x, int16_t *pb,
 {
     const pf_ctrl_coeffs_q15 *c = in->c;
     if (x != NULL)
-        *x = pf_q_to_q15(c->mon[PF_N_X], in->node[PF_N_X]);
+        *x = pf_q_to_q15(c->mon[PF_N_X], in->x);
     if (pb != NULL)
-        *pb = pf_q_to_q15(c->mon[PF_N_PB], in->node[PF_N_PB]);
+        *pb = pf_q_to_q15(c->mon[PF_N_PB], in->pb);
     if (y != NULL)
-        *y = pf_q_to_q15(c->mon[PF_N_Y], in->node[PF_N_Y]);
+        *y = pf_q_to_q15(c->mon[PF_N_Y], in->y);
     if (pc != NULL)
-        *pc = pf_q_to_q15(c->mon[PF_N_PC], in->node[PF_N_PC]);
+        *pc = pf_q_to_q15(c->mon[PF_N_PC], in->pc);
 }

@@ -182,9 +182,10 @@ typedef struct pf_ctrl_coeffs_q15 {
 typedef struct pf_ctrl_q15 {
     const pf_ctrl_coeffs_q15 *c;
     pf_fracop_q15 P, Q, V, W;
-    int32_t node[PF_N_COUNT];      /**< last value of every internal node */
+    int32_t x, pb, y, pc;          /**< last internal values, for monitoring */
     int16_t e1;                    /**< previous input (held-input model) */
-    int32_t lag; int64_t lag_r;
+    int32_t lag;
+    uint32_t lag_r;
     int16_t *dbuf;
     uint32_t didx;
 } pf_ctrl_q15;

@@ -185,15 +185,16 @@ typedef struct pf_fracop_coeffs_q15 {
     pf_qc in_q, out_q;                /**< Q15 in -> internal, internal -> Q15 out */
 } pf_fracop_coeffs_q15;
 
-/** Q15 runtime instance: 32-bit states, each with a rounding residue that
- *  is fed back (first-order error feedback), so slow poles decay exactly. */
+/** Q15 runtime instance: 32-bit states, each with a 32-bit fraction of an
+ *  LSB that keeps the rounding residue (first-order error feedback), so
+ *  slow poles decay at their designed rate. */
 typedef struct pf_fracop_q15 {
     const pf_fracop_coeffs_q15 *c;
     int16_t u1;
     int32_t s[PF_MAX_SEC];
-    int64_t r[PF_MAX_SEC];
+    uint32_t r[PF_MAX_SEC];
     int32_t si[PF_MAX_INT];
-    int64_t ri[PF_MAX_INT];
+    uint32_t ri[PF_MAX_INT];
 } pf_fracop_q15;
 
 /** Derive a Q15 coefficient set. Physical input in_fs maps to Q15 +1.0 at
