@@ -1,0 +1,234 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Q15 controllers against the same design in double, in LSB of out_fs:
+ * paper examples at 20 kHz with a step at 50 % of in_fs, zero input, the
+ * return to zero (limit cycles), block splitting, and saturation.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "pneufrac/pneufrac.h"
+
+#define FS 20000.0
+#define NSTEP 40000 /* 2 s */
+
+typedef struct rig {
+    pf_ctrl_design d;
+    pf_ctrl_f64 f;
+    pf_ctrl_coeffs_q15 cq;
+    pf_ctrl_q15 q;
+    double dbuf[4096];
+    int16_t qbuf[4096];
+    double out_fs;
+} rig;
+
+/* Design a configuration, pick out_fs = 1.1 x the double run's peak for a
+ * half-scale step (so the step uses most of the range), and init both. */
+static rig *make_rig(pf_config cfg, const pf_effects *fx)
+{
+    rig *r = calloc(1, sizeof *r);
+    pf_params p;
+    pf_design_opts o;
+    double peak = 0;
+    long n;
+    assert_non_null(r);
+    pf_params_default(&p, cfg);
+    pf_design_opts_default(&o, FS);
+    assert_int_equal(pf_ctrl_design_make(&r->d, &p, fx, &o), PF_OK);
+    assert_int_equal(pf_ctrl_init_f64(&r->f, &r->d.rt, r->dbuf, 4096), PF_OK);
+    for (n = 0; n < NSTEP; n++) {
+        double y = pf_ctrl_step_f64(&r->f, 0.5);
+        if (fabs(y) > peak)
+            peak = fabs(y);
+    }
+    pf_ctrl_reset_f64(&r->f);
+    r->out_fs = 1.1 * peak;
+    assert_int_equal(pf_ctrl_coeffs_q15_make(&r->cq, &r->d, 1.0, r->out_fs), PF_OK);
+    assert_int_equal(pf_ctrl_init_q15(&r->q, &r->cq, r->qbuf, 4096), PF_OK);
+    return r;
+}
+
+/* Max |q15 - double| in LSB over n samples of constant input e (physical,
+ * in_fs = 1); accumulates the SNR sums. */
+static double run_compare(rig *r, double e, long n, double *sig2, double *err2)
+{
+    double worst = 0;
+    int16_t eq = (int16_t)lround(e * 32768.0);
+    long i;
+    for (i = 0; i < n; i++) {
+        double ref = pf_ctrl_step_f64(&r->f, eq / 32768.0) / r->out_fs * 32768.0;
+        double d = pf_ctrl_step_q15(&r->q, eq) - ref;
+        if (fabs(d) > worst)
+            worst = fabs(d);
+        if (sig2 != NULL) {
+            *sig2 += ref * ref;
+            *err2 += d * d;
+        }
+    }
+    return worst;
+}
+
+static void test_paper_examples_lsb(void **state)
+{
+    int cfg;
+    (void)state;
+    printf("config  out_fs      max error  SNR\n");
+    for (cfg = 0; cfg < PF_CFG_COUNT; cfg++) {
+        rig *r = make_rig((pf_config)cfg, NULL);
+        double s2 = 0, e2 = 0, worst = run_compare(r, 0.5, NSTEP, &s2, &e2);
+        printf("%-6s  %-10.4g  %5.2f LSB  %5.1f dB\n", pf_config_name((pf_config)cfg),
+               r->out_fs, worst, 10 * log10(s2 / e2));
+        assert_true(worst <= 8.0);
+        assert_true(10 * log10(s2 / e2) > 60.0);
+        free(r);
+    }
+}
+
+static void test_zero_input_exact(void **state)
+{
+    int cfg;
+    (void)state;
+    for (cfg = 0; cfg < PF_CFG_COUNT; cfg++) {
+        rig *r = make_rig((pf_config)cfg, NULL);
+        long n;
+        for (n = 0; n < NSTEP; n++)
+            assert_int_equal(pf_ctrl_step_q15(&r->q, 0), 0);
+        free(r);
+    }
+}
+
+/* After a step and the return to zero, a limit cycle would show as the
+ * Q15 output wandering away from the double one, which decays (slowly,
+ * with the fractional tail). 30 s covers the slowest visible dynamics. */
+static void test_no_limit_cycle(void **state)
+{
+    int cfg;
+    (void)state;
+    for (cfg = 0; cfg < PF_CFG_COUNT; cfg++) {
+        rig *r = make_rig((pf_config)cfg, NULL);
+        double worst;
+        (void)run_compare(r, 0.5, NSTEP, NULL, NULL);
+        worst = run_compare(r, 0.0, (long)(30 * FS), NULL, NULL);
+        printf("%-4s return to zero: within %.2f LSB of double over 30 s\n",
+               pf_config_name((pf_config)cfg), worst);
+        assert_true(worst <= 1.0);
+        free(r);
+    }
+}
+
+/* Any split of a sequence into blocks gives the same output, bit for bit. */
+static void test_block_split(void **state)
+{
+    rig *r = make_rig(PF_CFG_PID, NULL), *s = make_rig(PF_CFG_PID, NULL);
+    static int16_t e[8000], y1[8000], y2[8000];
+    static double ed[8000], yd1[8000], yd2[8000];
+    size_t i, at = 0;
+    unsigned seed = 12345;
+    (void)state;
+    for (i = 0; i < 8000; i++) {
+        e[i] = (int16_t)((i / 500) % 3 == 0 ? 12000 : (i / 500) % 3 == 1 ? -7000 : 0);
+        ed[i] = e[i] / 32768.0;
+    }
+    pf_ctrl_run_q15(&r->q, e, y1, 8000);
+    pf_ctrl_run_f64(&r->f, ed, yd1, 8000);
+    while (at < 8000) {
+        size_t len;
+        seed = seed * 1103515245u + 12345u;
+        len = 1 + (seed >> 16) % 700;
+        if (len > 8000 - at)
+            len = 8000 - at;
+        pf_ctrl_run_q15(&s->q, e + at, y2 + at, len);
+        pf_ctrl_run_f64(&s->f, ed + at, yd2 + at, len);
+        at += len;
+    }
+    assert_memory_equal(y1, y2, sizeof y1);
+    assert_memory_equal(yd1, yd2, sizeof yd1);
+    free(r);
+    free(s);
+}
+
+/* Output saturation: a too-small out_fs clips at the int16 limits, never
+ * wraps, and returns to tracking when the signal comes back in range. */
+static void test_output_saturates(void **state)
+{
+    rig *r = make_rig(PF_CFG_ID, NULL);
+    long n;
+    int saw_max = 0;
+    (void)state;
+    assert_int_equal(pf_ctrl_coeffs_q15_make(&r->cq, &r->d, 1.0, r->out_fs / 4.0), PF_OK);
+    pf_ctrl_reset_q15(&r->q);
+    pf_ctrl_reset_f64(&r->f);
+    for (n = 0; n < NSTEP; n++) {
+        double ref = pf_ctrl_step_f64(&r->f, 0.5) / (r->out_fs / 4.0) * 32768.0;
+        int16_t y = pf_ctrl_step_q15(&r->q, 16384);
+        if (ref >= 32767.0) {
+            assert_int_equal(y, 32767);
+            saw_max = 1;
+        } else {
+            assert_true(y >= 0);
+        }
+    }
+    assert_true(saw_max);
+    free(r);
+}
+
+/* In-loop saturation (supply limits), lag and dead time in Q15 follow the
+ * double runtime with the same effects. */
+static void test_effects_match_double(void **state)
+{
+    pf_effects fx;
+    rig *r;
+    double worst;
+    (void)state;
+    memset(&fx, 0, sizeof fx);
+    fx.saturate = 1;
+    fx.sat_lo = -0.2;
+    fx.sat_hi = 2.0;
+    fx.lag = 0.005;
+    fx.dead_time = 0.01;
+    r = make_rig(PF_CFG_ID, &fx);
+    worst = run_compare(r, 0.5, NSTEP, NULL, NULL);
+    worst = fmax(worst, run_compare(r, -0.3, NSTEP, NULL, NULL));
+    printf("id with saturation, lag, dead time: max %.2f LSB\n", worst);
+    assert_true(worst <= 8.0);
+    free(r);
+}
+
+static void test_unsupported_effects(void **state)
+{
+    pf_effects fx;
+    pf_params p;
+    pf_design_opts o;
+    static pf_ctrl_design d;
+    static pf_ctrl_coeffs_q15 cq;
+    (void)state;
+    memset(&fx, 0, sizeof fx);
+    fx.backlash = 0.01;
+    pf_params_default(&p, PF_CFG_DD);
+    pf_design_opts_default(&o, FS);
+    assert_int_equal(pf_ctrl_design_make(&d, &p, &fx, &o), PF_OK);
+    assert_int_equal(pf_ctrl_coeffs_q15_make(&cq, &d, 1.0, 1.0), PF_E_UNSUPPORTED);
+    assert_int_equal(pf_ctrl_coeffs_q15_make(&cq, &d, NAN, 1.0), PF_E_PARAM(PF_P_IN_FS));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_paper_examples_lsb),
+        cmocka_unit_test(test_zero_input_exact),
+        cmocka_unit_test(test_no_limit_cycle),
+        cmocka_unit_test(test_block_split),
+        cmocka_unit_test(test_output_saturates),
+        cmocka_unit_test(test_effects_match_double),
+        cmocka_unit_test(test_unsupported_effects),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
