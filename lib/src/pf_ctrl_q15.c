@@ -161,11 +161,11 @@ void pf_ctrl_monitor_q15(const pf_ctrl_q15 *in, int16_t *x, int16_t *pb,
 {
     const pf_ctrl_coeffs_q15 *c = in->c;
     if (x != NULL)
-        *x = pf_q_to_q15(c->mon[PF_N_X], in->x);
+        *x = pf_q_to_q15(c->mon_x, in->x);
     if (pb != NULL)
-        *pb = pf_q_to_q15(c->mon[PF_N_PB], in->pb);
+        *pb = pf_q_to_q15(c->mon_pb, in->pb);
     if (y != NULL)
-        *y = pf_q_to_q15(c->mon[PF_N_Y], in->y);
+        *y = pf_q_to_q15(c->mon_y, in->y);
     if (pc != NULL)
-        *pc = pf_q_to_q15(c->mon[PF_N_PC], in->pc);
+        *pc = pf_q_to_q15(c->mon_pc, in->pc);
 }

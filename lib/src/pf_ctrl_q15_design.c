@@ -130,12 +130,12 @@ pf_status pf_ctrl_coeffs_q15_make(pf_ctrl_coeffs_q15 *cq,
     cq->sat_hi = q_limit(c->sat_hi * s[PF_N_PC]);
     /* Monitoring: x and y in Q15 of in_fs, p_b of k1*in_fs, p_c of out_fs. */
     if (st == PF_OK)
-        st = pf_qc_make(&cq->mon[PF_N_X], 32768.0 / (in_fs * s[PF_N_X]));
+        st = pf_qc_make(&cq->mon_x, 32768.0 / (in_fs * s[PF_N_X]));
     if (st == PF_OK)
-        st = pf_qc_make(&cq->mon[PF_N_Y], 32768.0 / (in_fs * s[PF_N_Y]));
+        st = pf_qc_make(&cq->mon_y, 32768.0 / (in_fs * s[PF_N_Y]));
     if (st == PF_OK)
-        st = pf_qc_make(&cq->mon[PF_N_PB], 32768.0 / (c->k1 * in_fs * s[PF_N_PB]));
+        st = pf_qc_make(&cq->mon_pb, 32768.0 / (c->k1 * in_fs * s[PF_N_PB]));
     if (st == PF_OK)
-        st = pf_qc_make(&cq->mon[PF_N_PC], 32768.0 / (out_fs * s[PF_N_PC]));
+        st = pf_qc_make(&cq->mon_pc, 32768.0 / (out_fs * s[PF_N_PC]));
     return st;
 }

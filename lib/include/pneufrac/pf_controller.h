@@ -166,7 +166,7 @@ typedef struct pf_ctrl_coeffs_q15 {
     pf_qc kA_m;                    /**< m -> y when q = 0 */
     pf_qc dv_pc, dv_r, dw_pc, dw_r;/**< p_c, r -> restrictor operator input */
     pf_qc loop_e, loop_sy, loop_sz;/**< closed-form x from e, sigma_y, sigma_z */
-    pf_qc sy_m, sy_s;              /**< sigma_y from sigma_m, S_Q */
+    pf_qc sy_m;                    /**< sigma_m -> sigma_y */
     pf_qc sz_s;                    /**< sigma_z from S_P */
     pf_qc sm_v, sm_w;              /**< sigma_m from b_V, b_W */
     pf_qc pc_out;                  /**< internal p_c -> Q15 output */
@@ -175,7 +175,7 @@ typedef struct pf_ctrl_coeffs_q15 {
     int32_t sat_lo, sat_hi;        /**< saturation limits, internal p_c */
     int32_t lag_m; uint8_t lag_sh; /**< output lag leak */
     uint32_t delay_len;
-    pf_qc mon[PF_N_COUNT];         /**< internal node -> Q15 of its full scale */
+    pf_qc mon_x, mon_pb, mon_y, mon_pc; /**< monitored node -> Q15 of its full scale */
 } pf_ctrl_coeffs_q15;
 
 /** Q15 runtime instance. */
