@@ -1,0 +1,327 @@
+/* SPDX-License-Identifier: MIT */
+#include "cli_simulate.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli_args.h"
+#include "cli_csv.h"
+#include "cli_options.h"
+
+/* Samples per pf_ctrl_run_* call: large enough to amortise the call, small
+ * enough for the stack in every arithmetic at once. */
+#define BLOCK 1024
+
+void cli_simulate_usage(FILE *f)
+{
+    fprintf(f,
+"usage: pneufrac simulate --config {p,dd,id,pid} --fs HZ --duration S [options]\n"
+"\n"
+"Runs one of the paper's controllers (p: eq. 17, dd: eq. 18, id: eq. 20,\n"
+"pid: Remark 3) and writes CSV to standard output: a header t,e,pc and one\n"
+"row per sample n = 0 .. round(duration*fs), t = n/fs. The input e is a unit\n"
+"step at n = 0 unless --input is given.\n"
+"\n"
+"required:\n"
+"  --config NAME        p, dd, id or pid\n"
+"  --fs HZ              sample rate, Hz\n"
+"  --duration S         length of the run, s (at most 1e9 samples)\n"
+"\n"
+"model and design:\n"
+"  --set NAME=VALUE     model parameter by the paper's name, repeatable:\n"
+"                       a b k1 k2 A ks tau pmin pmax beta q nu w RC RCd RCi\n"
+"                       (defaults: the paper's examples for each config)\n"
+"  --band WB:WH         Oustaloup band, rad/s (default: derived from\n"
+"                       --t-slow below and pi*fs above)\n"
+"  --order N            Oustaloup order, 2N+1 sections per operator\n"
+"  --approx NAME        oustaloup (default) or refined\n"
+"  --input-model NAME   hold (default: samples held, as by a DAC) or linear\n"
+"  --t-slow S           slowest time scale of interest, s (default 10)\n"
+"\n"
+"arithmetic:\n"
+"  --arith NAME         double (default), float or q15\n"
+"  --in-fs X            q15 only, required: e = X maps to Q15 +1.0\n"
+"  --out-fs Y           q15 only, required: p_c = Y maps to Q15 +1.0\n"
+"                       q15 adds a column pc_q15 (raw output) and writes\n"
+"                       pc = pc_q15*Y/32768; e is quantised with round half\n"
+"                       up and saturation, the e column shows it unquantised\n"
+"\n"
+"input and effects:\n"
+"  --input FILE.csv     input sequence: columns t and e (others ignored), t\n"
+"                       uniform at 1/fs; '#' comments and blank lines allowed;\n"
+"                       '-' reads standard input; a short file holds its\n"
+"                       last value\n"
+"  --effect NAME:K=V[,K=V]  repeatable: backlash:width=W  nozzle:xh=X\n"
+"                       saturation:lo=L,hi=H  deadtime:t=S  lag:tau=S\n"
+"                       (backlash and nozzle: double and float only)\n"
+"\n"
+"Options take their value as the next argument or after '='. Exit status:\n"
+"0 success, 1 output could not be written, 2 bad arguments or input.\n");
+}
+
+size_t cli_run_samples(const cli_run *run)
+{
+    return (size_t)round(run->duration * run->opt.fs) + 1;
+}
+
+/* What the user should change to fix a rejected parameter. */
+static void describe_param(const cli_run *run, pf_param_id id, char *buf,
+                           size_t n)
+{
+    const pf_effects *fx = &run->fx;
+    double fs = run->opt.fs;
+
+    if (id < PF_P_CONFIG) {
+        snprintf(buf, n, "value %.10g for config %s; change it with --set %s=VALUE",
+                 pf_params_get(&run->p, id), pf_config_name(run->p.config),
+                 pf_param_name(id));
+        return;
+    }
+    switch (id) {
+    case PF_P_FS:
+        snprintf(buf, n, "--fs %.10g; it must be in (0, 1e7] Hz", fs);
+        break;
+    case PF_P_WB:
+    case PF_P_WH:
+        snprintf(buf, n, "the band (--band, or its default from --t-slow) "
+                 "needs WB < WH <= pi*fs = %.10g and WB >= 1e-9*fs = %.10g",
+                 M_PI * fs, 1e-9 * fs);
+        break;
+    case PF_P_ORDER:
+        snprintf(buf, n, "--order must be in 1..%d", PF_MAX_ORDER);
+        break;
+    case PF_P_TSLOW:
+        snprintf(buf, n, "--t-slow %.10g (the lower band edge derived from "
+                 "it must stay >= 1e-9*fs)", run->opt.t_slow);
+        break;
+    case PF_P_IN_FS:
+        snprintf(buf, n, "--in-fs %.10g", run->in_fs);
+        break;
+    case PF_P_OUT_FS:
+        snprintf(buf, n, "--out-fs %.10g", run->out_fs);
+        break;
+    case PF_P_BACKLASH:
+        snprintf(buf, n, "--effect backlash:width=%.10g", fx->backlash);
+        break;
+    case PF_P_NOZZLE_XH:
+        snprintf(buf, n, "--effect nozzle:xh=%.10g", fx->nozzle_xh);
+        break;
+    case PF_P_SAT_LO:
+    case PF_P_SAT_HI:
+        snprintf(buf, n, "--effect saturation:lo=%.10g,hi=%.10g; needs lo < hi",
+                 fx->sat_lo, fx->sat_hi);
+        break;
+    case PF_P_DEAD_TIME:
+        snprintf(buf, n, "--effect deadtime:t=%.10g", fx->dead_time);
+        break;
+    case PF_P_LAG:
+        snprintf(buf, n, "--effect lag:tau=%.10g", fx->lag);
+        break;
+    default:
+        snprintf(buf, n, "%s", pf_status_str(PF_E_PARAM(id)));
+        break;
+    }
+}
+
+static void report_status(const cli_run *run, pf_status st)
+{
+    pf_param_id id = pf_status_param(st);
+    char why[256];
+
+    if (id != PF_P_COUNT) {
+        describe_param(run, id, why, sizeof why);
+        cli_error("invalid parameter '%s' (%s)", pf_param_name(id), why);
+    } else if (st == PF_E_UNSUPPORTED) {
+        cli_error("--arith q15 does not support the backlash and nozzle "
+                  "effects (%s); use --arith double or float",
+                  pf_status_str(st));
+    } else if (st == PF_E_SCALE) {
+        cli_error("--arith q15: %s; try other --in-fs/--out-fs or a "
+                  "narrower --band", pf_status_str(st));
+    } else {
+        cli_error("design failed: %s", pf_status_str(st));
+    }
+}
+
+int cli_run_design(const cli_run *run, pf_ctrl_design *d)
+{
+    pf_status st = pf_ctrl_design_make(d, &run->p, &run->fx, &run->opt);
+    if (st != PF_OK) {
+        report_status(run, st);
+        return CLI_EXIT_USAGE;
+    }
+    return CLI_EXIT_OK;
+}
+
+/* Round half up, then saturate: never wraps, whatever e/in_fs is. */
+static int16_t to_q15(double e, double in_fs)
+{
+    double x = e / in_fs * 32768.0;
+    double r;
+    if (!(x < 32767.0))
+        return INT16_MAX;
+    if (!(x > -32768.0))
+        return INT16_MIN;
+    /* floor(x + 0.5) would round 0.49999999999999994 up: the sum rounds. */
+    r = floor(x);
+    if (x - r >= 0.5)
+        r += 1.0;
+    return (int16_t)r;
+}
+
+static int write_error(const char *out_name)
+{
+    cli_error("error writing %s: %s", out_name, strerror(errno));
+    return CLI_EXIT_IO;
+}
+
+int cli_run_write(const cli_run *run, const pf_ctrl_design *d, FILE *out,
+                  const char *out_name, cli_sample_fn fn, void *ctx)
+{
+    const size_t total = cli_run_samples(run);
+    const size_t dlen = d->rt.delay_len;
+    const double fs = run->opt.fs;
+    pf_ctrl_f64 in64;
+    pf_ctrl_f32 in32;
+    pf_ctrl_q15 inq;
+    pf_ctrl_coeffs_f32 cf;
+    pf_ctrl_coeffs_q15 cq;
+    double eb[BLOCK], pcb[BLOCK];
+    float ef[BLOCK], pf[BLOCK];
+    int16_t eq[BLOCK], pq[BLOCK];
+    void *dbuf = NULL;
+    pf_status st = PF_OK;
+    size_t base, i;
+    int rc = CLI_EXIT_OK;
+
+    if (run->arith == CLI_ARITH_Q15) {
+        st = pf_ctrl_coeffs_q15_make(&cq, d, run->in_fs, run->out_fs);
+        if (st != PF_OK) {
+            report_status(run, st);
+            return CLI_EXIT_USAGE;
+        }
+    }
+    if (dlen > 0) {
+        size_t elem = run->arith == CLI_ARITH_DOUBLE ? sizeof(double)
+                      : run->arith == CLI_ARITH_FLOAT ? sizeof(float)
+                                                      : sizeof(int16_t);
+        dbuf = calloc(dlen, elem);
+        if (dbuf == NULL) {
+            cli_error("out of memory for a dead time of %lu samples",
+                      (unsigned long)dlen);
+            return CLI_EXIT_USAGE;
+        }
+    }
+    switch (run->arith) {
+    case CLI_ARITH_DOUBLE:
+        st = pf_ctrl_init_f64(&in64, &d->rt, dbuf, dlen);
+        break;
+    case CLI_ARITH_FLOAT:
+        pf_ctrl_coeffs_f32_make(&cf, &d->rt);
+        st = pf_ctrl_init_f32(&in32, &cf, dbuf, dlen);
+        break;
+    default:
+        st = pf_ctrl_init_q15(&inq, &cq, dbuf, dlen);
+        break;
+    }
+    if (st != PF_OK) {
+        report_status(run, st);
+        free(dbuf);
+        return CLI_EXIT_USAGE;
+    }
+
+    if (fputs(run->arith == CLI_ARITH_Q15 ? "t,e,pc,pc_q15\n" : "t,e,pc\n",
+              out) == EOF) {
+        free(dbuf);
+        return write_error(out_name);
+    }
+    for (base = 0; base < total && rc == CLI_EXIT_OK; base += BLOCK) {
+        size_t k = total - base < BLOCK ? total - base : BLOCK;
+        for (i = 0; i < k; i++) {
+            size_t n = base + i;
+            if (run->input == NULL)
+                eb[i] = 1.0;
+            else
+                eb[i] = run->input[n < run->n_input ? n : run->n_input - 1];
+        }
+        switch (run->arith) {
+        case CLI_ARITH_DOUBLE:
+            pf_ctrl_run_f64(&in64, eb, pcb, k);
+            break;
+        case CLI_ARITH_FLOAT:
+            for (i = 0; i < k; i++)
+                ef[i] = (float)eb[i];
+            pf_ctrl_run_f32(&in32, ef, pf, k);
+            for (i = 0; i < k; i++)
+                pcb[i] = (double)pf[i];
+            break;
+        default:
+            for (i = 0; i < k; i++)
+                eq[i] = to_q15(eb[i], run->in_fs);
+            pf_ctrl_run_q15(&inq, eq, pq, k);
+            for (i = 0; i < k; i++)
+                pcb[i] = (double)pq[i] * run->out_fs / 32768.0;
+            break;
+        }
+        for (i = 0; i < k; i++) {
+            size_t n = base + i;
+            double t = (double)n / fs;
+            int w;
+            /* %.9g is the shortest format that round-trips every float;
+             * %.17g does so for doubles. */
+            if (run->arith == CLI_ARITH_DOUBLE)
+                w = fprintf(out, "%.17g,%.17g,%.17g\n", t, eb[i], pcb[i]);
+            else if (run->arith == CLI_ARITH_FLOAT)
+                w = fprintf(out, "%.17g,%.17g,%.9g\n", t, eb[i], pcb[i]);
+            else
+                w = fprintf(out, "%.17g,%.17g,%.17g,%d\n", t, eb[i], pcb[i],
+                            (int)pq[i]);
+            if (w < 0) {
+                rc = write_error(out_name);
+                break;
+            }
+            if (fn != NULL)
+                fn(ctx, n, pcb[i]);
+        }
+    }
+    if (rc == CLI_EXIT_OK && fflush(out) != 0)
+        rc = write_error(out_name);
+    free(dbuf);
+    return rc;
+}
+
+static const cli_command simulate_cmd = {
+    "simulate", cli_simulate_usage,
+    CLI_OPTS_DESIGN | CLI_OPTS_ARITH | CLI_OPT_DURATION | CLI_OPT_INPUT};
+
+int cli_simulate_main(int argc, char **argv)
+{
+    cli_opts a;
+    cli_run run;
+    pf_ctrl_design d;
+    double *input = NULL;
+    int rc;
+
+    memset(&a, 0, sizeof a);
+    a.config = PF_CFG_COUNT;
+    rc = cli_opts_parse(argc, argv, &simulate_cmd, &a);
+    if (rc != 0)
+        return rc > 0 ? CLI_EXIT_OK : CLI_EXIT_USAGE;
+    if (cli_opts_build(&a, &simulate_cmd, &run) != 0)
+        return CLI_EXIT_USAGE;
+    rc = cli_run_design(&run, &d);
+    if (rc != CLI_EXIT_OK)
+        return rc;
+    if (a.input != NULL) {
+        if (cli_csv_read_input(a.input, run.opt.fs, cli_run_samples(&run),
+                               &input, &run.n_input) != 0)
+            return CLI_EXIT_USAGE;
+        run.input = input;
+    }
+    rc = cli_run_write(&run, &d, stdout, "standard output", NULL, NULL);
+    free(input);
+    return rc;
+}
