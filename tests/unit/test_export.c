@@ -1,0 +1,71 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Exported coefficient headers (pneufrac design --format c), compiled back
+ * in: they must be the in-process design, byte for byte, and run to the
+ * same outputs bit for bit.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <string.h>
+
+#include "pneufrac/pneufrac.h"
+#include "pf_example6_f32.h"
+#include "pf_example6_q15.h"
+
+static pf_ctrl_design design;
+
+static int setup(void **state)
+{
+    pf_params p;
+    pf_design_opts o;
+    (void)state;
+    pf_params_default(&p, PF_CFG_DD);
+    pf_design_opts_default(&o, 20000.0);
+    return pf_ctrl_design_make(&design, &p, NULL, &o) == PF_OK ? 0 : -1;
+}
+
+static void test_q15_header(void **state)
+{
+    static pf_ctrl_coeffs_q15 mine;
+    static pf_ctrl_q15 a, b;
+    long n;
+    (void)state;
+    assert_int_equal(pf_ctrl_coeffs_q15_make(&mine, &design, 1.0, 0.01), PF_OK);
+    assert_memory_equal(&mine, &pf_example6_q15, sizeof mine);
+    pf_ctrl_init_q15(&a, &mine, NULL, 0);
+    pf_ctrl_init_q15(&b, &pf_example6_q15, NULL, 0);
+    for (n = 0; n < 20000; n++) {
+        int16_t e = (int16_t)(n < 10000 ? 16384 : -4096);
+        assert_int_equal(pf_ctrl_step_q15(&a, e), pf_ctrl_step_q15(&b, e));
+    }
+}
+
+static void test_f32_header(void **state)
+{
+    static pf_ctrl_coeffs_f32 mine;
+    static pf_ctrl_f32 a, b;
+    long n;
+    (void)state;
+    pf_ctrl_coeffs_f32_make(&mine, &design.rt);
+    assert_memory_equal(&mine, &pf_example6_f32, sizeof mine);
+    pf_ctrl_init_f32(&a, &mine, NULL, 0);
+    pf_ctrl_init_f32(&b, &pf_example6_f32, NULL, 0);
+    for (n = 0; n < 20000; n++) {
+        float e = n < 10000 ? 0.5f : -0.125f, ya = pf_ctrl_step_f32(&a, e);
+        float yb = pf_ctrl_step_f32(&b, e);
+        assert_memory_equal(&ya, &yb, sizeof ya);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_q15_header),
+        cmocka_unit_test(test_f32_header),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}

@@ -1,0 +1,164 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * "pneufrac design": the design step on its own, for firmware that runs
+ * only the runtime. --format c writes the float or Q15 coefficient set as a
+ * C header (static const, no libm or FPU needed to use it); --format json
+ * describes the double design: resolved band and order, every operator's
+ * sections and the loop constants.
+ */
+#include "cli_design.h"
+
+#include <ctype.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli_args.h"
+#include "cli_export.h"
+#include "cli_options.h"
+
+static const cli_command design_cmd = {
+    "design", cli_design_usage,
+    CLI_OPTS_DESIGN | CLI_OPTS_ARITH | CLI_OPT_FORMAT | CLI_OPT_NAME};
+
+void cli_design_usage(FILE *f)
+{
+    fprintf(f,
+"usage: pneufrac design --config {p,dd,id,pid} --fs HZ --format {c,json}\n"
+"                       [--arith double|float|q15] [--in-fs X --out-fs Y]\n"
+"                       [--name IDENT] [--set NAME=VALUE ...]\n"
+"                       [--band WB:WH] [--order N] [--approx oustaloup|refined]\n"
+"                       [--input-model hold|linear] [--t-slow S]\n"
+"                       [--effect NAME:K=V[,K=V] ...]\n"
+"\n"
+"Designs a controller and writes it to standard output.\n"
+"  --format c     a C header defining 'static const pf_ctrl_coeffs_q15 IDENT'\n"
+"                 (--arith q15, needs --in-fs/--out-fs) or pf_ctrl_coeffs_f32\n"
+"                 (--arith float), for pf_ctrl_init_q15/_f32 in firmware\n"
+"  --format json  the double design: resolved band and order, each\n"
+"                 operator's parallel sections, the loop constants\n"
+"  --name IDENT   the C identifier of the coefficient set (default pf_coeffs)\n");
+}
+
+static int valid_ident(const char *s)
+{
+    if (!(isalpha((unsigned char)*s) || *s == '_'))
+        return 0;
+    for (; *s; s++)
+        if (!(isalnum((unsigned char)*s) || *s == '_'))
+            return 0;
+    return 1;
+}
+
+static void json_array(FILE *f, const char *key, const double *v, int n)
+{
+    int i;
+    fprintf(f, "\"%s\": [", key);
+    for (i = 0; i < n; i++)
+        fprintf(f, "%s%.17g", i ? ", " : "", v[i]);
+    fprintf(f, "]");
+}
+
+static void json_op(FILE *f, const char *role, const pf_fracop_design *op, int last)
+{
+    fprintf(f, "    {\"role\": \"%s\", \"alpha\": %.17g, \"gain\": %.17g, "
+               "\"n_int\": %d, \"n_sec\": %d, \"d\": %.17g, \"D\": %.17g,\n      ",
+            role, op->alpha, op->gain, op->n_int, op->n_sec, op->d, op->D);
+    json_array(f, "lam", op->lam, op->n_sec);
+    fprintf(f, ",\n      ");
+    json_array(f, "G", op->G, op->n_sec);
+    fprintf(f, "}%s\n", last ? "" : ",");
+}
+
+static void write_json(FILE *f, const pf_ctrl_design *d)
+{
+    const pf_ctrl_coeffs_f64 *c = &d->rt;
+    int id, first = 1;
+    fprintf(f, "{\n  \"config\": \"%s\",\n  \"params\": {", pf_config_name(d->p.config));
+    for (id = 0; id <= (int)PF_P_RCI; id++) {
+        if (!pf_param_used(d->p.config, (pf_param_id)id))
+            continue;
+        fprintf(f, "%s\"%s\": %.17g", first ? "" : ", ", pf_param_name((pf_param_id)id),
+                pf_params_get(&d->p, (pf_param_id)id));
+        first = 0;
+    }
+    fprintf(f, "},\n  \"design\": {\"fs\": %.17g, \"wb\": %.17g, \"wh\": %.17g, "
+               "\"order\": %d, \"approx\": \"%s\", \"input\": \"%s\", "
+               "\"prewarp\": %.17g},\n",
+            d->opt.fs, d->opt.wb, d->opt.wh, d->opt.order,
+            d->opt.approx == PF_APPROX_REFINED ? "refined" : "oustaloup",
+            d->opt.input == PF_INPUT_LINEAR ? "linear" : "hold", d->opt.prewarp);
+    fprintf(f, "  \"operators\": [\n");
+    json_op(f, "relay (tau s)^-beta", &c->P, !c->has_q && !c->has_v && !c->has_w);
+    if (c->has_q)
+        json_op(f, "bellows (A/ks) s^-q", &c->Q, !c->has_v && !c->has_w);
+    if (c->has_v)
+        json_op(f, "restrictor (1/RC) s^-nu", &c->V, !c->has_w);
+    if (c->has_w)
+        json_op(f, "restrictor (1/RC) s^-w", &c->W, 1);
+    fprintf(f, "  ],\n  \"loop\": {\"ce\": %.17g, \"cy\": %.17g, \"alpha_z\": %.17g, "
+               "\"alpha_y\": %.17g, \"loop_inv\": %.17g}\n}\n",
+            c->ce, c->cy, c->alpha_z, c->alpha_y, c->loop_inv);
+}
+
+int cli_design_main(int argc, char **argv)
+{
+    static pf_ctrl_design d;
+    cli_opts a;
+    cli_run run;
+    char q[48];
+    const char *name;
+    int rc;
+
+    memset(&a, 0, sizeof a);
+    a.config = PF_CFG_COUNT;
+    rc = cli_opts_parse(argc, argv, &design_cmd, &a);
+    if (rc != 0)
+        return rc > 0 ? CLI_EXIT_OK : CLI_EXIT_USAGE;
+    if (cli_opts_build(&a, &design_cmd, &run) != 0)
+        return CLI_EXIT_USAGE;
+    if (a.format == NULL) {
+        cli_error("design: missing --format (c or json)");
+        return CLI_EXIT_USAGE;
+    }
+    name = a.name != NULL ? a.name : "pf_coeffs";
+    if (!valid_ident(name)) {
+        cli_error("--name: '%s' is not a C identifier", cli_quote(q, sizeof q, name));
+        return CLI_EXIT_USAGE;
+    }
+    if (strcmp(a.format, "json") == 0) {
+        if (cli_run_design(&run, &d) != CLI_EXIT_OK)
+            return CLI_EXIT_USAGE;
+        write_json(stdout, &d);
+    } else if (strcmp(a.format, "c") == 0) {
+        char note[160];
+        if (run.arith == CLI_ARITH_DOUBLE) {
+            cli_error("--format c needs --arith float or q15 (firmware runs "
+                      "float or Q15, not double)");
+            return CLI_EXIT_USAGE;
+        }
+        if (cli_run_design(&run, &d) != CLI_EXIT_OK)
+            return CLI_EXIT_USAGE;
+        snprintf(note, sizeof note, "config %s, fs = %g Hz, band [%g, %g] rad/s, N = %d",
+                 pf_config_name(d.p.config), d.opt.fs, d.opt.wb, d.opt.wh, d.opt.order);
+        if (run.arith == CLI_ARITH_Q15) {
+            static pf_ctrl_coeffs_q15 cq;
+            pf_status st = pf_ctrl_coeffs_q15_make(&cq, &d, run.in_fs, run.out_fs);
+            if (st != PF_OK) {
+                cli_error("design: no Q15 coefficient set: %s", pf_status_str(st));
+                return CLI_EXIT_USAGE;
+            }
+            rc = cli_export_c_q15(stdout, name, note, &cq);
+        } else {
+            static pf_ctrl_coeffs_f32 cf;
+            pf_ctrl_coeffs_f32_make(&cf, &d.rt);
+            rc = cli_export_c_f32(stdout, name, note, &cf);
+        }
+        if (rc != 0)
+            return CLI_EXIT_IO;
+    } else {
+        cli_error("--format: unknown format '%s' (valid: c, json)",
+                  cli_quote(q, sizeof q, a.format));
+        return CLI_EXIT_USAGE;
+    }
+    return CLI_EXIT_OK;
+}
