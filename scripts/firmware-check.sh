@@ -34,6 +34,11 @@ float_re='^__aeabi_[fd]|^__aeabi_[iul]+2[fd]$'
 float_re+='|^__(add|sub|mul|div|neg|eq|ne|lt|le|gt|ge|un|cmp)[sdt]f[23]$|^__(float|fix|extend|trunc)'
 float_re+='|^(__ieee754_)?(sqrt|cbrt|exp|exp2|expm1|log|log2|log10|log1p|pow|sin|cos|tan|asin|acos|atan|atan2|sinh|cosh|tanh|floor|ceil|round|lround|llround|trunc|fmod|remainder|modf|frexp|ldexp|scalbn|hypot|fabs|fmin|fmax|fma|rint|lrint|llrint|nearbyint|erf|erfc|tgamma|lgamma|copysign)[fl]?$'
 
+# Budgets of a Q15 dd controller at the default order, from a linked image:
+# runtime code plus its coefficient set in flash, the instance in RAM.
+flash_budget=6144
+ram_budget=1024
+
 # Objects that must exist in the M0+ archive: the per-sample Q15 path.
 m0_required_objects=(pf_fracop_q15.c.obj pf_ctrl_q15.c.obj)
 
@@ -69,6 +74,52 @@ build() {
     cmake --build "$dir" --parallel "$(nproc 2>/dev/null || echo 2)"
 }
 
+# The example firmware (port/cortex-m) needs the host-exported coefficients.
+gen_dir=build-arm-gen
+host_cli=build/tools/pneufrac
+if [[ ! -x $host_cli ]]; then
+  log "building the host CLI to export coefficients"
+  cmake -S . -B build --log-level=WARNING >/dev/null &&
+    cmake --build build --target pneufrac_cli >/dev/null
+fi
+mkdir -p "$gen_dir"
+"$host_cli" design --config dd --fs 20000 --arith q15 --in-fs 1 --out-fs 0.01 \
+  --format c --name pf_example6_q15 >"$gen_dir/pf_example6_q15.h"
+
+# link_example <cpu> <dir> <archive>: links port/cortex-m/example_isr.c (a
+# Q15 Example 6 run from an ISR) into a real image and checks the budgets.
+link_example() {
+  local cpu=$1 dir=$2 archive=$3 flags elf ctrl_flash inst_ram
+  flags=(-mcpu="$cpu" -mthumb)
+  [[ $cpu == cortex-m4 ]] && flags+=(-mfloat-abi=hard -mfpu=fpv4-sp-d16)
+  elf=$dir/example6.elf
+  arm-none-eabi-gcc "${flags[@]}" -std=c99 -Os -ffunction-sections -fdata-sections \
+    -Wall -Wextra -Werror -Ilib/include -I"$gen_dir" port/cortex-m/example_isr.c \
+    "$archive" -nostartfiles --specs=nano.specs -T port/cortex-m/example.ld \
+    -Wl,--gc-sections -o "$elf" || return 1
+  log "example image $elf ($cpu): whole image, then the controller's share"
+  arm-none-eabi-size -B "$elf"
+  # The controller: every pf_* function and the coefficient set, in flash;
+  # the instance (the static 'controller') in RAM.
+  ctrl_flash=0
+  inst_ram=""
+  while read -r _ size type name; do
+    if [[ $type == [tTrR] && $name == pf_* ]]; then
+      ctrl_flash=$((ctrl_flash + 16#$size))
+    elif [[ $name == controller ]]; then
+      inst_ram=$((16#$size))
+    fi
+  done < <(arm-none-eabi-nm -S "$elf")
+  if [[ -z $inst_ram ]] || ((ctrl_flash == 0)); then
+    violations+=("$cpu: could not measure the example's controller in $elf")
+    return 0
+  fi
+  log "Q15 dd controller on $cpu: flash $ctrl_flash B (budget $flash_budget), instance $inst_ram B RAM (budget $ram_budget)"
+  if ((ctrl_flash > flash_budget || inst_ram > ram_budget)); then
+    violations+=("$cpu: Q15 dd controller over budget (flash $ctrl_flash B, RAM $inst_ram B)")
+  fi
+}
+
 status=0
 for target in cortex-m0plus:build-arm-m0 cortex-m4:build-arm-m4; do
   cpu=${target%%:*}
@@ -85,6 +136,9 @@ for target in cortex-m0plus:build-arm-m0 cortex-m4:build-arm-m4; do
 
   check "$archive" "heap" "$heap_re"
   check "$archive" "stdio" "$stdio_re"
+  if ! link_example "$cpu" "$dir" "$archive"; then
+    violations+=("$cpu: the example firmware did not link")
+  fi
 
   if [[ $cpu == cortex-m0plus ]]; then
     members=$(arm-none-eabi-ar t "$archive")
