@@ -13,6 +13,21 @@
 /* Longest dead time in samples (4 Mi samples: 210 s at 20 kHz). */
 #define PF_DELAY_MAX 4194304.0
 
+/* An operator of the model: its order and gain come from the parameters
+ * named by order_id and gain_id, so a refusal names those, never the
+ * internal "alpha" or "gain". */
+static pf_status op_make(pf_fracop_design *op, double alpha, double gain,
+                         const pf_design_opts *o, pf_param_id order_id,
+                         pf_param_id gain_id)
+{
+    pf_status st = pf_fracop_design_make(op, alpha, gain, o);
+    if (st == PF_E_PARAM(PF_P_ALPHA))
+        return PF_E_PARAM(order_id);
+    if (st == PF_E_PARAM(PF_P_GAIN))
+        return PF_E_PARAM(gain_id);
+    return st;
+}
+
 static pf_status design_ops(pf_ctrl_coeffs_f64 *c, const pf_params *p,
                             const pf_design_opts *o)
 {
@@ -24,27 +39,14 @@ static pf_status design_ops(pf_ctrl_coeffs_f64 *c, const pf_params *p,
     c->has_v = p->config == PF_CFG_DD || pid;
     c->has_w = p->config == PF_CFG_ID || pid;
     /* Relay in integral form: w = (tau s)^-beta v (pf_controller.h). */
-    st = pf_fracop_design_make(&c->P, -p->beta, pow(p->tau, -p->beta), o);
-    if (st == PF_E_PARAM(PF_P_ALPHA))
-        return PF_E_PARAM(PF_P_BETA);
-    if (st != PF_OK)
-        return st;
-    if (c->has_q) {
-        st = pf_fracop_design_make(&c->Q, -p->q, p->A / p->ks, o);
-        if (st != PF_OK)
-            return st == PF_E_PARAM(PF_P_ALPHA) ? PF_E_PARAM(PF_P_Q) : st;
-    }
-    if (c->has_v) {
-        st = pf_fracop_design_make(&c->V, -p->nu, 1.0 / rcv, o);
-        if (st != PF_OK)
-            return st == PF_E_PARAM(PF_P_ALPHA) ? PF_E_PARAM(PF_P_NU) : st;
-    }
-    if (c->has_w) {
-        st = pf_fracop_design_make(&c->W, -p->w, 1.0 / rcw, o);
-        if (st != PF_OK)
-            return st == PF_E_PARAM(PF_P_ALPHA) ? PF_E_PARAM(PF_P_W) : st;
-    }
-    return PF_OK;
+    st = op_make(&c->P, -p->beta, pow(p->tau, -p->beta), o, PF_P_BETA, PF_P_TAU);
+    if (st == PF_OK && c->has_q)
+        st = op_make(&c->Q, -p->q, p->A / p->ks, o, PF_P_Q, PF_P_KS);
+    if (st == PF_OK && c->has_v)
+        st = op_make(&c->V, -p->nu, 1.0 / rcv, o, PF_P_NU, pid ? PF_P_RCD : PF_P_RC);
+    if (st == PF_OK && c->has_w)
+        st = op_make(&c->W, -p->w, 1.0 / rcw, o, PF_P_W, pid ? PF_P_RCI : PF_P_RC);
+    return st;
 }
 
 static pf_status derive_loop(pf_ctrl_coeffs_f64 *c, const pf_params *p)

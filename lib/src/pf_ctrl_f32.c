@@ -8,5 +8,6 @@
 #define PF_OPI pf_fracop_f32
 #define PF_CC pf_ctrl_coeffs_f32
 #define PF_CI pf_ctrl_f32
+#define PF_BIG 1e30f
 #include "pf_float_ops.h"
 #include "pf_ctrl_float.inc"

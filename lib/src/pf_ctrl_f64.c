@@ -8,6 +8,7 @@
 #define PF_OPI pf_fracop_f64
 #define PF_CC pf_ctrl_coeffs_f64
 #define PF_CI pf_ctrl_f64
+#define PF_BIG 1e300
 #include "pf_float_ops.h"
 #include "pf_ctrl_float.inc"
 

@@ -2,7 +2,8 @@
 /*
  * Per-sample operator kernels shared by the float and double runtimes.
  * Template: define PF_T (float or double), PF_SFX (f32 or f64), PF_OPC (the
- * operator coefficient type) and PF_OPI (its instance type) before including.
+ * operator coefficient type), PF_OPI (its instance type) and PF_BIG (the
+ * saturation level of integrator states) before including.
  *
  * A sample is split in two so that loops can be solved in between:
  *   S = op_state(op, &sf)      what the state contributes (u unknown yet);
@@ -34,7 +35,9 @@ static inline PF_T PF_FN(op_update_)(PF_OPI *in, PF_T u, PF_T sf)
         in->s[k] += c->lam[k] * (u - in->s[k]);
     for (k = 0; k < (c->n_int < 0 ? -c->n_int : c->n_int); k++) {
         PF_T yk = c->int_d * y + in->si[k];
-        in->si[k] = (c->int_rho > 0 ? in->si[k] : -in->si[k]) + c->int_k * y;
+        PF_T si = (c->int_rho > 0 ? in->si[k] : -in->si[k]) + c->int_k * y;
+        /* an integrator saturates rather than overflow (see PF_BIG) */
+        in->si[k] = si < PF_BIG ? (si > -PF_BIG ? si : -PF_BIG) : PF_BIG;
         y = yk;
     }
     return y;

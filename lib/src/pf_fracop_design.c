@@ -81,6 +81,13 @@ pf_status pf_fracop_design_make(pf_fracop_design *op, double alpha, double gain,
     op->D = op->d;
     for (i = 0; i < abs(m); i++)
         op->D *= op->int_d;
+    /* Last line of defence: an approximant whose poles left the range a
+     * sample rate can hold would run unstable or produce NaN. */
+    if (!isfinite(op->d) || !isfinite(op->D))
+        return PF_E_PARAM(PF_P_ALPHA);
+    for (j = 0; j < np; j++)
+        if (!(op->lam[j] > 0.0 && op->lam[j] < 2.0 - 1e-9) || !isfinite(op->G[j]))
+            return PF_E_PARAM(PF_P_ALPHA);
     return PF_OK;
 }
 

@@ -6,6 +6,7 @@
 #define PF_SFX f32
 #define PF_OPC pf_fracop_coeffs_f32
 #define PF_OPI pf_fracop_f32
+#define PF_BIG 1e30f
 #include "pf_float_ops.h"
 #include "pf_fracop_float.inc"
 

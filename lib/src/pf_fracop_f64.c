@@ -6,5 +6,6 @@
 #define PF_SFX f64
 #define PF_OPC pf_fracop_design
 #define PF_OPI pf_fracop_f64
+#define PF_BIG 1e300
 #include "pf_float_ops.h"
 #include "pf_fracop_float.inc"

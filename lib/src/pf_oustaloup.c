@@ -23,6 +23,7 @@
  * 2^-32, the finest the Q15 runtime represents with a normalised mantissa. */
 #define PF_WB_FS_MIN 1e-9
 #define REF_B 10.0
+#define PF_REFINED_MARGIN 1e-3
 #define REF_D 9.0
 
 void pf_design_opts_default(pf_design_opts *o, double fs)
@@ -143,7 +144,12 @@ pf_status pf_fracop_zpk(double alpha, const pf_design_opts *opt, int *m,
     *np = 0;
     if (fabs(f) < 1e-12)
         return PF_OK;
-    if (o.approx == PF_APPROX_OUSTALOUP) {
+    /* The refined correction factor degenerates as r -> 0 or r -> 1 (one
+     * of its poles runs to 0 or to infinity, beyond any sample rate); so
+     * close to an integer order the plain recursive distribution, which is
+     * well conditioned there, is used instead. */
+    if (o.approx == PF_APPROX_OUSTALOUP ||
+        fabs(f) < PF_REFINED_MARGIN || fabs(f) > 1.0 - PF_REFINED_MARGIN) {
         oustaloup_zp(f, o.wb, o.wh, o.order, zeros, poles);
         *nz = *np = 2 * o.order + 1;
         *k = pow(o.wh, f);

@@ -6,9 +6,14 @@
 #include <stddef.h>
 #include <string.h>
 
-/* Magnitudes beyond this are refused: they are not physical in the paper's
- * units and would overflow products formed in the design. */
+/* Positive parameters live in [PF_PARAM_MIN, PF_PARAM_MAX]: far wider than
+ * any physical device in the paper's units, narrow enough that the products
+ * formed in the design stay finite in double and in float. */
+#define PF_PARAM_MIN 1e-9
 #define PF_PARAM_MAX 1e9
+/* Bound on the bellows compliance A/ks, the one ratio of two free
+ * parameters that becomes an operator gain. */
+#define PF_KA_MAX 1e12
 
 void pf_params_default(pf_params *p, pf_config cfg)
 {
@@ -127,7 +132,7 @@ pf_status pf_params_validate(const pf_params *p)
         case PF_P_NU:
         case PF_P_W: ok = in_range(v, 0.0, 1, 1.0); break;
         case PF_P_Q: ok = in_range(v, 0.0, 0, 1.0); break;
-        default: ok = in_range(v, 0.0, 1, PF_PARAM_MAX); break;
+        default: ok = in_range(v, PF_PARAM_MIN, 0, PF_PARAM_MAX); break;
         }
         if (!ok)
             return PF_E_PARAM(id);
@@ -135,10 +140,17 @@ pf_status pf_params_validate(const pf_params *p)
     /* Psi_max and Psi_min are the maximum and minimum stiffness (eq. 11). */
     if (p->pmax < p->pmin)
         return PF_E_PARAM(PF_P_PMAX);
-    /* A pid whose derivative restrictor is slower than its reset restrictor
-     * turns the net bellows feedback positive: that is not a controller. */
-    if (p->config == PF_CFG_PID && !(p->RCd < p->RCi))
-        return PF_E_PARAM(PF_P_RCD);
+    if (!(p->A / p->ks <= PF_KA_MAX && p->A / p->ks >= 1.0 / PF_KA_MAX))
+        return PF_E_PARAM(PF_P_KS);
+    /* The pid's bellows feedback R_d - R_i must stay negative (docs/pid.md):
+     * at high frequency that needs nu <= w (else R_i decays slower and the
+     * net feedback turns positive), and then RCd < RCi. */
+    if (p->config == PF_CFG_PID) {
+        if (!(p->nu <= p->w))
+            return PF_E_PARAM(PF_P_W);
+        if (!(p->RCd < p->RCi))
+            return PF_E_PARAM(PF_P_RCD);
+    }
     return PF_OK;
 }
 

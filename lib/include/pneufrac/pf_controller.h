@@ -93,10 +93,14 @@ typedef struct pf_ctrl_design {
 pf_status pf_ctrl_design_make(pf_ctrl_design *d, const pf_params *p,
                               const pf_effects *fx, const pf_design_opts *opt);
 
-/** Internal signals of the last sample, physical units. */
+/** Internal signals of the last sample (see pf_ctrl_f64.sig). */
 typedef struct pf_ctrl_signals_f64 { double e, x, pb, z, pc, y, out; } pf_ctrl_signals_f64;
 typedef struct pf_ctrl_signals_f32 { float e, x, pb, z, pc, y, out; } pf_ctrl_signals_f32;
 
+/** Internal signals of the last sample, physical units; e is the input as
+ *  the lever sees it (with PF_INPUT_HOLD, the mean of the last two). The
+ *  float runtimes saturate every solved node at +-1e30 (f32) or +-1e300
+ *  (f64), so extreme inputs never produce inf or NaN. */
 /** Double runtime instance. The dead-time buffer is caller-owned. */
 typedef struct pf_ctrl_f64 {
     const pf_ctrl_coeffs_f64 *c;
@@ -191,10 +195,12 @@ typedef struct pf_ctrl_q15 {
 } pf_ctrl_q15;
 
 /** Derive the Q15 coefficient set. e = in_fs maps to Q15 +1.0 at the input,
- *  p_c = out_fs to +1.0 at the output. Supports saturation, lag and dead
- *  time; backlash and the nozzle curve are float/double only.
- *  @return PF_OK, PF_E_PARAM(PF_P_IN_FS | PF_P_OUT_FS), PF_E_UNSUPPORTED
- *          or PF_E_SCALE. */
+ *  p_c = out_fs to +1.0 at the output (both finite, in (0, 1e12]).
+ *  Supports saturation, lag and dead time; backlash and the nozzle curve
+ *  are float/double only.
+ *  @return PF_OK, PF_E_PARAM(PF_P_IN_FS | PF_P_OUT_FS), PF_E_UNSUPPORTED,
+ *          or PF_E_SCALE when a coefficient between two node scales does
+ *          not fit a 31-bit mantissa with a shift in [0, 62]. */
 pf_status pf_ctrl_coeffs_q15_make(pf_ctrl_coeffs_q15 *cq,
                                   const pf_ctrl_design *d, double in_fs,
                                   double out_fs);

@@ -74,13 +74,19 @@ typedef struct pf_design_opts {
 /** Fill @p o with defaults for sample rate @p fs (band and order derived). */
 void pf_design_opts_default(pf_design_opts *o, double fs);
 
-/** Validate @p in and write it to @p out with every default filled in.
- *  Defaults: wb = 0.01/t_slow, wh = pi*fs, N = ceil(decades(wb, wh)) so that
- *  2N+1 >= 2 sections per decade, capped at PF_MAX_ORDER.
+/** Validate @p in and write it to @p out with every default filled in
+ *  (pf_design_opts_default leaves wb, wh and order at 0: they are derived
+ *  here, so that they follow t_slow).
+ *  Defaults: wb = max(0.01/t_slow, 2e-9*fs), wh = pi*fs,
+ *  N = ceil(log10(wh/wb)) so that 2N+1 >= 2 sections per decade, capped at
+ *  PF_MAX_ORDER.
+ *  Limits: fs in (0, 1e7]; t_slow in [0, 1e9]; wb < wh; wh <= pi*fs (with
+ *  1e-12 relative slack for rounding); wb >= 1e-9*fs (a pole closer to
+ *  z = 1 than the Q15 runtime can resolve); N in [1, PF_MAX_ORDER];
+ *  prewarp in [0, 0.99*pi*fs); the refined method needs wh >= 2 rad/s (so
+ *  its correction factor's poles are real).
  *  @return PF_OK, or PF_E_PARAM(PF_P_FS | _WB | _WH | _ORDER | _APPROX |
- *          _PREWARP | _TSLOW | _INPUT). A band is refused if wb >= wh, if wh > pi*fs,
- *          or if wb/fs < 1e-9 (a pole closer to z = 1 than the Q15 runtime
- *          can resolve). */
+ *          _PREWARP | _TSLOW | _INPUT) naming the offending option. */
 pf_status pf_design_opts_resolve(const pf_design_opts *in, pf_design_opts *out);
 
 /** A designed operator gain * s^alpha in double precision (the master copy
@@ -103,9 +109,13 @@ typedef struct pf_fracop_design {
 } pf_fracop_design;
 
 /** Design gain * s^alpha with the options @p opt (already resolved or not).
- *  @param alpha order, |alpha| < 2, alpha != 0
- *  @param gain  finite, non-zero
- *  @return PF_OK, PF_E_PARAM(PF_P_ALPHA | PF_P_GAIN) or an options error. */
+ *  The refined method falls back to Oustaloup's when the fractional part
+ *  is within 1e-3 of an integer, where its correction factor degenerates.
+ *  @param alpha order, 0 < |alpha| < 2
+ *  @param gain  finite, 0 < |gain| <= 1e12
+ *  @return PF_OK, PF_E_PARAM(PF_P_ALPHA | PF_P_GAIN) or an options error;
+ *          PF_E_PARAM(PF_P_ALPHA) also if a section would leave the range
+ *          the sample rate can hold (a pole mapped onto z = -1). */
 pf_status pf_fracop_design_make(pf_fracop_design *op, double alpha, double gain,
                                 const pf_design_opts *opt);
 
@@ -198,7 +208,7 @@ typedef struct pf_fracop_q15 {
 } pf_fracop_q15;
 
 /** Derive a Q15 coefficient set. Physical input in_fs maps to Q15 +1.0 at
- *  the input, out_fs to +1.0 at the output (both > 0).
+ *  the input, out_fs to +1.0 at the output (both finite and > 0).
  *  @return PF_OK, PF_E_PARAM(PF_P_IN_FS | PF_P_OUT_FS) or PF_E_SCALE. */
 pf_status pf_fracop_coeffs_q15_make(pf_fracop_coeffs_q15 *cq,
                                     const pf_fracop_design *op, double in_fs,

@@ -24,7 +24,9 @@ typedef enum pf_config {
 } pf_config;
 
 /** Physical parameters. Units are the paper's (consistent, unspecified);
- *  times in seconds. */
+ *  times in seconds. Every positive parameter must lie in [1e-9, 1e9]:
+ *  far wider than any device in the paper, narrow enough that the
+ *  products the design forms stay finite in float. */
 typedef struct pf_params {
     pf_config config;
     double a, b;      /**< flapper lever arms (eq. 15), > 0 */
@@ -37,10 +39,10 @@ typedef struct pf_params {
     double beta;      /**< relay diaphragm order, (0, 1] */
     double q;         /**< bellows order, [0, 1]; 0 is a linear spring */
     double nu;        /**< derivative restrictor order, (0, 1] (dd, pid) */
-    double w;         /**< reset restrictor order, (0, 1] (id, pid) */
+    double w;         /**< reset restrictor order, (0, 1] (id, pid); pid: >= nu */
     double RC;        /**< restrictor time constant, s, > 0 (dd, id) */
     double RCd;       /**< pid derivative restrictor, s, > 0, < RCi */
-    double RCi;       /**< pid reset restrictor, s, > 0 */
+    double RCi;       /**< pid reset restrictor, s, > RCd */
 } pf_params;
 
 /** Defaults: Example 4 (p, q = 0.9), Example 6 (dd, q = 0.9), Example 7
@@ -48,7 +50,12 @@ typedef struct pf_params {
  *  RCi = 0.1 s (the paper gives none; see docs/pid.md). */
 void pf_params_default(pf_params *p, pf_config cfg);
 
-/** Check every parameter the configuration uses.
+/** Check every parameter the configuration uses (others are ignored):
+ *  finite; positive ones in [1e-9, 1e9]; beta, nu, w in (0, 1]; q in
+ *  [0, 1]; pmin <= pmax (else names pmax); A/ks in [1e-12, 1e12] (else
+ *  names ks); for pid, nu <= w (else names w: with nu > w the reset
+ *  restrictor's bellows wins at high frequency and the net feedback turns
+ *  positive) and RCd < RCi (else names RCd). See docs/pid.md.
  *  @return PF_OK or PF_E_PARAM(id) naming the first offending parameter. */
 pf_status pf_params_validate(const pf_params *p);
 
