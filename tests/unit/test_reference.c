@@ -1,0 +1,263 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Checks the exact reference (tests/ref) before anything is checked against
+ * it: its step responses against the 30-digit mpmath data in
+ * PF_REF_DIR/paper_step_exact.csv, its transfer functions against the
+ * paper's own expanded forms (eq. 17, 18, 20), and the pid structure, which
+ * has no published form, through identities that a wrong formula breaks.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <complex.h>
+#include <math.h>
+#include <stdio.h>
+
+#include "pf_ref.h"
+#include "pf_ref_csv.h"
+
+#ifndef PF_REF_DIR
+#error "define PF_REF_DIR as the directory holding paper_step_exact.csv"
+#endif
+
+/* Required pointwise agreement |ref - csv| <= STEP_TOL |csv|. The CSV's
+ * values carry 12 significant digits, but its t column only 10 (log-grid
+ * points such as 10^-2.8 are rounded), which alone moves p_c by up to
+ * ~1.5e-10 relative where the response is steep (t ~ 1 ms); 1e-8 leaves
+ * margin for both and is still far below any Oustaloup error. */
+#define STEP_TOL 1e-8
+#define TF_TOL 1e-12
+
+static pf_ref_csv tab; /* ~26 kB: static, not on the stack */
+
+static double rel(double complex x, double complex ref)
+{
+    return cabs(x - ref) / cabs(ref);
+}
+
+static void test_csv_missing_file_fails(void **state)
+{
+    (void)state;
+    assert_int_not_equal(pf_ref_csv_load(PF_REF_DIR "/no_such_file.csv",
+                                         &tab), 0);
+}
+
+static void test_step_matches_csv(void **state)
+{
+    const char *path = PF_REF_DIR "/paper_step_exact.csv";
+    const char *first_bad = NULL;
+    int i, j;
+
+    (void)state;
+    if (pf_ref_csv_load(path, &tab) != 0)
+        fail_msg("cannot read %s", path);
+    assert_true(tab.ncols >= 2);
+    assert_string_equal(tab.name[0], "t");
+    /* Every hard-coded case must be a column and vice versa, so that no
+     * case is silently skipped. */
+    assert_int_equal(tab.ncols - 1, pf_ref_case_count());
+
+    printf("  %-12s %-10s %-5s %s\n", "case", "max rel", "row", "t");
+    for (j = 1; j < tab.ncols; ++j) {
+        pf_params p;
+        double emax = 0.0;
+        int at = 0;
+
+        if (pf_ref_case(tab.name[j], &p) != 0)
+            fail_msg("CSV column '%s' is not a known case", tab.name[j]);
+        for (i = 0; i < tab.nrows; ++i) {
+            const double t = tab.col[0][i], want = tab.col[j][i];
+            const double e = fabs(pf_ref_step(&p, t) - want) / fabs(want);
+
+            assert_true(want != 0.0);
+            if (!(e <= emax)) { /* also catches NaN */
+                emax = e;
+                at = i;
+            }
+        }
+        printf("  %-12s %-10.3e %-5d %.10g\n", tab.name[j], emax, at,
+               tab.col[0][at]);
+        if (!(emax <= STEP_TOL) && !first_bad)
+            first_bad = tab.name[j];
+    }
+    if (first_bad)
+        fail_msg("%s (first failing case in the table) exceeds rel. "
+                 "error %g", first_bad, STEP_TOL);
+}
+
+/* The paper's expanded forms, typed from the paper with its monomials
+ * tau^beta s^x and s^(x+y) (cpow), independent of pf_ref_tf's factored form
+ * with (tau s)^beta. */
+static double complex eq17(const pf_params *p, double complex s)
+{
+    const double tb = pow(p->tau, p->beta);
+    const double complex sq = cpow(s, p->q), sb = cpow(s, p->beta);
+
+    return p->b * p->ks * p->k1 * p->k2 * sq * (1.0 + tb * sb) /
+           ((p->a + p->b) * p->ks * sq * (p->pmin + p->pmax * tb * sb) +
+            p->a * p->A * p->k1 * p->k2 * (1.0 + tb * sb));
+}
+
+static double complex eq18(const pf_params *p, double complex s)
+{
+    const double K = p->k1 * p->k2 * p->ks * p->b;
+    const double kappa = p->ks * (p->a + p->b);
+    const double eta = p->k1 * p->k2 * p->a * p->A;
+    const double tb = pow(p->tau, p->beta), RC = p->RC;
+    const double q = p->q, nu = p->nu, be = p->beta;
+
+    return K * (RC * tb * cpow(s, q + nu + be) + RC * cpow(s, q + nu) +
+                cpow(s, q) + tb * cpow(s, q + be)) /
+           (kappa * (p->pmax * RC * tb * cpow(s, q + nu + be) +
+                     p->pmax * tb * cpow(s, q + be) +
+                     p->pmin * RC * cpow(s, q + nu) + p->pmin * cpow(s, q)) +
+            eta + eta * tb * cpow(s, be));
+}
+
+static double complex eq20(const pf_params *p, double complex s)
+{
+    const double tb = pow(p->tau, p->beta);
+    const double complex sq = cpow(s, p->q), sb = cpow(s, p->beta);
+    const double complex rw = p->RC * cpow(s, p->w);
+
+    return p->b * p->k1 * p->k2 * p->ks * sq * (rw + 1.0) * (1.0 + tb * sb) /
+           ((p->a + p->b) * p->ks * sq * (rw + 1.0) *
+                (p->pmin + p->pmax * tb * sb) +
+            p->a * p->A * p->k1 * p->k2 * rw * (1.0 + tb * sb));
+}
+
+/* Points in the cut plane over the relevant scales (1e-3 .. 1e6 rad/s),
+ * on both sides of and close to the cut, and away from the q = 1 poles
+ * near -1e-4. */
+static const double complex pts[] = {
+    0.37, 2.0 + 3.0 * I, -5.0 + 0.2 * I, -5.0 - 0.2 * I, 1e-3 - 7e-4 * I,
+    40.0 - 900.0 * I, -3e4 + 1e3 * I, 1e6 * I, -100.0 + 1.0 * I,
+};
+#define NPTS ((int)(sizeof pts / sizeof pts[0]))
+
+static void check_tf(const char *name,
+                     double complex (*paper)(const pf_params *, double complex))
+{
+    pf_params p;
+    double emax = 0.0;
+    int k;
+
+    assert_int_equal(pf_ref_case(name, &p), 0);
+    for (k = 0; k < NPTS; ++k) {
+        const double complex want = paper(&p, pts[k]);
+        const double e = rel(pf_ref_tf(&p, pts[k]), want);
+
+        if (!(e <= TF_TOL))
+            fail_msg("%s at s = %g%+gi: rel. error %.3e", name,
+                     creal(pts[k]), cimag(pts[k]), e);
+        emax = e > emax ? e : emax;
+    }
+    printf("  %-12s max rel. error vs paper form %.2e\n", name, emax);
+}
+
+static void test_tf_matches_paper(void **state)
+{
+    (void)state;
+    check_tf("ex4_q0.9", eq17);
+    check_tf("ex4_q1.0", eq17);
+    check_tf("ex4_beta0.6", eq17);
+    check_tf("ex4_beta1.0", eq17);
+    check_tf("ex6_q0.9", eq18);
+    check_tf("ex6_q1.0", eq18);
+    check_tf("ex7", eq20);
+}
+
+/* pid with Example 7's values; nu != w and RCd != RCi so that swapping the
+ * two restrictors (orders or time constants) changes H. */
+static pf_params pid_params(double RCd)
+{
+    pf_params p;
+
+    assert_int_equal(pf_ref_case("ex7", &p), 0);
+    p.config = PF_CFG_PID;
+    p.nu = 0.7;
+    p.w = 0.94;
+    p.RCd = RCd;
+    p.RCi = 0.1;
+    p.RC = 0.0;
+    return p;
+}
+
+/* 1/H = 1/(g R) + (c/g) B M is affine in M, and M_pid = Rv - Rw =
+ * M_dd + M_id - M_p, so 1/H_pid = 1/H_dd + 1/H_id - 1/H_p with dd built
+ * from (RCd, nu) and id from (RCi, w). This fails for e.g. M = Rv (1 - Rw),
+ * Rw - Rv, or swapped restrictors, and it ties pid to the dd and id forms
+ * checked against the paper above. */
+static void test_pid_is_dd_plus_id(void **state)
+{
+    const pf_params pid = pid_params(0.01);
+    pf_params pp = pid, dd = pid, id = pid;
+    int k;
+
+    (void)state;
+    pp.config = PF_CFG_P;
+    dd.config = PF_CFG_DD;
+    dd.RC = pid.RCd;
+    id.config = PF_CFG_ID;
+    id.RC = pid.RCi;
+    for (k = 0; k < NPTS; ++k) {
+        const double complex s = pts[k];
+        const double complex lhs = 1.0 / pf_ref_tf(&pid, s);
+        const double complex rhs = 1.0 / pf_ref_tf(&dd, s) +
+                                   1.0 / pf_ref_tf(&id, s) -
+                                   1.0 / pf_ref_tf(&pp, s);
+        const double e = rel(rhs, lhs);
+
+        if (!(e <= TF_TOL))
+            fail_msg("pid identity at s = %g%+gi: rel. error %.3e",
+                     creal(s), cimag(s), e);
+    }
+}
+
+/* As RCd -> 0 the derivative restrictor passes p_c straight through
+ * (Rv -> 1), so pid must tend to id with RC = RCi, and the distance must
+ * shrink like RCd (first order): a pid that used RCd in Rw, or Rw - Rv,
+ * does not converge to id. Checked on the transfer function and on the
+ * step response. */
+static void test_pid_rcd_to_zero_is_id(void **state)
+{
+    const double ts[] = {1e-4, 1e-2, 1.0, 10.0};
+    pf_params id = pid_params(0.0);
+    int k;
+
+    (void)state;
+    id.config = PF_CFG_ID;
+    id.RC = id.RCi;
+    for (k = 0; k < NPTS; ++k) {
+        const pf_params p1 = pid_params(1e-6), p2 = pid_params(1e-9);
+        const double complex h = pf_ref_tf(&id, pts[k]);
+        const double e1 = rel(pf_ref_tf(&p1, pts[k]), h);
+        const double e2 = rel(pf_ref_tf(&p2, pts[k]), h);
+
+        /* rel. change is ~|RCd s^nu| times a loop factor <= 1 */
+        assert_true(e1 <= 1e-6 * pow(cabs(pts[k]), 0.7) + 1e-14);
+        assert_true(e2 <= 1.1e-3 * e1 + 1e-14); /* 1000x smaller RCd */
+    }
+    for (k = 0; k < (int)(sizeof ts / sizeof ts[0]); ++k) {
+        const pf_params p = pid_params(1e-9);
+        const double want = pf_ref_step(&id, ts[k]);
+
+        assert_true(fabs(pf_ref_step(&p, ts[k]) - want) <= 1e-7 * fabs(want));
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_csv_missing_file_fails),
+        cmocka_unit_test(test_step_matches_csv),
+        cmocka_unit_test(test_tf_matches_paper),
+        cmocka_unit_test(test_pid_is_dd_plus_id),
+        cmocka_unit_test(test_pid_rcd_to_zero_is_id),
+    };
+
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
