@@ -106,7 +106,7 @@ pf_status pf_fracop_coeffs_q15_make(pf_fracop_coeffs_q15 *cq,
                                     const pf_fracop_design *op, double in_fs,
                                     double out_fs)
 {
-    double s_in, s_frac, s_out, peak = 0.0;
+    double s_in, s_frac, s_out, peak, lam = 1.0;
     pf_status st;
     int i;
     if (cq == NULL || op == NULL)
@@ -115,9 +115,18 @@ pf_status pf_fracop_coeffs_q15_make(pf_fracop_coeffs_q15 *cq,
         return PF_E_PARAM(PF_P_IN_FS);
     if (!isfinite(out_fs) || !(out_fs > 0.0))
         return PF_E_PARAM(PF_P_OUT_FS);
+    /* The fractional part's peak gain: at DC (d + sum G) for an integrating
+     * s^f, near Nyquist for a differentiating one, in between for neither;
+     * the grid starts below the slowest pole, p = c lam/(2 - lam). */
+    peak = fabs(op->d);
+    for (i = 0; i < op->n_sec; i++)
+        peak += op->G[i];
+    peak = fabs(peak);
+    for (i = 0; i < op->n_sec; i++)
+        lam = fmin(lam, op->lam[i]);
     for (i = 0; i < PF_GRID; i++) {
         double complex f;
-        (void)pf_op_resp(op, pf_grid_omega(op, 2.0 * PF_PI * op->fs * 1e-9, i), &f);
+        (void)pf_op_resp(op, pf_grid_omega(op, op->c * lam / (2.0 - lam), i), &f);
         if (cabs(f) > peak)
             peak = cabs(f);
     }
