@@ -87,9 +87,14 @@ typedef struct pf_ctrl_design {
     pf_ctrl_coeffs_f64 rt;
 } pf_ctrl_design;
 
-/** Design a controller. @p fx and may be NULL (no effects).
+/** Design a controller. @p fx may be NULL (no effects).
+ *  Beyond pf_params_validate, the design refuses, naming the parameter:
+ *  an order the approximation cannot realise at this rate (beta, q, nu,
+ *  w); a dead time over 4194304 samples (dead_time); and, for pid at a
+ *  sample rate below 1 Hz (Tustin constant below 2), restrictors whose
+ *  per-sample feedback would not stay negative (RCd).
  *  @return PF_OK or the status of the first invalid parameter; on error
- *          @p d is left unusable and nothing else is touched. */
+ *          @p d is left unchanged. */
 pf_status pf_ctrl_design_make(pf_ctrl_design *d, const pf_params *p,
                               const pf_effects *fx, const pf_design_opts *opt);
 
@@ -100,7 +105,8 @@ typedef struct pf_ctrl_signals_f32 { float e, x, pb, z, pc, y, out; } pf_ctrl_si
 /** Internal signals of the last sample, physical units; e is the input as
  *  the lever sees it (with PF_INPUT_HOLD, the mean of the last two). The
  *  float runtimes saturate every solved node at +-1e30 (f32) or +-1e300
- *  (f64), so extreme inputs never produce inf or NaN. */
+ *  (f64), so extreme inputs never produce inf or NaN; a NaN input counts
+ *  as zero error. */
 /** Double runtime instance. The dead-time buffer is caller-owned. */
 typedef struct pf_ctrl_f64 {
     const pf_ctrl_coeffs_f64 *c;

@@ -71,7 +71,8 @@ typedef struct pf_design_opts {
     pf_input_model input; /**< input interpretation; default PF_INPUT_HOLD */
 } pf_design_opts;
 
-/** Fill @p o with defaults for sample rate @p fs (band and order derived). */
+/** Fill @p o with defaults for sample rate @p fs: wb, wh and order are left
+ *  at 0, to be derived by pf_design_opts_resolve (from t_slow and fs). */
 void pf_design_opts_default(pf_design_opts *o, double fs);
 
 /** Validate @p in and write it to @p out with every default filled in
