@@ -33,14 +33,19 @@ void cli_error(const char *fmt, ...)
 
 const char *cli_quote(char *buf, size_t n, const char *s)
 {
-    size_t len = strlen(s);
+    return cli_quote_n(buf, n, s, strlen(s));
+}
+
+const char *cli_quote_n(char *buf, size_t n, const char *s, size_t len)
+{
     if (n < 5) {
         if (n > 0)
             buf[0] = '\0';
         return buf;
     }
     if (len < n) {
-        memcpy(buf, s, len + 1);
+        memcpy(buf, s, len);
+        buf[len] = '\0';
     } else {
         memcpy(buf, s, n - 4);
         memcpy(buf + n - 4, "...", 4);
@@ -213,12 +218,8 @@ int cli_parse_effect(const char *arg, cli_effects *acc)
         if (name_is(arg, nlen, fx_names[fx]))
             break;
     if (fx == FX_COUNT) {
-        char name[48];
-        size_t cl = nlen < sizeof name ? nlen : sizeof name - 1;
-        memcpy(name, arg, cl);
-        name[cl] = '\0';
         cli_error("--effect: unknown effect '%s' (valid: %s)",
-                  cli_quote(q, sizeof q, name), valid);
+                  cli_quote_n(q, sizeof q, arg, nlen), valid);
         return -1;
     }
     fx_key_list(fx, keys, sizeof keys);
@@ -242,12 +243,8 @@ int cli_parse_effect(const char *arg, cli_effects *acc)
             if (name_is(p, klen, fx_keys[fx][k]))
                 break;
         if (k == FX_MAX_KEYS) {
-            char key[48];
-            size_t cl = klen < sizeof key ? klen : sizeof key - 1;
-            memcpy(key, p, cl);
-            key[cl] = '\0';
             cli_error("--effect %s: unknown key '%s' (valid: %s)",
-                      fx_names[fx], cli_quote(q, sizeof q, key), keys);
+                      fx_names[fx], cli_quote_n(q, sizeof q, p, klen), keys);
             return -1;
         }
         if (eq == NULL) {

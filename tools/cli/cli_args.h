@@ -27,6 +27,9 @@ void cli_error(const char *fmt, ...) CLI_PRINTF(1, 2);
  *  quoting user text in messages. @return buf. */
 const char *cli_quote(char *buf, size_t n, const char *s);
 
+/** The same for the first @p len bytes of @p s (an option name cut at '='). */
+const char *cli_quote_n(char *buf, size_t n, const char *s, size_t len);
+
 /** Strict conversion of a whole string to a finite double.
  *  @return 0 on success, -1 (no message) otherwise. */
 int cli_parse_double(const char *s, double *out);

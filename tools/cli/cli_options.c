@@ -58,12 +58,8 @@ int cli_opts_parse(int argc, char **argv, const cli_command *cmd, cli_opts *a)
         if (o != NULL && !(cmd->allowed & o->seen))
             o = NULL;
         if (o == NULL) {
-            char name[48];
-            size_t cl = nlen < sizeof name ? nlen : sizeof name - 1;
-            memcpy(name, arg, cl);
-            name[cl] = '\0';
             cli_error("%s: unknown option '%s' (see pneufrac %s --help)",
-                      cmd->name, cli_quote(q, sizeof q, name), cmd->name);
+                      cmd->name, cli_quote_n(q, sizeof q, arg, nlen), cmd->name);
             return -1;
         }
         if (arg[nlen] == '=') {
