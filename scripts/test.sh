@@ -6,6 +6,7 @@
 # stop the later ones; the exit status is non-zero if any step failed.
 #   ctest     unit and reference tests of the Release build in build/
 #   asan      the same tests built with ASan + UBSan in build-asan/
+#   lint      cppcheck over lib/, tools/ and port/
 #   firmware  cross builds for Cortex-M0+/M4 and their symbol rules
 #   pytest    Python tests in tests/python/, when there are any
 set -euo pipefail
@@ -53,6 +54,16 @@ step_asan() {
     ctest --test-dir build-asan --output-on-failure --no-tests=error --parallel "$jobs"
 }
 
+# Static analysis of the C sources that ship: library, tools and port. Any
+# finding fails the step (--error-exitcode).
+step_lint() {
+  local dirs=(lib/src tools/cli)
+  [[ -d port/posix ]] && dirs+=(port/posix)
+  cppcheck --std=c99 --enable=warning,performance,portability --inline-suppr \
+    --quiet --error-exitcode=1 -UPF_CONFIG_HEADER -Ilib/include -Ilib/src \
+    "${dirs[@]}"
+}
+
 step_firmware() {
   ./scripts/firmware-check.sh
 }
@@ -71,6 +82,7 @@ step_pytest() {
 
 run_step ctest step_ctest
 run_step asan step_asan
+run_step lint step_lint
 run_step firmware step_firmware
 run_step pytest step_pytest
 
