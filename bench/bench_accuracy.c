@@ -6,7 +6,10 @@
  * in double, float and Q15, with the default band and order. Prints a
  * Markdown table; never passes or fails on anything (tests do that).
  *   bench_accuracy [--quick]     --quick: 20 kHz only
+ *   bench_accuracy --grid FILE   the grid band x N x fs x arithmetic for
+ *                                every case: Markdown on stdout, CSV in FILE
  */
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -15,9 +18,130 @@
 
 static const double rates[] = {5000.0, 20000.0, 100000.0};
 
+/* The bands of the grid; wh = 0 is the library's pi*fs. */
+typedef struct band {
+    const char *name;
+    double wb, wh;
+} band;
+
+static const band bands[] = {
+    {"toolbox [1e-3, 1e3]", 1e-3, 1e3},
+    {"library [1e-3, pi fs]", 0.0, 0.0},
+    {"wide [1e-4, pi fs]", 1e-4, 0.0},
+};
+static const int orders[] = {3, 5, 8};
+static const char *arith_name[] = {"double", "float", "q15"};
+
+#define NB 3
+#define NN 3
+#define NR 3
+
+static void cell(double e)
+{
+    if (e < 0)
+        printf("refused");
+    else
+        printf("%.3g", 100 * e);
+}
+
+/* Every case x band x N x fs x arithmetic: one Markdown table per case
+ * (rows band x N, one column per rate holding double / float / Q15, in %
+ * of the peak), and every value in CSV for the error-vs-cost plot. */
+static int grid(const char *csv_path)
+{
+    static double err[NR][NB][NN][3];
+    int i, r, b, n, a, ncase = pf_ref_case_count();
+    FILE *csv = fopen(csv_path, "w");
+    if (csv == NULL) {
+        perror(csv_path);
+        return 1;
+    }
+    fprintf(csv, "case,fs,band,wb,wh,N,arith,error\n");
+    for (i = 0; i < ncase; i++) {
+        pf_params p;
+        pf_ref_case(pf_ref_case_name(i), &p);
+        for (r = 0; r < NR; r++) {
+            pf_acc_ref ref;
+            fprintf(stderr, "[bench] grid: %s at %.0f Hz\n", pf_ref_case_name(i), rates[r]);
+            if (pf_acc_ref_make(&ref, &p, rates[r], 1e-3, 2.0) != 0)
+                return 1;
+            for (b = 0; b < NB; b++)
+                for (n = 0; n < NN; n++) {
+                    pf_design_opts o;
+                    pf_design_opts_default(&o, rates[r]);
+                    o.wb = bands[b].wb;
+                    o.wh = bands[b].wh;
+                    o.order = orders[n];
+                    for (a = 0; a < 3; a++) {
+                        pf_design_opts res;
+                        double e = pf_acc_error(&ref, &o, (pf_acc_arith)a, NULL);
+                        err[r][b][n][a] = e;
+                        if (pf_design_opts_resolve(&o, &res) != PF_OK)
+                            res.wb = res.wh = 0.0;
+                        fprintf(csv, "%s,%.0f,\"%s\",%.6g,%.6g,%d,%s,%.6g\n",
+                                pf_ref_case_name(i), rates[r], bands[b].name, res.wb,
+                                res.wh, orders[n], arith_name[a], e);
+                    }
+                }
+            pf_acc_ref_free(&ref);
+        }
+        printf("\n### %s\n\n| band | N | 5 kHz | 20 kHz | 100 kHz |\n"
+               "|---|---|---|---|---|\n", pf_ref_case_name(i));
+        for (b = 0; b < NB; b++)
+            for (n = 0; n < NN; n++) {
+                printf("| %s | %d |", bands[b].name, orders[n]);
+                for (r = 0; r < NR; r++) {
+                    printf(" ");
+                    for (a = 0; a < 3; a++) {
+                        cell(err[r][b][n][a]);
+                        printf("%s", a < 2 ? " / " : " |");
+                    }
+                }
+                printf("\n");
+            }
+    }
+    return fclose(csv) == 0 ? 0 : 1;
+}
+
+/* The paper's likely setting: a toolbox-default band at 10 kHz, N = 5, in
+ * double, for Example 4 (beta = 0.8, q = 0.9); the error at t = 1 ms
+ * relative to the local value, and the worst over [1 ms, 2 s] relative to
+ * the peak. */
+static void toolbox_example(void)
+{
+    static pf_ctrl_design d;
+    static pf_ctrl_f64 c;
+    pf_params p;
+    pf_design_opts o;
+    pf_acc_ref ref;
+    long n;
+    double y = 0.0, ex, worst;
+    pf_params_default(&p, PF_CFG_P);
+    pf_design_opts_default(&o, 10000.0);
+    o.wb = 1e-3;
+    o.wh = 1e3;
+    o.order = 5;
+    if (pf_ctrl_design_make(&d, &p, NULL, &o) != PF_OK ||
+        pf_acc_ref_make(&ref, &p, 10000.0, 1e-3, 2.0) != 0)
+        return;
+    pf_ctrl_init_f64(&c, &d.rt, NULL, 0);
+    for (n = 0; n <= 10; n++) /* t = 1 ms is sample 10 */
+        y = pf_ctrl_step_f64(&c, 1.0);
+    ex = ref.y[0];
+    worst = pf_acc_error(&ref, &o, PF_ACC_F64, NULL);
+    printf("toolbox band [1e-3, 1e3] rad/s, N = 5, 10 kHz, Example 4 (beta 0.8, "
+           "q 0.9), double: %.2f %% of the local value at t = 1 ms; worst %.2f %% "
+           "of the peak over [1 ms, 2 s]\n", 100 * fabs(y - ex) / fabs(ex), 100 * worst);
+    pf_acc_ref_free(&ref);
+}
+
 int main(int argc, char **argv)
 {
     int quick = argc > 1 && strcmp(argv[1], "--quick") == 0;
+    if (argc > 2 && strcmp(argv[1], "--grid") == 0) {
+        toolbox_example();
+        return grid(argv[2]);
+    }
     int i, r, a, ncase = pf_ref_case_count();
     double worst[3][3] = {{0}};
 

@@ -4,7 +4,8 @@
  * only the runtime. --format c writes the float or Q15 coefficient set as a
  * C header (static const, no libm or FPU needed to use it); --format json
  * describes the double design: resolved band and order, every operator's
- * sections and the loop constants.
+ * sections and the loop constants; --format cmsis-f32 / cmsis-q15 write
+ * each operator as a biquad cascade for CMSIS-DSP's DF1 functions.
  */
 #include "cli_design.h"
 
@@ -23,7 +24,8 @@ static const cli_command design_cmd = {
 void cli_design_usage(FILE *f)
 {
     fprintf(f,
-"usage: pneufrac design --config {p,dd,id,pid} --fs HZ --format {c,json}\n"
+"usage: pneufrac design --config {p,dd,id,pid} --fs HZ\n"
+"                       --format {c,cmsis-f32,cmsis-q15,json}\n"
 "                       [--arith double|float|q15] [--in-fs X --out-fs Y]\n"
 "                       [--name IDENT] [--set NAME=VALUE ...]\n"
 "                       [--band WB:WH] [--order N] [--approx oustaloup|refined]\n"
@@ -36,6 +38,12 @@ void cli_design_usage(FILE *f)
 "                 (--arith float), for pf_ctrl_init_q15/_f32 in firmware\n"
 "  --format json  the double design: resolved band and order, each\n"
 "                 operator's parallel sections, the loop constants\n"
+"  --format cmsis-f32, --format cmsis-q15\n"
+"                 each fractional operator alone as coefficient arrays for\n"
+"                 CMSIS-DSP arm_biquad_cascade_df1_f32 / _q15 (5 or 6 values\n"
+"                 per stage, CMSIS sign: y += a1 y[n-1] + a2 y[n-2]; q15\n"
+"                 with postShift). cmsis-q15 takes --arith q15 --in-fs X\n"
+"                 --out-fs Y to scale each operator by X/Y (default 1)\n"
 "  --name IDENT   the C identifier of the coefficient set (default pf_coeffs)\n");
 }
 
@@ -100,6 +108,37 @@ static void write_json(FILE *f, const pf_ctrl_design *d)
             c->ce, c->cy, c->alpha_z, c->alpha_y, c->loop_inv);
 }
 
+/* --format cmsis-*: the arithmetic is the format's; --arith may only
+ * repeat it (q15 then brings the full scales that scale each operator). */
+static int write_cmsis(const cli_run *run, pf_ctrl_design *d, const char *name,
+                       int q15)
+{
+    char note[160];
+    double scale = 1.0;
+    pf_status st;
+    int rc;
+    if (run->arith != CLI_ARITH_DOUBLE &&
+        run->arith != (q15 ? CLI_ARITH_Q15 : CLI_ARITH_FLOAT)) {
+        cli_error("--format cmsis-%s takes no --arith %s (the format sets "
+                  "the arithmetic)", q15 ? "q15" : "f32",
+                  run->arith == CLI_ARITH_Q15 ? "q15" : "float");
+        return CLI_EXIT_USAGE;
+    }
+    if (run->arith == CLI_ARITH_Q15)
+        scale = run->in_fs / run->out_fs;
+    if (cli_run_design(run, d) != CLI_EXIT_OK)
+        return CLI_EXIT_USAGE;
+    snprintf(note, sizeof note, "config %s, fs = %g Hz, band [%g, %g] rad/s, N = %d",
+             pf_config_name(d->p.config), d->opt.fs, d->opt.wb, d->opt.wh, d->opt.order);
+    rc = cli_export_cmsis(stdout, name, note, d, q15, scale, &st);
+    if (rc == -2) {
+        cli_error("design: no CMSIS %s cascade: %s", q15 ? "q15" : "f32",
+                  pf_status_str(st));
+        return CLI_EXIT_USAGE;
+    }
+    return rc == 0 ? CLI_EXIT_OK : CLI_EXIT_IO;
+}
+
 int cli_design_main(int argc, char **argv)
 {
     static pf_ctrl_design d;
@@ -117,7 +156,7 @@ int cli_design_main(int argc, char **argv)
     if (cli_opts_build(&a, &design_cmd, &run) != 0)
         return CLI_EXIT_USAGE;
     if (a.format == NULL) {
-        cli_error("design: missing --format (c or json)");
+        cli_error("design: missing --format (c, cmsis-f32, cmsis-q15 or json)");
         return CLI_EXIT_USAGE;
     }
     name = a.name != NULL ? a.name : "pf_coeffs";
@@ -155,8 +194,14 @@ int cli_design_main(int argc, char **argv)
         }
         if (rc != 0)
             return CLI_EXIT_IO;
+    } else if (strcmp(a.format, "cmsis-f32") == 0 ||
+               strcmp(a.format, "cmsis-q15") == 0) {
+        rc = write_cmsis(&run, &d, name, a.format[6] == 'q');
+        if (rc != CLI_EXIT_OK)
+            return rc;
     } else {
-        cli_error("--format: unknown format '%s' (valid: c, json)",
+        cli_error("--format: unknown format '%s' (valid: c, cmsis-f32, "
+                  "cmsis-q15, json)",
                   cli_quote(q, sizeof q, a.format));
         return CLI_EXIT_USAGE;
     }

@@ -10,6 +10,7 @@
 #include "cli_args.h"
 #include "cli_demo.h"
 #include "cli_design.h"
+#include "cli_reproduce.h"
 #include "cli_simulate.h"
 
 /* Long runs write hundreds of megabytes of CSV; line or 4 KiB buffering
@@ -28,7 +29,9 @@ static void usage(FILE *f)
 "commands:\n"
 "  simulate   run a controller (p, dd, id, pid) and write t,e,pc as CSV\n"
 "  demo       the paper's Example 6 with a summary; writes example6.csv\n"
-"  design     design a controller; export its coefficients (C header, JSON)\n"
+"  design     design a controller; export its coefficients (C header, JSON,\n"
+"             CMSIS-DSP biquads)\n"
+"  reproduce  the data of the paper's figures as CSV (plots: scripts/reproduce.sh)\n"
 "\n"
 "'pneufrac <command> --help' describes a command's options.\n");
 }
@@ -58,7 +61,9 @@ static int dispatch(int argc, char **argv)
         return cli_demo_main(argc - 1, argv + 1);
     if (strcmp(cmd, "design") == 0)
         return cli_design_main(argc - 1, argv + 1);
-    cli_error("unknown command '%s' (valid: simulate, demo, design; try "
+    if (strcmp(cmd, "reproduce") == 0)
+        return cli_reproduce_main(argc - 1, argv + 1);
+    cli_error("unknown command '%s' (valid: simulate, demo, design, reproduce; try "
               "'pneufrac --help')", cli_quote(q, sizeof q, cmd));
     return CLI_EXIT_USAGE;
 }
