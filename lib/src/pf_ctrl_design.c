@@ -10,6 +10,8 @@
 
 #include "pneufrac/pf_controller.h"
 
+/* Smallest accepted 1 + L0 (see derive_loop). */
+#define PF_LOOP_MIN 1e-2
 /* Longest dead time in samples (4 Mi samples: 210 s at 20 kHz). */
 #define PF_DELAY_MAX 4194304.0
 
@@ -75,14 +77,19 @@ static pf_status derive_loop(pf_ctrl_coeffs_f64 *c, const pf_params *p)
     }
     alpha_m = (c->has_v ? c->v_a : 1.0) - (c->has_w ? c->w_a : 0.0);
     c->alpha_y = (c->has_q ? c->Q.D : c->kA) * alpha_m;
-    /* Net negative feedback within the sample keeps g(x) increasing, hence
-     * a unique loop solution even with the monotone effects. */
-    if (!(c->alpha_y > 0.0))
-        return PF_E_PARAM(p->config == PF_CFG_PID ? PF_P_RCD : PF_P_RC);
-    loop = 1.0 + c->cy * c->alpha_y * c->k2 * c->alpha_z * c->k1;
+    /* Within a sample the loop equation in x has slope 1 + L0 s, where L0
+     * is the in-sample loop gain and s in [0, 1] the slope of the effects
+     * (backlash, nozzle curve, saturation). It is uniquely solvable while
+     * 1 + min(0, L0) > 0; the margin keeps x from amplifying rounding by
+     * more than 1/PF_LOOP_MIN. L0 < 0 (net positive feedback within the
+     * sample) occurs only for pid restrictors at extreme rates or bands. */
+    loop = c->cy * c->alpha_y * c->k2 * c->alpha_z * c->k1;
     if (!isfinite(loop))
         return PF_E_PARAM(PF_P_K1);
-    c->loop_inv = 1.0 / loop;
+    if (!(1.0 + loop >= PF_LOOP_MIN))
+        return PF_E_PARAM(p->config == PF_CFG_PID ? PF_P_RCD : PF_P_RC);
+    c->loop_inv = 1.0 / (1.0 + loop);
+    c->slope_inv = 1.0 / (1.0 + fmin(0.0, loop));
     return PF_OK;
 }
 
@@ -168,6 +175,7 @@ void pf_ctrl_coeffs_f32_make(pf_ctrl_coeffs_f32 *cf, const pf_ctrl_coeffs_f64 *c
     cf->alpha_z = (float)c->alpha_z;
     cf->alpha_y = (float)c->alpha_y;
     cf->loop_inv = (float)c->loop_inv;
+    cf->slope_inv = (float)c->slope_inv;
     cf->play_r = (float)c->play_r;
     cf->nozzle_xh = (float)c->nozzle_xh;
     cf->saturate = c->saturate;

@@ -29,10 +29,9 @@ static int16_t output_line(pf_ctrl_q15 *in, int32_t pc)
     const pf_ctrl_coeffs_q15 *c = in->c;
     int16_t o;
     if (c->lag_m > 0) {
-        int64_t inc = pf_q_accum(&in->lag_r, c->lag_m, (int64_t)pc - in->lag,
-                                 c->lag_sh);
-        in->lag = pf_q_sat(in->lag + inc);
-        pc = in->lag;
+        in->lag = pf_q_advance(in->lag, c->lag_m, (int64_t)pc - pf_q_state(in->lag),
+                               c->lag_sh);
+        pc = pf_q_state(in->lag);
     }
     o = pf_q_to_q15(c->pc_out, pc);
     if (c->delay_len > 0) {
@@ -132,7 +131,6 @@ void pf_ctrl_reset_q15(pf_ctrl_q15 *in)
     in->x = in->pb = in->y = in->pc = 0;
     in->e1 = 0;
     in->lag = 0;
-    in->lag_r = 0;
     in->didx = 0;
     if (in->dbuf != NULL)
         memset(in->dbuf, 0, sizeof(int16_t) * in->c->delay_len);

@@ -12,10 +12,13 @@
 double complex pf_op_resp(const pf_fracop_design *op, double omega,
                           double complex *frac);
 
-/* Quantise v to m * 2^-sh with |m| in [2^30, 2^31) (or [2^29, 2^30) when
- * lam is set, the leak format). PF_E_SCALE if |v| >= 2^31. */
+/* Quantise v to m * 2^-sh with |m| in [2^30, 2^31). PF_E_SCALE if
+ * |v| >= 2^31. The leak format (pf_qc_leak) is a gain below 2 with shift
+ * >= 30, as pf_q_advance needs. */
 pf_status pf_qc_make(pf_qc *q, double v);
 pf_status pf_qc_leak(int32_t *m, uint8_t *sh, double lam);
+/* A signed gain in the leak format (|v| < 2, shift >= 30). */
+pf_status pf_qc_leak_signed(pf_qc *q, double v);
 
 /* Q15 coefficients of one operator whose input, fractional-part output
  * and output are held in the internal scales s_in, s_frac and s_out

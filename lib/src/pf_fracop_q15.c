@@ -19,9 +19,7 @@ void pf_fracop_reset_q15(pf_fracop_q15 *in)
     if (in == NULL)
         return;
     memset(in->s, 0, sizeof in->s);
-    memset(in->r, 0, sizeof in->r);
     memset(in->si, 0, sizeof in->si);
-    memset(in->ri, 0, sizeof in->ri);
     in->u1 = 0;
 }
 

@@ -44,13 +44,35 @@ static pf_status qc_norm(int32_t *m, uint8_t *sh, double v, int bits)
 
 pf_status pf_qc_make(pf_qc *q, double v) { return qc_norm(&q->m, &q->sh, v, 31); }
 
+/* The state-gain format of pf_q_advance: |v| < 2 with shift >= 30, so the
+ * increment is one arithmetic right shift. Below 1 the mantissa keeps 30
+ * significant bits however small v is; in [1, 2) it takes 31 bits at
+ * shift 30. */
+static pf_status qc_gain(int32_t *m, uint8_t *sh, double v)
+{
+    pf_status st = qc_norm(m, sh, v, 30);
+    if (st == PF_OK && *sh < 30) {
+        double r = llround(ldexp(v, 30));
+        if (!(fabs(r) < 2147483648.0))
+            return PF_E_SCALE;
+        *m = (int32_t)r;
+        *sh = 30;
+    }
+    return st;
+}
+
 pf_status pf_qc_leak(int32_t *m, uint8_t *sh, double lam)
 {
-    pf_status st = qc_norm(m, sh, lam, 30);
+    pf_status st = qc_gain(m, sh, lam);
     /* A leak must stay a leak: a rounded-away pole would be an integrator. */
-    if (st == PF_OK && (*m <= 0 || *sh < 1))
+    if (st == PF_OK && *m <= 0)
         return PF_E_SCALE;
     return st;
+}
+
+pf_status pf_qc_leak_signed(pf_qc *q, double v)
+{
+    return qc_gain(&q->m, &q->sh, v);
 }
 
 double pf_grid_omega(const pf_fracop_design *op, double wb, int i)
@@ -95,8 +117,9 @@ pf_status pf_q15_op_make(pf_fracop_coeffs_q15 *cq, const pf_fracop_design *op,
          * (|n| = 2) sits at the geometric mean of its neighbours. */
         double s_k = k == n - 1 ? s_out : sqrt(prev * s_out);
         st = pf_qc_make(&cq->int_d[k], op->int_d * s_k / prev);
+        /* the state gain uses the leak format: |k| < 2 (pf_q_advance) */
         if (st == PF_OK)
-            st = pf_qc_make(&cq->int_k[k], op->int_k * s_k / prev);
+            st = pf_qc_leak_signed(&cq->int_k[k], op->int_k * s_k / prev);
         prev = s_k;
     }
     return st;

@@ -8,7 +8,8 @@
  *
  * Leaky branch:  s <- s + lam*(u - s), lam = lam_m * 2^-lam_sh, lam_m in
  * [2^29, 2^30): the pole's distance from z = 1 keeps 30 bits of relative
- * precision however small it is, and the residue makes the decay exact.
+ * precision however small it is, and the state's 30 fractional bits let
+ * increments far below one LSB accumulate.
  * The states are in the scale of the operator input; the G_m products are
  * summed in int64 and rounded once.
  */
@@ -27,11 +28,11 @@ static inline int32_t pf_q_op_state(const pf_fracop_q15 *in, int64_t *sf)
     int32_t s;
     int k, n = c->n_int < 0 ? -c->n_int : c->n_int;
     for (k = 0; k < c->n_sec; k++)
-        acc += (int64_t)c->G_m[k] * in->s[k];
+        acc += (int64_t)c->G_m[k] * pf_q_state(in->s[k]);
     *sf = pf_round_shift(acc, c->G_sh);
     s = pf_q_sat(*sf);
     for (k = 0; k < n; k++)
-        s = pf_q_sat((int64_t)pf_mulc(c->int_d[k], s) + in->si[k]);
+        s = pf_q_sat((int64_t)pf_mulc(c->int_d[k], s) + pf_q_state(in->si[k]));
     return s;
 }
 
@@ -40,16 +41,14 @@ static inline int32_t pf_q_op_update(pf_fracop_q15 *in, int32_t u, int64_t sf)
     const pf_fracop_coeffs_q15 *c = in->c;
     int32_t y = pf_q_sat(pf_round_shift((int64_t)c->d.m * u, c->d.sh) + sf);
     int k, n = c->n_int < 0 ? -c->n_int : c->n_int;
-    for (k = 0; k < c->n_sec; k++) {
-        int64_t inc = pf_q_accum(&in->r[k], c->lam_m[k],
-                                 (int64_t)u - in->s[k], c->lam_sh[k]);
-        in->s[k] = pf_q_sat(in->s[k] + inc);
-    }
+    for (k = 0; k < c->n_sec; k++)
+        in->s[k] = pf_q_advance(in->s[k], c->lam_m[k],
+                                (int64_t)u - pf_q_state(in->s[k]), c->lam_sh[k]);
     for (k = 0; k < n; k++) {
-        int32_t yk = pf_q_sat((int64_t)pf_mulc(c->int_d[k], y) + in->si[k]);
-        int64_t inc = pf_q_accum(&in->ri[k], c->int_k[k].m, y, c->int_k[k].sh);
-        in->si[k] = pf_q_sat((c->int_rho > 0 ? (int64_t)in->si[k]
-                                               : -(int64_t)in->si[k]) + inc);
+        int32_t yk = pf_q_sat((int64_t)pf_mulc(c->int_d[k], y) + pf_q_state(in->si[k]));
+        /* an integrator keeps its state; a differentiator's alternates */
+        in->si[k] = pf_q_advance(c->int_rho > 0 ? in->si[k] : -in->si[k],
+                                 c->int_k[k].m, y, c->int_k[k].sh);
         y = yk;
     }
     return y;

@@ -73,15 +73,16 @@ static inline void expect_names_one_of(pf_status st, pf_param_id a, pf_param_id 
  * 1e12 (tau^-beta and 1/RC in [1e-9, 1e9], A/ks in [1e-12, 1e12]), so the
  * documented refusals left are an order whose section would leave the
  * representable range (pf_fracop.h), naming beta, q, nu or w, and a pid
- * below 1 Hz whose restrictors' per-sample feedback is not negative,
- * naming RCd (pf_ctrl_design_make). */
+ * whose restrictors make the in-sample loop equation (nearly) singular at
+ * an extreme rate or band, naming RCd (pf_ctrl_design_make). */
 static inline int design_may_name(pf_config c, double fs, pf_param_id id)
 {
     switch (id) {
     case PF_P_BETA: case PF_P_Q: case PF_P_NU: case PF_P_W:
         return pf_param_used(c, id);
-    case PF_P_RCD: /* documented: pid below 1 Hz (pf_ctrl_design_make) */
-        return c == PF_CFG_PID && fs < 1.0;
+    case PF_P_RCD: /* documented: a pid whose in-sample loop is singular */
+        (void)fs;
+        return c == PF_CFG_PID;
     default:
         return 0;
     }

@@ -1141,8 +1141,9 @@ static void test_sweep_findings(void **state)
     o = opts_at(0.1, PF_APPROX_OUSTALOUP, PF_INPUT_HOLD);
     st = pf_params_validate(&p);
     EXPECT(st == PF_OK, "pid, nu = 0.5, RCd = 0.09: validate refused (%d)", st);
-    /* Below 1 Hz the design may refuse it, naming RCd (documented in
-     * pf_ctrl_design_make); if it accepts, the controller must run. */
+    /* The design may refuse it, naming RCd, if the in-sample loop is
+     * singular (documented in pf_ctrl_design_make); if it accepts, the
+     * controller must run. */
     st = pf_ctrl_design_make(&g_d, &p, NULL, &o);
     EXPECT(st == PF_OK || st == PF_E_PARAM(PF_P_RCD),
            "pid, nu = 0.5, RCd = 0.09 s, fs = 0.1 Hz: design said %d", st);

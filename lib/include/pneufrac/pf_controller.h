@@ -24,9 +24,11 @@
  *  - restrictor: r = (1/RC) s^-nu (p_c - r), likewise;
  *  - main loop: affine in x, one multiplication by a precomputed reciprocal.
  * With backlash, nozzle curve or saturation on, the main loop equation
- * g(x) = 0 is strictly increasing in x (all three effects are monotone and
- * the feedback is negative), so it has exactly one root. One evaluation
- * brackets it; false position (Illinois) then converges; see pf_ctrl_float.
+ * g(x) = 0 has slope 1 + L0 s, with L0 the in-sample loop gain and s in
+ * [0, 1] the effects' slope (all three are monotone with slope at most 1),
+ * so it is strictly increasing whenever 1 + min(0, L0) > 0, which the
+ * design ensures, and has exactly one root. One evaluation brackets it;
+ * false position (Illinois) then converges; see pf_ctrl_float.inc.
  */
 #ifndef PNEUFRAC_PF_CONTROLLER_H
 #define PNEUFRAC_PF_CONTROLLER_H
@@ -57,7 +59,8 @@ typedef struct pf_ctrl_coeffs_f64 {
     double v_a, v_den_inv;        /**< D_V/(1+D_V), 1/(1+D_V) */
     double w_a, w_den_inv;        /**< D_W/(1+D_W), 1/(1+D_W) */
     double alpha_z, alpha_y;      /**< dz/dp_b and dy/dp_c within one sample */
-    double loop_inv;              /**< 1/(1 + cy*alpha_y*k2*alpha_z*k1) */
+    double loop_inv;              /**< 1/(1 + L0), L0 = cy*alpha_y*k2*alpha_z*k1 */
+    double slope_inv;             /**< 1/(1 + min(0, L0)): brackets the loop root */
     double play_r, nozzle_xh;     /**< backlash half-width; nozzle x_1/2 */
     uint8_t saturate;
     double sat_lo, sat_hi;
@@ -72,7 +75,7 @@ typedef struct pf_ctrl_coeffs_f32 {
     float ce, cy, k1, k2, kA, pmin;
     float relay_den_inv, relay_d0, relay_w, relay_sz;
     float v_a, v_den_inv, w_a, w_den_inv;
-    float alpha_z, alpha_y, loop_inv;
+    float alpha_z, alpha_y, loop_inv, slope_inv;
     float play_r, nozzle_xh;
     uint8_t saturate;
     float sat_lo, sat_hi, lag_lam;
@@ -90,9 +93,11 @@ typedef struct pf_ctrl_design {
 /** Design a controller. @p fx may be NULL (no effects).
  *  Beyond pf_params_validate, the design refuses, naming the parameter:
  *  an order the approximation cannot realise at this rate (beta, q, nu,
- *  w); a dead time over 4194304 samples (dead_time); and, for pid at a
- *  sample rate below 1 Hz (Tustin constant below 2), restrictors whose
- *  per-sample feedback would not stay negative (RCd).
+ *  w); a dead time over 4194304 samples (dead_time); and restrictor
+ *  settings that make the in-sample loop equation (nearly) singular,
+ *  1 + L0 < 0.01 (RCd for pid, RC otherwise). L0 < 0 needs net positive
+ *  feedback within one sample: for a validated parameter set that happens
+ *  only for pid, at extreme sample rates or bands.
  *  @return PF_OK or the status of the first invalid parameter; on error
  *          @p d is left unchanged. */
 pf_status pf_ctrl_design_make(pf_ctrl_design *d, const pf_params *p,
@@ -194,8 +199,7 @@ typedef struct pf_ctrl_q15 {
     pf_fracop_q15 P, Q, V, W;
     int32_t x, pb, y, pc;          /**< last internal values, for monitoring */
     int16_t e1;                    /**< previous input (held-input model) */
-    int32_t lag;
-    uint32_t lag_r;
+    int64_t lag;                   /**< output-line lag state (30 fraction bits) */
     int16_t *dbuf;
     uint32_t didx;
 } pf_ctrl_q15;

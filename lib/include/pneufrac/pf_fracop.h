@@ -188,28 +188,29 @@ typedef struct pf_fracop_coeffs_q15 {
     uint8_t n_sec, hold;
     uint8_t G_sh;                     /**< common shift of the G_m products */
     pf_qc d;                          /**< u -> frac output */
-    int32_t lam_m[PF_MAX_SEC];        /**< leak mantissas */
-    uint8_t lam_sh[PF_MAX_SEC];       /**< leak shifts */
+    int32_t lam_m[PF_MAX_SEC];        /**< leak mantissas: lam = m * 2^-sh */
+    uint8_t lam_sh[PF_MAX_SEC];       /**< leak shifts, >= 30 */
     int32_t G_m[PF_MAX_SEC];          /**< branch gains, |G_m| < 2^26 */
     pf_qc int_d[PF_MAX_INT];          /**< per integer stage feedthrough */
-    pf_qc int_k[PF_MAX_INT];          /**< per integer stage state gain */
+    pf_qc int_k[PF_MAX_INT];          /**< per integer stage state gain, |.| < 2 */
     pf_qc in_q, out_q;                /**< Q15 in -> internal, internal -> Q15 out */
 } pf_fracop_coeffs_q15;
 
-/** Q15 runtime instance: 32-bit states, each with a 32-bit fraction of an
- *  LSB that keeps the rounding residue (first-order error feedback), so
- *  slow poles decay at their designed rate. */
+/** Q15 runtime instance. Each state is an int64 holding the int32 state
+ *  with 30 fractional bits below its LSB, so increments far below one LSB
+ *  accumulate and slow poles decay at their designed rate. */
 typedef struct pf_fracop_q15 {
     const pf_fracop_coeffs_q15 *c;
     int16_t u1;
-    int32_t s[PF_MAX_SEC];
-    uint32_t r[PF_MAX_SEC];
-    int32_t si[PF_MAX_INT];
-    uint32_t ri[PF_MAX_INT];
+    int64_t s[PF_MAX_SEC];
+    int64_t si[PF_MAX_INT];
 } pf_fracop_q15;
 
 /** Derive a Q15 coefficient set. Physical input in_fs maps to Q15 +1.0 at
- *  the input, out_fs to +1.0 at the output (both finite and > 0).
+ *  the input, out_fs to +1.0 at the output (both finite and > 0). An
+ *  operator with a differentiating integer part (alpha > 1/2) has no Q15
+ *  set (PF_E_SCALE): a Tustin differentiator's state gain, 2 fs, does not
+ *  fit the state format.
  *  @return PF_OK, PF_E_PARAM(PF_P_IN_FS | PF_P_OUT_FS) or PF_E_SCALE. */
 pf_status pf_fracop_coeffs_q15_make(pf_fracop_coeffs_q15 *cq,
                                     const pf_fracop_design *op, double in_fs,
