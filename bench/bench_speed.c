@@ -296,7 +296,7 @@ static void table_configs(void)
 static void table_alternative(void)
 {
     int k, i;
-    const char *impl[] = {"pneufrac float (parallel leaky)", "pneufrac Q15 (leaky, 32-bit states)",
+    const char *impl[] = {"pneufrac float (parallel leaky)", "pneufrac Q15 (leaky, 32.30-bit states)",
                           "DF1 biquads float", "DF1 biquads Q15 (CMSIS style)"};
     printf("\n## The obvious alternative: a DF1 biquad cascade of the same design\n\n");
     printf("Example 6's operators alone at 20 kHz, default band and N = 8. The "
