@@ -1,0 +1,268 @@
+/* SPDX-License-Identifier: MIT */
+#include "pfd_commit.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "pfd_log.h"
+
+static int persist_failed;
+
+int pfd_daemon_init(pfd_daemon *d, const pfd_settings *set)
+{
+    pthread_condattr_t ca;
+
+    memset(d, 0, sizeof *d);
+    d->set = *set;
+    d->scratch = malloc(sizeof *d->scratch);
+    if (d->scratch == NULL)
+        return -1;
+    pthread_mutex_init(&d->regs_mx, NULL);
+    pthread_mutex_init(&d->commit_mx, NULL);
+    pthread_mutex_init(&d->tick_mx, NULL);
+    /* Timed waits use CLOCK_MONOTONIC, immune to clock steps. */
+    pthread_condattr_init(&ca);
+    pthread_condattr_setclock(&ca, CLOCK_MONOTONIC);
+    pthread_cond_init(&d->work_cv, &ca);
+    pthread_cond_init(&d->done_cv, &ca);
+    pthread_condattr_destroy(&ca);
+    return 0;
+}
+
+int pfd_inst_add(pfd_daemon *d, const pfd_config_inst *ci, pfd_fail *why)
+{
+    pfd_inst *in;
+    pfd_snap s0;
+    int k;
+
+    if (d->n >= PFD_MAX_INSTANCES || d->by_unit[ci->unit] != NULL) {
+        why->st = PF_E_NULL;
+        why->param = PF_P_COUNT;
+        return -1;
+    }
+    in = calloc(1, sizeof *in);
+    if (in == NULL) {
+        why->st = PF_E_NULL;
+        why->param = PF_P_COUNT;
+        return -1;
+    }
+    for (k = 0; k < PFD_NSLOTS; k++) {
+        in->slot[k] = calloc(1, sizeof *in->slot[k]);
+        if (in->slot[k] == NULL) {
+            while (k-- > 0)
+                free(in->slot[k]);
+            free(in);
+            why->st = PF_E_NULL;
+            why->param = PF_P_COUNT;
+            return -1;
+        }
+    }
+    if (pfd_slot_build(in->slot[0], &ci->ip, d->scratch, why) != 0) {
+        for (k = 0; k < PFD_NSLOTS; k++)
+            free(in->slot[k]);
+        free(in);
+        return -1;
+    }
+    in->unit = ci->unit;
+    in->slot_state[0] = PFD_SLOT_ACTIVE;
+    in->rt.active = in->slot[0];
+    in->rt.active_idx = 0;
+    in->hold.live = ci->live;
+    in->hold.param_lock = (uint16_t)(d->set.param_lock ? 1 : 0);
+    in->hold.staged = ci->ip;
+    in->committed = ci->ip;
+    in->err_addr = 0xFFFFu;
+    in->err_param = 0xFFFFu;
+    pfd_tbuf_init(&in->in_tb, &in->in_buf[0], &in->in_buf[1], &in->in_buf[2],
+                  sizeof(pfd_live), &ci->live);
+    memset(&s0, 0, sizeof s0);
+    pfd_tbuf_init(&in->out_tb, &in->out_buf[0], &in->out_buf[1], &in->out_buf[2],
+                  sizeof(pfd_snap), &s0);
+    d->inst[d->n++] = in;
+    d->by_unit[ci->unit] = in;
+    return 0;
+}
+
+void pfd_daemon_free(pfd_daemon *d)
+{
+    int i, k;
+    for (i = 0; i < d->n; i++) {
+        for (k = 0; k < PFD_NSLOTS; k++)
+            free(d->inst[i]->slot[k]);
+        free(d->inst[i]);
+    }
+    d->n = 0;
+    free(d->scratch);
+    d->scratch = NULL;
+}
+
+void pfd_publish_live(pfd_inst *in)
+{
+    pfd_live *b = (pfd_live *)pfd_tbuf_back(&in->in_tb);
+    *b = in->hold.live;
+    pfd_tbuf_publish(&in->in_tb);
+}
+
+static int iparams_equal(const pfd_iparams *a, const pfd_iparams *b)
+{
+    int k;
+    if (a->p.config != b->p.config || a->arith != b->arith || a->fs != b->fs ||
+        a->in_fs != b->in_fs || a->out_fs != b->out_fs || a->bump_tau != b->bump_tau)
+        return 0;
+    for (k = PF_P_A; k <= PF_P_RCI; k++)
+        if (pf_params_get(&a->p, (pf_param_id)k) != pf_params_get(&b->p, (pf_param_id)k))
+            return 0;
+    return 1;
+}
+
+uint16_t pfd_status_bits(const pfd_daemon *d, const pfd_inst *in,
+                         const pfd_snap *s)
+{
+    uint16_t b = 0;
+    if (!__atomic_load_n(&d->stop, __ATOMIC_ACQUIRE))
+        b |= 1u << 0;
+    if (s->flags & PFD_SNAP_TRIPPED)
+        b |= 1u << 1;
+    if (in->commit_result != PFD_COMMIT_OK)
+        b |= 1u << 2;
+    if (s->flags & PFD_SNAP_MANUAL)
+        b |= 1u << 3;
+    if (in->hold.param_lock)
+        b |= 1u << 4;
+    if (d->set.read_only)
+        b |= 1u << 5;
+    if (d->set.external_clock)
+        b |= 1u << 6;
+    if (!iparams_equal(&in->hold.staged, &in->committed))
+        b |= 1u << 7;
+    if (s->applied != in->published)
+        b |= 1u << 8;
+    if (in->committed.arith == PFD_ARITH_Q15)
+        b |= 1u << 9;
+    if (s->flags & PFD_SNAP_TRANSFER)
+        b |= 1u << 10;
+    if (__atomic_load_n(&persist_failed, __ATOMIC_RELAXED))
+        b |= 1u << 11;
+    return b;
+}
+
+unsigned pfd_settle_samples(double fs)
+{
+    /* One second of held input, at most 20000 samples: long enough for the
+     * fast part of a new set's step response (the derivative kick of dd
+     * and pid) to die out, short enough to keep a commit in milliseconds. */
+    double n = fs < 20000.0 ? fs : 20000.0;
+    return (unsigned)n;
+}
+
+static int refuse(pfd_daemon *d, pfd_inst *in, uint16_t result, int param)
+{
+    pthread_mutex_lock(&d->regs_mx);
+    in->commit_result = result;
+    in->err_param = param == PF_P_COUNT ? 0xFFFFu : (uint16_t)param;
+    in->err_addr = param == PF_P_COUNT ? 0xFFFFu : pfd_regmap_staged_addr(param);
+    pthread_mutex_unlock(&d->regs_mx);
+    return result == PFD_COMMIT_BUSY ? 6 : result == PFD_COMMIT_FAILED ? 4 : 3;
+}
+
+int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
+{
+    pfd_hold tmp;
+    pfd_iparams ip;
+    pfd_slot *p, *slot = NULL;
+    pfd_fail why;
+    float e_hold;
+    int k, rc;
+
+    pthread_mutex_lock(&d->commit_mx);
+
+    pthread_mutex_lock(&d->regs_mx);
+    tmp = in->hold;
+    pfd_regmap_apply(&tmp, &in->committed, wl);
+    ip = tmp.staged;
+    e_hold = ((const pfd_snap *)pfd_tbuf_latest(&in->out_tb))->e_used;
+    pthread_mutex_unlock(&d->regs_mx);
+
+    /* A set the loop has not taken yet is ours again: this one replaces it. */
+    p = __atomic_exchange_n(&in->pending, (pfd_slot *)NULL, __ATOMIC_ACQ_REL);
+    for (k = 0; k < PFD_NSLOTS; k++)
+        if (in->slot[k] == p)
+            __atomic_store_n(&in->slot_state[k], PFD_SLOT_FREE, __ATOMIC_RELEASE);
+    for (k = 0; k < PFD_NSLOTS && slot == NULL; k++)
+        if (__atomic_load_n(&in->slot_state[k], __ATOMIC_ACQUIRE) == PFD_SLOT_FREE)
+            slot = in->slot[k];
+    if (slot == NULL) {
+        rc = refuse(d, in, PFD_COMMIT_BUSY, PF_P_COUNT);
+        pthread_mutex_unlock(&d->commit_mx);
+        return rc;
+    }
+    for (k = 0; k < PFD_NSLOTS; k++)
+        if (in->slot[k] == slot)
+            break;
+
+    if (pfd_slot_build(slot, &ip, d->scratch, &why) != 0) {
+        uint16_t res = why.st == PF_E_SCALE ? PFD_COMMIT_SCALE
+                       : why.param != PF_P_COUNT ? PFD_COMMIT_INVALID
+                                                 : PFD_COMMIT_FAILED;
+        pfd_log(PFD_LOG_WARN, "commit-refused", "unit=%d result=%u param=%s status=\"%s\"",
+                in->unit, (unsigned)res, pfd_param_name(why.param),
+                why.st == PFD_E_DAEMON ? "out of range" : pf_status_str(why.st));
+        rc = refuse(d, in, res, why.param);
+        pthread_mutex_unlock(&d->commit_mx);
+        return rc;
+    }
+    if (e_hold != 0.0f)
+        pfd_slot_settle(slot, e_hold, pfd_settle_samples(ip.fs));
+
+    pthread_mutex_lock(&d->regs_mx);
+    pfd_regmap_apply(&in->hold, &in->committed, wl);
+    if (wl->live)
+        pfd_publish_live(in);
+    in->committed = ip;
+    in->commit_result = PFD_COMMIT_OK;
+    in->err_addr = 0xFFFFu;
+    in->err_param = 0xFFFFu;
+    in->commits++;
+    in->published++;
+    __atomic_store_n(&in->slot_state[k], PFD_SLOT_PENDING, __ATOMIC_RELEASE);
+    __atomic_store_n(&in->pending, slot, __ATOMIC_RELEASE);
+    pthread_mutex_unlock(&d->regs_mx);
+
+    pfd_log(PFD_LOG_INFO, "commit", "unit=%d config=%s arith=%s fs=%.9g",
+            in->unit, pf_config_name(ip.p.config),
+            ip.arith == PFD_ARITH_Q15 ? "q15" : "float", ip.fs);
+    pthread_mutex_unlock(&d->commit_mx);
+    pfd_persist(d);
+    return 0;
+}
+
+int pfd_persist(pfd_daemon *d)
+{
+    static pfd_config c;
+    char err[512];
+    int i, rc;
+
+    if (d->config_path == NULL)
+        return 0;
+    pthread_mutex_lock(&d->commit_mx);
+    pthread_mutex_lock(&d->regs_mx);
+    c = *(const pfd_config *)d->config_file;
+    c.n = d->n;
+    for (i = 0; i < d->n; i++) {
+        const pfd_inst *in = d->inst[i];
+        pfd_config_inst_default(&c.inst[i], in->unit);
+        c.inst[i].ip = in->committed;
+        c.inst[i].live = in->hold.live;
+    }
+    pthread_mutex_unlock(&d->regs_mx);
+    rc = pfd_config_write(d->config_path, &c, err, sizeof err);
+    pthread_mutex_unlock(&d->commit_mx);
+    if (rc != 0) {
+        __atomic_store_n(&persist_failed, 1, __ATOMIC_RELAXED);
+        pfd_log(PFD_LOG_ERROR, "persist-failed", "error=\"%s\"", err);
+        return -1;
+    }
+    __atomic_store_n(&persist_failed, 0, __ATOMIC_RELAXED);
+    pfd_log(PFD_LOG_DEBUG, "persisted", "file=%s", d->config_path);
+    return 0;
+}

@@ -1,0 +1,92 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * One controller instance's parameter set and its runtime ("slot"): the
+ * design, the float or Q15 coefficient set and the runtime state, in one
+ * block of memory allocated at start-up. Building a slot (design, Q15
+ * scaling, settling) is slow and runs outside the real-time thread; the
+ * real-time thread only steps a built slot.
+ */
+#ifndef PFD_INSTANCE_H
+#define PFD_INSTANCE_H
+
+#include <stdint.h>
+
+#include "pneufrac/pneufrac.h"
+
+#define PFD_FS_MIN 1.0
+#define PFD_FS_MAX 50000.0
+#define PFD_BUMP_TAU_MAX 3600.0
+#define PFD_FULLSCALE_MIN 1e-9
+#define PFD_FULLSCALE_MAX 1e9
+
+enum pfd_arith { PFD_ARITH_FLOAT = 0, PFD_ARITH_Q15 = 1 };
+
+/** Everything a commit sets: configuration, the paper's parameters,
+ *  arithmetic, sample rate, Q15 full scales and the bumpless time constant. */
+typedef struct pfd_iparams {
+    pf_params p;        /**< config and the paper's parameters */
+    int arith;          /**< enum pfd_arith */
+    double fs;          /**< Hz, [PFD_FS_MIN, PFD_FS_MAX] */
+    double in_fs;       /**< e = in_fs is Q15 +1.0 (also the int16 mirrors' scale) */
+    double out_fs;      /**< p_c = out_fs is Q15 +1.0 */
+    double bump_tau;    /**< s, time constant of the bumpless offset bleed; 0 = none */
+} pfd_iparams;
+
+/** Example 6 (FrDD), float, 1 kHz, in_fs 1, out_fs 0.01, bump_tau 1 s. */
+void pfd_iparams_default(pfd_iparams *ip);
+
+/** Parameters the daemon adds to the library's pf_param_id. */
+#define PFD_P_BUMP_TAU ((int)PF_P_COUNT + 1)
+#define PFD_P_ARITH ((int)PF_P_COUNT + 2)
+/** Status of a parameter only the daemon checks (bump_tau, arith). */
+#define PFD_E_DAEMON (-100)
+
+/** Why a build failed: the library status (or PFD_E_DAEMON) and the
+ *  parameter it names: a pf_param_id, PFD_P_*, or PF_P_COUNT if none. */
+typedef struct pfd_fail {
+    pf_status st;
+    int param;
+} pfd_fail;
+
+/** Name of a parameter id as in pfd_fail ("beta", "bump_tau", "?"). */
+const char *pfd_param_name(int id);
+
+/** Signals of one sample, physical units, plus their Q15 views. */
+typedef struct pfd_sig {
+    float e, x, pb, y, pc;          /**< pc: controller output (before transfers) */
+    int16_t pc_q15;                 /**< raw Q15 output (q15), else scaled */
+    int16_t x_q15, pb_q15, y_q15;
+} pfd_sig;
+
+/** A built runtime. Never moved once built: the runtimes point into it. */
+typedef struct pfd_slot {
+    pfd_iparams ip;
+    pf_ctrl_coeffs_f32 cf;
+    pf_ctrl_f32 f;
+    pf_ctrl_coeffs_q15 cq;
+    pf_ctrl_q15 q;
+    uint64_t period_ns;   /**< round(1e9/fs) */
+    double decay;         /**< per-sample factor of the bumpless offset */
+    double inv_in_fs, inv_out_fs; /**< for the int16 mirrors */
+} pfd_slot;
+
+/** Check @p ip (daemon limits, then the library's), design it with
+ *  @p scratch, and bind @p s at rest. @return 0, or -1 with @p why set. */
+int pfd_slot_build(pfd_slot *s, const pfd_iparams *ip, pf_ctrl_design *scratch,
+                   pfd_fail *why);
+
+/** Run @p n samples with the input held at @p e (settling before a
+ *  bumpless hand-over; see docs/pneufracd.md). */
+void pfd_slot_settle(pfd_slot *s, float e, uint32_t n);
+
+/** Back to rest. */
+void pfd_slot_reset(pfd_slot *s);
+
+/** One sample. Real-time safe: no allocation, no locks, no libm. */
+void pfd_slot_step(pfd_slot *s, float e, pfd_sig *out);
+
+/** Round half up and saturate v/fullscale to Q15 (fullscale given as its
+ *  reciprocal); the same rule as `pneufrac simulate`. */
+int16_t pfd_to_q15(double v, double inv_fullscale);
+
+#endif

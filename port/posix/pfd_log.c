@@ -1,0 +1,64 @@
+/* SPDX-License-Identifier: MIT */
+#include "pfd_log.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+static enum pfd_log_level min_level = PFD_LOG_INFO;
+
+void pfd_log_set_level(enum pfd_log_level lvl) { min_level = lvl; }
+
+int pfd_log_enabled(enum pfd_log_level lvl) { return lvl >= min_level; }
+
+void pfd_log(enum pfd_log_level lvl, const char *msg, const char *fmt, ...)
+{
+    static const char *const names[] = {"debug", "info", "warn", "error"};
+    char line[1024];
+    struct timespec ts;
+    struct tm tm;
+    size_t n;
+    int k;
+
+    if (lvl < min_level)
+        return;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    gmtime_r(&ts.tv_sec, &tm);
+    k = snprintf(line, sizeof line,
+                 "pneufracd ts=%04d-%02d-%02dT%02d:%02d:%02d.%03ldZ level=%s msg=%s",
+                 tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday, tm.tm_hour,
+                 tm.tm_min, tm.tm_sec, ts.tv_nsec / 1000000L, names[lvl], msg);
+    n = k < 0 ? 0 : (size_t)k < sizeof line ? (size_t)k : sizeof line - 1;
+    if (fmt != NULL && *fmt != '\0' && n + 2 < sizeof line) {
+        va_list ap;
+        line[n++] = ' ';
+        va_start(ap, fmt);
+        k = vsnprintf(line + n, sizeof line - n, fmt, ap);
+        va_end(ap);
+        if (k > 0)
+            n += (size_t)k < sizeof line - n ? (size_t)k : sizeof line - n - 1;
+    }
+    /* One fputs per line: stderr is unbuffered, and a single write keeps
+     * lines from different threads whole. */
+    if (n + 1 >= sizeof line)
+        n = sizeof line - 2;
+    line[n++] = '\n';
+    line[n] = '\0';
+    fputs(line, stderr);
+}
+
+void pfd_fatal(const char *fmt, ...)
+{
+    char line[1024];
+    va_list ap;
+    int k;
+
+    memcpy(line, "pneufracd: ", 11);
+    va_start(ap, fmt);
+    k = vsnprintf(line + 11, sizeof line - 12, fmt, ap);
+    va_end(ap);
+    (void)k;
+    strcat(line, "\n");
+    fputs(line, stderr);
+}

@@ -1,0 +1,421 @@
+/* SPDX-License-Identifier: MIT */
+#include "pfd_loop.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <sched.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <sys/resource.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "pfd_log.h"
+
+/* Period-jitter histogram over every sample of every instance, 1 us bins;
+ * the last bin collects everything from HIST_N us up. Written by the loop
+ * only, read after it stopped. */
+#define HIST_N 10000
+static uint32_t hist[HIST_N + 1];
+static uint64_t hist_total, hist_overruns;
+static int64_t hist_max_ns;
+
+static pthread_t loop_thread;
+static int loop_running;
+
+static int64_t mono_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
+}
+
+static int stopping(const pfd_daemon *d)
+{
+    return __atomic_load_n(&d->stop, __ATOMIC_ACQUIRE);
+}
+
+static uint32_t ns_to_us(int64_t ns)
+{
+    int64_t us = (ns + 500) / 1000;
+    return us > (int64_t)UINT32_MAX ? UINT32_MAX : (uint32_t)us;
+}
+
+/* One sample of one instance. missed: periods skipped before it (they
+ * count for the watchdog); jitter_ns < 0: none to record. */
+static void run_sample(pfd_inst *in, uint32_t missed, int64_t jitter_ns)
+{
+    const pfd_live *l = (const pfd_live *)pfd_tbuf_latest(&in->in_tb);
+    pfd_slot *p;
+    pfd_sig sig;
+    pfd_snap *s;
+    const float e = l->input_sel ? l->sp - l->pv : l->e;
+    uint32_t req;
+    double y, out, tiny;
+    uint16_t flags = PFD_SNAP_RUNNING;
+
+    req = __atomic_load_n(&in->reset_req, __ATOMIC_ACQUIRE);
+    if (req != in->rt.reset_seen) {
+        in->rt.reset_seen = req;
+        pfd_slot_reset(in->rt.active);
+        in->rt.offset = 0.0;
+    }
+    req = __atomic_load_n(&in->stats_req, __ATOMIC_ACQUIRE);
+    if (req != in->rt.stats_seen) {
+        in->rt.stats_seen = req;
+        in->rt.s.overruns = 0;
+        in->rt.s.jit_max_us = 0;
+        in->rt.s.wd_trips = 0;
+    }
+
+    p = __atomic_exchange_n(&in->pending, (pfd_slot *)NULL, __ATOMIC_ACQ_REL);
+    if (p != NULL) {
+        /* Bumpless switch: the old set runs this sample once more, and the
+         * offset makes the output exactly what it would have given. */
+        pfd_slot *old = in->rt.active;
+        int old_idx = in->rt.active_idx, k;
+        pfd_sig so;
+        double out_old;
+
+        pfd_slot_step(old, e, &so);
+        in->rt.offset *= old->decay;
+        out_old = (double)so.pc + in->rt.offset;
+        pfd_slot_step(p, e, &sig);
+        in->rt.offset = out_old - (double)sig.pc;
+        for (k = 0; k < PFD_NSLOTS; k++)
+            if (in->slot[k] == p)
+                in->rt.active_idx = k;
+        in->rt.active = p;
+        __atomic_store_n(&in->slot_state[in->rt.active_idx], PFD_SLOT_ACTIVE,
+                         __ATOMIC_RELEASE);
+        __atomic_store_n(&in->slot_state[old_idx], PFD_SLOT_FREE, __ATOMIC_RELEASE);
+        in->rt.s.applied++;
+    } else {
+        pfd_slot_step(in->rt.active, e, &sig);
+        in->rt.offset *= in->rt.active->decay;
+    }
+
+    /* Watchdog, counted in samples so that lockstep runs are exact. */
+    if (l->refresh != in->rt.last_refresh) {
+        in->rt.last_refresh = l->refresh;
+        in->rt.wd_count = 0;
+        in->rt.tripped = 0;
+    } else {
+        uint32_t add = missed + 1;
+        in->rt.wd_count = in->rt.wd_count > UINT32_MAX - add ? UINT32_MAX
+                                                             : in->rt.wd_count + add;
+    }
+    if (l->watchdog_ms > 0 && !in->rt.tripped) {
+        double lim = (double)l->watchdog_ms * in->rt.active->ip.fs / 1000.0;
+        if ((double)in->rt.wd_count >= (lim < 1.0 ? 1.0 : lim)) {
+            in->rt.tripped = 1;
+            in->rt.s.wd_trips++;
+        }
+    }
+
+    /* Output: fail-safe, manual, or the controller plus the transfer
+     * offset, which tracks the difference while overridden. */
+    y = (double)sig.pc;
+    tiny = 1e-9 * in->rt.active->ip.out_fs;
+    if (in->rt.tripped) {
+        out = (double)l->failsafe_out;
+        in->rt.offset = out - y;
+        flags |= PFD_SNAP_TRIPPED;
+    } else if (l->mode == 1) {
+        out = (double)l->manual_out;
+        in->rt.offset = out - y;
+        flags |= PFD_SNAP_MANUAL;
+    } else {
+        if (in->rt.offset < tiny && in->rt.offset > -tiny)
+            in->rt.offset = 0.0;
+        out = y + in->rt.offset;
+    }
+    if (in->rt.offset != 0.0 || (flags & (PFD_SNAP_TRIPPED | PFD_SNAP_MANUAL))) {
+        /* Without an offset the controller's output goes out untouched, so
+         * lockstep runs match `pneufrac simulate` bit for bit. */
+        sig.pc = (float)out;
+        sig.pc_q15 = pfd_to_q15(out, in->rt.active->inv_out_fs);
+        if (in->rt.offset != 0.0)
+            flags |= PFD_SNAP_TRANSFER;
+    }
+
+    in->rt.s.samples++;
+    in->rt.s.overruns += missed;
+    if (jitter_ns >= 0) {
+        uint32_t us = ns_to_us(jitter_ns);
+        in->rt.s.jit_last_us = us;
+        if (us > in->rt.s.jit_max_us)
+            in->rt.s.jit_max_us = us;
+        hist[us < HIST_N ? us : HIST_N]++;
+        hist_total++;
+        if (jitter_ns > hist_max_ns)
+            hist_max_ns = jitter_ns;
+    }
+    hist_overruns += missed;
+    in->rt.s.sig = sig;
+    in->rt.s.e_used = e;
+    in->rt.s.flags = flags;
+    s = (pfd_snap *)pfd_tbuf_back(&in->out_tb);
+    *s = in->rt.s;
+    pfd_tbuf_publish(&in->out_tb);
+}
+
+static void sleep_until(int64_t t)
+{
+    struct timespec ts;
+    ts.tv_sec = (time_t)(t / 1000000000);
+    ts.tv_nsec = (long)(t % 1000000000);
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR) {
+    }
+}
+
+static void freerun(pfd_daemon *d)
+{
+    int64_t now = mono_ns();
+    int i;
+
+    for (i = 0; i < d->n; i++) {
+        d->inst[i]->rt.next_ns = now + (int64_t)d->inst[i]->rt.active->period_ns;
+        d->inst[i]->rt.last_ns = -1;
+    }
+    while (!stopping(d)) {
+        /* Wake at least every 100 ms so a stop request is seen. */
+        int64_t t_next = mono_ns() + 100000000;
+        for (i = 0; i < d->n; i++)
+            if (d->inst[i]->rt.next_ns < t_next)
+                t_next = d->inst[i]->rt.next_ns;
+        sleep_until(t_next);
+
+        for (i = 0; i < d->n; i++) {
+            pfd_inst *in = d->inst[i];
+            int64_t t = mono_ns();
+            int64_t period = (int64_t)in->rt.active->period_ns;
+            int64_t late = t - in->rt.next_ns;
+            uint32_t missed = 0;
+            int64_t jitter = -1;
+            const pfd_slot *before = in->rt.active;
+
+            if (late < 0)
+                continue;
+            if (late >= period) {
+                int64_t m = late / period;
+                missed = m > (int64_t)UINT32_MAX ? UINT32_MAX : (uint32_t)m;
+                in->rt.next_ns += m * period;
+            }
+            if (in->rt.last_ns >= 0) {
+                /* Skipped periods stay in: an overrun shows as jitter >= T. */
+                jitter = t - in->rt.last_ns - period;
+                if (jitter < 0)
+                    jitter = -jitter;
+            }
+            in->rt.last_ns = t;
+            run_sample(in, missed, jitter);
+            if (in->rt.active != before &&
+                in->rt.active->period_ns != before->period_ns) {
+                /* New sample rate: restart the schedule from now. */
+                in->rt.next_ns = t + (int64_t)in->rt.active->period_ns;
+                in->rt.last_ns = -1;
+            } else {
+                in->rt.next_ns += period;
+            }
+        }
+    }
+}
+
+static void timed_wait(pthread_cond_t *cv, pthread_mutex_t *mx, long ms)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    ts.tv_nsec += (ms % 1000) * 1000000L;
+    ts.tv_sec += ms / 1000 + ts.tv_nsec / 1000000000L;
+    ts.tv_nsec %= 1000000000L;
+    pthread_cond_timedwait(cv, mx, &ts);
+}
+
+/* Lockstep: not real-time, so a mutex and condition variables are fine. */
+static void lockstep(pfd_daemon *d)
+{
+    int i;
+
+    pthread_mutex_lock(&d->tick_mx);
+    while (!stopping(d)) {
+        int work = 0;
+        for (i = 0; i < d->n; i++)
+            if (__atomic_load_n(&d->inst[i]->tick_target, __ATOMIC_ACQUIRE) >
+                __atomic_load_n(&d->inst[i]->tick_done, __ATOMIC_ACQUIRE))
+                work = 1;
+        if (!work) {
+            timed_wait(&d->work_cv, &d->tick_mx, 200);
+            continue;
+        }
+        pthread_mutex_unlock(&d->tick_mx);
+        for (i = 0; i < d->n; i++) {
+            pfd_inst *in = d->inst[i];
+            uint64_t target = __atomic_load_n(&in->tick_target, __ATOMIC_ACQUIRE);
+            uint64_t done = __atomic_load_n(&in->tick_done, __ATOMIC_ACQUIRE);
+            while (done < target && !stopping(d)) {
+                run_sample(in, 0, -1);
+                done++;
+            }
+            __atomic_store_n(&in->tick_done, done, __ATOMIC_RELEASE);
+        }
+        pthread_mutex_lock(&d->tick_mx);
+        pthread_cond_broadcast(&d->done_cv);
+    }
+    pthread_cond_broadcast(&d->done_cv);
+    pthread_mutex_unlock(&d->tick_mx);
+}
+
+static void *loop_main(void *arg)
+{
+    pfd_daemon *d = (pfd_daemon *)arg;
+    volatile unsigned char stack[32768];
+    size_t k;
+
+    /* Touch the stack now so that no page fault happens mid-sample. */
+    for (k = 0; k < sizeof stack; k += 256)
+        stack[k] = 0;
+    if (d->set.external_clock)
+        lockstep(d);
+    else
+        freerun(d);
+    return NULL;
+}
+
+#if defined(__SANITIZE_ADDRESS__)
+#define PFD_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define PFD_ASAN 1
+#endif
+#endif
+
+static void lock_memory(const pfd_daemon *d)
+{
+    struct rlimit rl;
+
+    if (!d->set.mlock) {
+        pfd_log(PFD_LOG_INFO, "mlockall", "result=off reason=--no-mlock");
+        return;
+    }
+#ifdef PFD_ASAN
+    /* ASan's shadow memory is terabytes of reserved address space. */
+    pfd_log(PFD_LOG_INFO, "mlockall", "result=skipped reason=address-sanitizer");
+    return;
+#else
+    /* With a finite RLIMIT_MEMLOCK, MCL_FUTURE would make later thread
+     * stacks fail to map; lock only when the limit cannot bite. */
+    if (geteuid() != 0 &&
+        (getrlimit(RLIMIT_MEMLOCK, &rl) != 0 || rl.rlim_cur != RLIM_INFINITY)) {
+        pfd_log(PFD_LOG_WARN, "mlockall",
+                "result=skipped reason=rlimit-memlock-finite");
+        return;
+    }
+    (void)rl;
+    if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0)
+        pfd_log(PFD_LOG_INFO, "mlockall", "result=locked");
+    else
+        pfd_log(PFD_LOG_WARN, "mlockall", "result=failed error=\"%s\"",
+                strerror(errno));
+#endif
+}
+
+int pfd_loop_start(pfd_daemon *d)
+{
+    pthread_attr_t attr;
+    struct sched_param sp;
+    int rc = -1;
+
+    lock_memory(d);
+    if (d->set.rt_priority > 0) {
+        memset(&sp, 0, sizeof sp);
+        sp.sched_priority = d->set.rt_priority;
+        pthread_attr_init(&attr);
+        pthread_attr_setinheritsched(&attr, PTHREAD_EXPLICIT_SCHED);
+        pthread_attr_setschedpolicy(&attr, SCHED_FIFO);
+        pthread_attr_setschedparam(&attr, &sp);
+        rc = pthread_create(&loop_thread, &attr, loop_main, d);
+        pthread_attr_destroy(&attr);
+        if (rc == 0)
+            pfd_log(PFD_LOG_INFO, "loop-thread", "sched=fifo priority=%d",
+                    d->set.rt_priority);
+        else
+            pfd_log(PFD_LOG_WARN, "loop-thread",
+                    "sched=other reason=\"SCHED_FIFO %d not permitted: %s\"",
+                    d->set.rt_priority, strerror(rc));
+    }
+    if (rc != 0) {
+        rc = pthread_create(&loop_thread, NULL, loop_main, d);
+        if (rc != 0) {
+            pfd_log(PFD_LOG_ERROR, "loop-thread", "error=\"%s\"", strerror(rc));
+            return -1;
+        }
+        if (d->set.rt_priority <= 0)
+            pfd_log(PFD_LOG_INFO, "loop-thread", "sched=other reason=--rt-priority-0");
+    }
+    loop_running = 1;
+    pfd_log(PFD_LOG_INFO, "loop-start", "clock=%s instances=%d",
+            d->set.external_clock ? "external" : "internal", d->n);
+    return 0;
+}
+
+void pfd_loop_stop(pfd_daemon *d)
+{
+    __atomic_store_n(&d->stop, 1, __ATOMIC_RELEASE);
+    pthread_mutex_lock(&d->tick_mx);
+    pthread_cond_broadcast(&d->work_cv);
+    pthread_cond_broadcast(&d->done_cv);
+    pthread_mutex_unlock(&d->tick_mx);
+    if (loop_running) {
+        pthread_join(loop_thread, NULL);
+        loop_running = 0;
+    }
+}
+
+static uint32_t percentile(double q)
+{
+    uint64_t want = (uint64_t)(q * (double)hist_total), acc = 0;
+    uint32_t i;
+    if (want >= hist_total && hist_total > 0)
+        want = hist_total - 1;
+    for (i = 0; i <= HIST_N; i++) {
+        acc += hist[i];
+        if (acc > want)
+            return i;
+    }
+    return HIST_N;
+}
+
+void pfd_loop_log_stats(const pfd_daemon *d)
+{
+    uint64_t samples = 0;
+    int i;
+    for (i = 0; i < d->n; i++)
+        samples += d->inst[i]->rt.s.samples;
+    pfd_log(PFD_LOG_INFO, "loop-stats",
+            "instances=%d samples=%llu jitter_samples=%llu jitter_p50_us=%u "
+            "jitter_p99_us=%u jitter_max_us=%.1f overruns=%llu",
+            d->n, (unsigned long long)samples, (unsigned long long)hist_total,
+            hist_total ? percentile(0.50) : 0, hist_total ? percentile(0.99) : 0,
+            (double)hist_max_ns / 1000.0, (unsigned long long)hist_overruns);
+}
+
+int pfd_loop_tick(pfd_daemon *d, pfd_inst *in, unsigned n)
+{
+    uint64_t target = __atomic_add_fetch(&in->tick_target, (uint64_t)n,
+                                         __ATOMIC_ACQ_REL);
+    pthread_mutex_lock(&d->tick_mx);
+    pthread_cond_signal(&d->work_cv);
+    while (__atomic_load_n(&in->tick_done, __ATOMIC_ACQUIRE) < target &&
+           !stopping(d))
+        timed_wait(&d->done_cv, &d->tick_mx, 200);
+    pthread_mutex_unlock(&d->tick_mx);
+    return stopping(d) ? -1 : 0;
+}
+
+void pfd_loop_kick(pfd_daemon *d)
+{
+    pthread_mutex_lock(&d->tick_mx);
+    pthread_cond_signal(&d->work_cv);
+    pthread_mutex_unlock(&d->tick_mx);
+}

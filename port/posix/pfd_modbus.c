@@ -1,0 +1,511 @@
+/* SPDX-License-Identifier: MIT */
+#include "pfd_modbus.h"
+
+#include <arpa/inet.h>
+#include <errno.h>
+#include <modbus/modbus.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <poll.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/select.h>
+#include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "pfd_allow.h"
+#include "pfd_commit.h"
+#include "pfd_log.h"
+#include "pfd_loop.h"
+#include "pfd_regmap.h"
+
+#define MBAP_LEN 7
+#define CLIENT_STACK (256 * 1024)
+
+typedef struct client {
+    pfd_daemon *d;
+    pthread_t th;
+    int fd;
+    int in_use; /* slot taken (under clients_mx) */
+    int done;   /* thread finished, join pending (atomic) */
+    char peer[48];
+} client;
+
+static int listen_fd = -1;
+static pthread_t accept_th;
+static int accept_running;
+static pthread_mutex_t clients_mx = PTHREAD_MUTEX_INITIALIZER;
+static client *clients;
+static int n_clients_max;
+static pfd_allow allow;
+
+static int stopping(const pfd_daemon *d)
+{
+    return __atomic_load_n(&d->stop, __ATOMIC_ACQUIRE);
+}
+
+static unsigned be16(const uint8_t *p) { return ((unsigned)p[0] << 8) | p[1]; }
+
+/* ---- one request ------------------------------------------------------- */
+
+typedef struct reqctx {
+    pfd_daemon *d;
+    modbus_t *ctx;
+    modbus_mapping_t *map;
+    const uint8_t *req;
+    int len;
+} reqctx;
+
+static int reply_exc(reqctx *r, int code)
+{
+    return modbus_reply_exception(r->ctx, r->req, (unsigned)code) < 0 ? -1 : 0;
+}
+
+/* Copy registers [addr, addr+cnt) of @p space into the scratch mapping that
+ * modbus_reply() reads from. */
+static void fill(reqctx *r, pfd_inst *in, int space, unsigned addr, unsigned cnt)
+{
+    uint16_t img[PFD_INPUT_SIZE > PFD_HOLD_SIZE ? PFD_INPUT_SIZE : PFD_HOLD_SIZE];
+    pfd_view v;
+
+    pthread_mutex_lock(&r->d->regs_mx);
+    v.inst = in;
+    v.snap = (const pfd_snap *)pfd_tbuf_latest(&in->out_tb);
+    v.status = pfd_status_bits(r->d, in, v.snap);
+    v.n_instances = (uint16_t)r->d->n;
+    pfd_regmap_render(space, &v, img);
+    pthread_mutex_unlock(&r->d->regs_mx);
+    memcpy((space == PFD_HOLD ? r->map->tab_registers : r->map->tab_input_registers) + addr,
+           img + addr, cnt * sizeof img[0]);
+}
+
+/* Validated writes: state checks, then data, commit, command, tick.
+ * @return 0 done, > 0 exception code, -1 drop the connection. */
+static int execute(reqctx *r, pfd_inst *in, const pfd_wlist *wl)
+{
+    pfd_daemon *d = r->d;
+    int rc;
+
+    pthread_mutex_lock(&d->regs_mx);
+    rc = 0;
+    if ((wl->staged || wl->commit) && in->hold.param_lock)
+        rc = MODBUS_EXCEPTION_ILLEGAL_FUNCTION;
+    if (wl->lock && d->set.param_lock) {
+        unsigned i;
+        for (i = 0; i < wl->n; i++)
+            if (!strcmp(wl->w[i].r->name, "param_lock") && wl->w[i].v != 1.0)
+                rc = MODBUS_EXCEPTION_ILLEGAL_FUNCTION;
+    }
+    if (wl->tick && !d->set.external_clock)
+        rc = MODBUS_EXCEPTION_ILLEGAL_FUNCTION;
+    if (rc != 0 || wl->commit) {
+        pthread_mutex_unlock(&d->regs_mx);
+        if (rc != 0)
+            return rc;
+        rc = pfd_commit(d, in, wl);
+        if (rc != 0)
+            return rc;
+    } else {
+        pfd_regmap_apply(&in->hold, &in->committed, wl);
+        if (wl->live)
+            pfd_publish_live(in);
+        if (wl->command == 1)
+            in->hold.staged = in->committed;
+        pthread_mutex_unlock(&d->regs_mx);
+    }
+    if (wl->command == 2)
+        __atomic_add_fetch(&in->reset_req, 1u, __ATOMIC_ACQ_REL);
+    else if (wl->command == 3)
+        __atomic_add_fetch(&in->stats_req, 1u, __ATOMIC_ACQ_REL);
+    if (wl->tick && pfd_loop_tick(d, in, wl->tick) != 0)
+        return -1;
+    return 0;
+}
+
+static int handle(reqctx *r)
+{
+    pfd_daemon *d = r->d;
+    const uint8_t *req = r->req, *pdu;
+    unsigned fc, pdu_len, addr, cnt;
+    pfd_inst *in;
+    pfd_wlist wl;
+    uint16_t vals[128];
+    unsigned i;
+    int rc;
+
+    /* libmodbus frames by function code and ignores the MBAP length and
+     * protocol id; a mismatch means the byte stream cannot be trusted. */
+    if (r->len < MBAP_LEN + 1 || be16(req + 2) != 0 ||
+        be16(req + 4) != (unsigned)(r->len - 6))
+        return -1;
+    in = d->by_unit[req[6]];
+    fc = req[7];
+    pdu = req + MBAP_LEN;
+    pdu_len = (unsigned)(r->len - MBAP_LEN);
+    if (in == NULL)
+        return reply_exc(r, MODBUS_EXCEPTION_GATEWAY_TARGET);
+
+    switch (fc) {
+    case MODBUS_FC_READ_HOLDING_REGISTERS:
+    case MODBUS_FC_READ_INPUT_REGISTERS: {
+        int space = fc == MODBUS_FC_READ_HOLDING_REGISTERS ? PFD_HOLD : PFD_INPUT;
+        unsigned size = space == PFD_HOLD ? PFD_HOLD_SIZE : PFD_INPUT_SIZE;
+        if (pdu_len != 5)
+            return -1;
+        addr = be16(pdu + 1);
+        cnt = be16(pdu + 3);
+        if (cnt < 1 || cnt > MODBUS_MAX_READ_REGISTERS)
+            return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
+        if (addr + cnt > size)
+            return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS);
+        fill(r, in, space, addr, cnt);
+        break;
+    }
+    case MODBUS_FC_WRITE_SINGLE_REGISTER:
+        if (pdu_len != 5)
+            return -1;
+        if (d->set.read_only)
+            return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_FUNCTION);
+        addr = be16(pdu + 1);
+        vals[0] = (uint16_t)be16(pdu + 3);
+        rc = pfd_regmap_decode(addr, 1, vals, &wl);
+        if (rc == 0)
+            rc = execute(r, in, &wl);
+        if (rc != 0)
+            return rc < 0 ? -1 : reply_exc(r, rc);
+        break;
+    case MODBUS_FC_WRITE_MULTIPLE_REGISTERS:
+        if (pdu_len < 6)
+            return -1;
+        if (d->set.read_only)
+            return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_FUNCTION);
+        addr = be16(pdu + 1);
+        cnt = be16(pdu + 3);
+        if (cnt < 1 || cnt > MODBUS_MAX_WRITE_REGISTERS || pdu[5] != cnt * 2 ||
+            pdu_len != 6 + cnt * 2)
+            return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
+        for (i = 0; i < cnt; i++)
+            vals[i] = (uint16_t)be16(pdu + 6 + 2 * i);
+        rc = pfd_regmap_decode(addr, cnt, vals, &wl);
+        if (rc == 0)
+            rc = execute(r, in, &wl);
+        if (rc != 0)
+            return rc < 0 ? -1 : reply_exc(r, rc);
+        break;
+    case MODBUS_FC_WRITE_AND_READ_REGISTERS: {
+        unsigned waddr, wcnt;
+        if (pdu_len < 10)
+            return -1;
+        if (d->set.read_only)
+            return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_FUNCTION);
+        addr = be16(pdu + 1);
+        cnt = be16(pdu + 3);
+        waddr = be16(pdu + 5);
+        wcnt = be16(pdu + 7);
+        if (cnt < 1 || cnt > MODBUS_MAX_WR_READ_REGISTERS || wcnt < 1 ||
+            wcnt > MODBUS_MAX_WR_WRITE_REGISTERS || pdu[9] != wcnt * 2 ||
+            pdu_len != 10 + wcnt * 2)
+            return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
+        if (addr + cnt > PFD_HOLD_SIZE)
+            return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS);
+        for (i = 0; i < wcnt; i++)
+            vals[i] = (uint16_t)be16(pdu + 10 + 2 * i);
+        rc = pfd_regmap_decode(waddr, wcnt, vals, &wl);
+        if (rc == 0)
+            rc = execute(r, in, &wl);
+        if (rc != 0)
+            return rc < 0 ? -1 : reply_exc(r, rc);
+        /* Read after the write, as the function code specifies. */
+        fill(r, in, PFD_HOLD, addr, cnt);
+        break;
+    }
+    default:
+        return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_FUNCTION);
+    }
+    /* Validated above, so modbus_reply() only frames the answer: reads
+     * come from the scratch mapping just filled, writes are echoed. */
+    return modbus_reply(r->ctx, req, r->len, r->map) < 0 ? -1 : 0;
+}
+
+/* ---- client thread ----------------------------------------------------- */
+
+/* libmodbus 3.1.6 reads no data at all for function codes it does not know
+ * (it frames by function code, not by the MBAP length). Read the rest of
+ * such a PDU as the MBAP header announces it, so that the request can be
+ * answered with exception 01 and the stream stays in step.
+ * @return the full ADU length, or -1. */
+static int read_rest(int fd, uint8_t *req, int have, int timeout_ms)
+{
+    unsigned mlen = be16(req + 4);
+    int want;
+
+    if (have != MBAP_LEN + 1 || mlen <= 2 || mlen > MODBUS_TCP_MAX_ADU_LENGTH - 6)
+        return have;
+    want = 6 + (int)mlen;
+    while (have < want) {
+        struct pollfd pfd;
+        ssize_t n;
+        pfd.fd = fd;
+        pfd.events = POLLIN;
+        pfd.revents = 0;
+        if (poll(&pfd, 1, timeout_ms) <= 0)
+            return -1;
+        n = recv(fd, req + have, (size_t)(want - have), 0);
+        if (n <= 0)
+            return -1;
+        have += (int)n;
+    }
+    return have;
+}
+
+static void *client_main(void *arg)
+{
+    client *c = (client *)arg;
+    pfd_daemon *d = c->d;
+    uint8_t req[MODBUS_TCP_MAX_ADU_LENGTH];
+    modbus_t *ctx = modbus_new_tcp("127.0.0.1", 502);
+    modbus_mapping_t *map = modbus_mapping_new_start_address(
+        0, 0, 0, 0, 0, PFD_HOLD_SIZE, 0, PFD_INPUT_SIZE);
+    const char *why = "closed";
+    uint32_t bt_s = (uint32_t)(d->set.byte_timeout_ms / 1000);
+    uint32_t bt_us = (uint32_t)(d->set.byte_timeout_ms % 1000) * 1000u;
+    long idle_ms = 0;
+
+    if (ctx == NULL || map == NULL) {
+        why = "out-of-memory";
+        goto out;
+    }
+    modbus_set_socket(ctx, c->fd);
+    /* libmodbus 3.1.6 waits this long for each further byte of a frame;
+     * a client that stalls mid-frame is dropped after it. */
+    modbus_set_byte_timeout(ctx, bt_s, bt_us);
+    modbus_set_indication_timeout(ctx, bt_s, bt_us);
+    modbus_set_response_timeout(ctx, bt_s, bt_us);
+
+    while (!stopping(d)) {
+        struct pollfd pfd;
+        reqctx r;
+        int rc;
+
+        pfd.fd = c->fd;
+        pfd.events = POLLIN;
+        pfd.revents = 0;
+        rc = poll(&pfd, 1, 200);
+        if (rc < 0 && errno != EINTR) {
+            why = "poll-error";
+            break;
+        }
+        if (rc <= 0) {
+            idle_ms += 200;
+            if (d->set.idle_timeout_s > 0 && idle_ms >= 1000L * d->set.idle_timeout_s) {
+                why = "idle-timeout";
+                break;
+            }
+            continue;
+        }
+        idle_ms = 0;
+        rc = modbus_receive(ctx, req);
+        if (rc < 0) {
+            why = errno == ECONNRESET ? "peer-closed"
+                  : errno == ETIMEDOUT ? "byte-timeout"
+                                       : "bad-frame";
+            break;
+        }
+        if (rc == 0)
+            continue;
+        rc = read_rest(c->fd, req, rc, d->set.byte_timeout_ms);
+        if (rc < 0) {
+            why = "byte-timeout";
+            break;
+        }
+        r.d = d;
+        r.ctx = ctx;
+        r.map = map;
+        r.req = req;
+        r.len = rc;
+        if (handle(&r) != 0) {
+            why = stopping(d) ? "shutdown" : "bad-frame-or-send-error";
+            break;
+        }
+    }
+    if (stopping(d))
+        why = "shutdown";
+out:
+    pfd_log(PFD_LOG_DEBUG, "client-closed", "peer=%s reason=%s", c->peer, why);
+    if (map != NULL)
+        modbus_mapping_free(map);
+    if (ctx != NULL)
+        modbus_free(ctx); /* does not close the socket */
+    /* reap() closes the fd after the join, so pfd_server_stop() can
+     * shutdown() any fd of a slot in use without racing a reuse. */
+    __atomic_store_n(&c->done, 1, __ATOMIC_RELEASE);
+    return NULL;
+}
+
+/* ---- accept thread ----------------------------------------------------- */
+
+static void reap(int all)
+{
+    int i;
+    for (i = 0; i < n_clients_max; i++) {
+        client *c = &clients[i];
+        if (c->in_use && (all || __atomic_load_n(&c->done, __ATOMIC_ACQUIRE))) {
+            pthread_join(c->th, NULL);
+            close(c->fd);
+            c->in_use = 0;
+        }
+    }
+}
+
+static void refuse(int fd, const char *peer, const char *why)
+{
+    pfd_log(PFD_LOG_WARN, "client-refused", "peer=%s reason=%s", peer, why);
+    close(fd);
+}
+
+static void *accept_main(void *arg)
+{
+    pfd_daemon *d = (pfd_daemon *)arg;
+
+    while (!stopping(d)) {
+        struct pollfd pfd;
+        struct sockaddr_in sa;
+        socklen_t sl = sizeof sa;
+        char peer[48], ip[INET_ADDRSTRLEN];
+        pthread_attr_t attr;
+        int fd, i, one = 1;
+        client *c = NULL;
+        struct timeval tv;
+
+        pthread_mutex_lock(&clients_mx);
+        reap(0);
+        pthread_mutex_unlock(&clients_mx);
+
+        pfd.fd = listen_fd;
+        pfd.events = POLLIN;
+        pfd.revents = 0;
+        if (poll(&pfd, 1, 200) <= 0)
+            continue;
+        fd = accept(listen_fd, (struct sockaddr *)&sa, &sl);
+        if (fd < 0)
+            continue;
+        if (sa.sin_family != AF_INET || inet_ntop(AF_INET, &sa.sin_addr, ip, sizeof ip) == NULL)
+            strcpy(ip, "?");
+        snprintf(peer, sizeof peer, "%s:%u", ip, (unsigned)ntohs(sa.sin_port));
+        if (fd >= FD_SETSIZE) {
+            refuse(fd, peer, "fd-above-FD_SETSIZE");
+            continue;
+        }
+        if (sa.sin_family != AF_INET || !pfd_allow_match(&allow, ntohl(sa.sin_addr.s_addr))) {
+            refuse(fd, peer, "not-in-allow-list");
+            continue;
+        }
+        pthread_mutex_lock(&clients_mx);
+        reap(0);
+        for (i = 0; i < n_clients_max && c == NULL; i++)
+            if (!clients[i].in_use)
+                c = &clients[i];
+        if (c == NULL) {
+            pthread_mutex_unlock(&clients_mx);
+            refuse(fd, peer, "max-clients");
+            continue;
+        }
+        setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+        /* A client that never reads its answers fails a send after 1 s
+         * instead of holding its thread forever. */
+        tv.tv_sec = 1;
+        tv.tv_usec = 0;
+        setsockopt(fd, SOL_SOCKET, SO_SNDTIMEO, &tv, sizeof tv);
+        memset(c, 0, sizeof *c);
+        c->d = d;
+        c->fd = fd;
+        strcpy(c->peer, peer);
+        pthread_attr_init(&attr);
+        pthread_attr_setstacksize(&attr, CLIENT_STACK);
+        if (pthread_create(&c->th, &attr, client_main, c) != 0) {
+            pthread_attr_destroy(&attr);
+            pthread_mutex_unlock(&clients_mx);
+            refuse(fd, peer, "thread-create-failed");
+            continue;
+        }
+        pthread_attr_destroy(&attr);
+        c->in_use = 1;
+        pthread_mutex_unlock(&clients_mx);
+        pfd_log(PFD_LOG_DEBUG, "client-connected", "peer=%s", peer);
+    }
+    return NULL;
+}
+
+int pfd_server_start(pfd_daemon *d)
+{
+    struct sockaddr_in sa;
+    socklen_t sl = sizeof sa;
+    char err[200];
+    int one = 1;
+
+    if (pfd_allow_parse(d->set.allow, &allow, err, sizeof err) != 0) {
+        pfd_fatal("%s", err);
+        return -1;
+    }
+    n_clients_max = d->set.max_clients;
+    clients = calloc((size_t)n_clients_max, sizeof *clients);
+    if (clients == NULL) {
+        pfd_fatal("out of memory");
+        return -1;
+    }
+    memset(&sa, 0, sizeof sa);
+    sa.sin_family = AF_INET;
+    sa.sin_port = htons((uint16_t)d->set.listen_port);
+    if (inet_pton(AF_INET, d->set.listen_addr, &sa.sin_addr) != 1) {
+        pfd_fatal("--listen: '%s' is not an IPv4 address", d->set.listen_addr);
+        return -1;
+    }
+    listen_fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    if (listen_fd < 0) {
+        pfd_fatal("socket: %s", strerror(errno));
+        return -1;
+    }
+    setsockopt(listen_fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+    if (bind(listen_fd, (struct sockaddr *)&sa, sizeof sa) != 0 ||
+        listen(listen_fd, 32) != 0) {
+        pfd_fatal("cannot listen on %s:%d: %s", d->set.listen_addr,
+                  d->set.listen_port, strerror(errno));
+        close(listen_fd);
+        listen_fd = -1;
+        return -1;
+    }
+    getsockname(listen_fd, (struct sockaddr *)&sa, &sl);
+    if (pthread_create(&accept_th, NULL, accept_main, d) != 0) {
+        pfd_fatal("cannot start the accept thread");
+        return -1;
+    }
+    accept_running = 1;
+    pfd_log(PFD_LOG_INFO, "listening",
+            "addr=%s port=%u max_clients=%d allow=\"%s\" read_only=%d",
+            d->set.listen_addr, (unsigned)ntohs(sa.sin_port), d->set.max_clients,
+            d->set.allow[0] ? d->set.allow : "127.0.0.0/8", d->set.read_only);
+    return 0;
+}
+
+void pfd_server_stop(pfd_daemon *d)
+{
+    int i;
+    __atomic_store_n(&d->stop, 1, __ATOMIC_RELEASE);
+    if (accept_running) {
+        pthread_join(accept_th, NULL);
+        accept_running = 0;
+    }
+    if (listen_fd >= 0) {
+        close(listen_fd);
+        listen_fd = -1;
+    }
+    pthread_mutex_lock(&clients_mx);
+    for (i = 0; i < n_clients_max; i++)
+        if (clients[i].in_use)
+            shutdown(clients[i].fd, SHUT_RDWR);
+    reap(1);
+    pthread_mutex_unlock(&clients_mx);
+    free(clients);
+    clients = NULL;
+}

@@ -1,0 +1,501 @@
+/* SPDX-License-Identifier: MIT */
+#include "pfd_regmap.h"
+
+#include <math.h>
+#include <string.h>
+
+#ifndef PFD_VERSION_MAJOR
+#define PFD_VERSION_MAJOR 0
+#define PFD_VERSION_MINOR 0
+#define PFD_VERSION_PATCH 0
+#endif
+
+/* What a register reads or writes. */
+enum {
+    /* holding */
+    F_E, F_SP, F_PV, F_E_I16, F_SP_I16, F_PV_I16, F_INPUT_SEL, F_MODE,
+    F_MANUAL, F_FAILSAFE, F_WATCHDOG, F_LOCK, F_COMMIT, F_COMMAND, F_TICK,
+    /* input */
+    F_PC, F_X, F_PB, F_Y, F_EU, F_PC_I16, F_X_I16, F_PB_I16, F_Y_I16,
+    F_EU_I16, F_STATUS, F_CRESULT, F_CADDR, F_CPARAM, F_COMMITS, F_SAMPLES,
+    F_OVERRUNS, F_JLAST, F_JMAX, F_WDTRIPS, F_VMAJOR, F_VMINOR, F_VPATCH,
+    F_VMAP, F_UNIT, F_NINST,
+    /* parameter k of a set (see ip_get): staged or committed */
+    F_STAGED = 100, F_COMMITTED = 200
+};
+
+/* Parameter k of a set: 0 config, 1 arith, 2 fs, 3 in_fs, 4 out_fs,
+ * 5 bump_tau, 6.. the paper's parameters in pf_param_id order. */
+#define K_CONFIG 0
+#define K_ARITH 1
+#define K_FS 2
+#define K_IN_FS 3
+#define K_OUT_FS 4
+#define K_BUMP 5
+#define K_P0 6
+#define K_COUNT (K_P0 + 16)
+
+#define BIG 1e9
+#define PMIN 1e-9
+
+/* Staged parameters from holding 20, their committed mirrors from input
+ * 36; u16 first, then f32. */
+#define HS(k) (uint16_t)((k) < 2 ? 20 + (k) : 22 + 2 * ((k) - 2))
+#define IC(k) (uint16_t)((k) < 2 ? 36 + (k) : 38 + 2 * ((k) - 2))
+
+#define PARAMS(X)                                                              \
+    X(K_CONFIG, PFD_T_U16, "config", "", 0, 3, 0,                              \
+      "configuration: 0 p (eq. 17), 1 dd (FrDD, eq. 18), 2 id (FrID, eq. 20), 3 pid (Remark 3)") \
+    X(K_ARITH, PFD_T_U16, "arith", "", 0, 1, 0, "arithmetic: 0 float, 1 q15")  \
+    X(K_FS, PFD_T_F32, "fs", "Hz", PFD_FS_MIN, PFD_FS_MAX, 0, "sample rate")   \
+    X(K_IN_FS, PFD_T_F32, "in_fs", "", PFD_FULLSCALE_MIN, PFD_FULLSCALE_MAX, 0, \
+      "full scale of e: Q15 +1.0 in q15, and the scale of the int16 mirrors of e, x, p_b/k1, y") \
+    X(K_OUT_FS, PFD_T_F32, "out_fs", "", PFD_FULLSCALE_MIN, PFD_FULLSCALE_MAX, 0, \
+      "full scale of p_c: Q15 +1.0 in q15, and the scale of pc_i16")           \
+    X(K_BUMP, PFD_T_F32, "bump_tau", "s", 0, PFD_BUMP_TAU_MAX, 0,              \
+      "time constant of the bumpless transfer's offset bleed; 0 = none")       \
+    X(K_P0 + 0, PFD_T_F32, "a", "", PMIN, BIG, 0, "flapper lever arm a (eq. 15)") \
+    X(K_P0 + 1, PFD_T_F32, "b", "", PMIN, BIG, 0, "flapper lever arm b (eq. 15)") \
+    X(K_P0 + 2, PFD_T_F32, "k1", "", PMIN, BIG, 0, "nozzle gain, p_b = k1 x (eq. 9)") \
+    X(K_P0 + 3, PFD_T_F32, "k2", "", PMIN, BIG, 0, "relay gain, p_c = k2 z (eq. 13)") \
+    X(K_P0 + 4, PFD_T_F32, "A", "", PMIN, BIG, 0, "bellows effective area (eq. 16)") \
+    X(K_P0 + 5, PFD_T_F32, "ks", "", PMIN, BIG, 0, "bellows pseudo-spring constant (eq. 16)") \
+    X(K_P0 + 6, PFD_T_F32, "tau", "s", PMIN, BIG, 0, "relay time constant (eq. 11)") \
+    X(K_P0 + 7, PFD_T_F32, "pmin", "", PMIN, BIG, 0, "relay Psi_min, <= pmax (eq. 11)") \
+    X(K_P0 + 8, PFD_T_F32, "pmax", "", PMIN, BIG, 0, "relay Psi_max (eq. 11)") \
+    X(K_P0 + 9, PFD_T_F32, "beta", "", 0, 1, PFD_F_MIN_EXCL, "relay diaphragm order") \
+    X(K_P0 + 10, PFD_T_F32, "q", "", 0, 1, 0, "bellows order; 0 is a linear spring") \
+    X(K_P0 + 11, PFD_T_F32, "nu", "", 0, 1, PFD_F_MIN_EXCL, "derivative restrictor order (dd, pid)") \
+    X(K_P0 + 12, PFD_T_F32, "w", "", 0, 1, PFD_F_MIN_EXCL, "reset restrictor order (id, pid; pid: >= nu)") \
+    X(K_P0 + 13, PFD_T_F32, "RC", "s", PMIN, BIG, 0, "restrictor time constant (dd, id)") \
+    X(K_P0 + 14, PFD_T_F32, "RCd", "s", PMIN, BIG, 0, "pid derivative restrictor, < RCi") \
+    X(K_P0 + 15, PFD_T_F32, "RCi", "s", PMIN, BIG, 0, "pid reset restrictor")
+
+#define STAGED_ENTRY(k, t, nm, un, lo, hi, fl, ds)                             \
+    {PFD_HOLD, t, PFD_RW, PFD_F_STAGED | (fl), HS(k), F_STAGED + (k), lo, hi,  \
+     nm, un, "staged: " ds},
+#define COMMITTED_ENTRY(k, t, nm, un, lo, hi, fl, ds)                          \
+    {PFD_INPUT, t, PFD_R, 0, IC(k), F_COMMITTED + (k), 0, 0, "committed_" nm,  \
+     un, "committed: " ds},
+
+#define H(addr, type, acc, fl, field, lo, hi, name, unit, desc)                \
+    {PFD_HOLD, type, acc, fl, addr, field, lo, hi, name, unit, desc},
+#define I(addr, type, field, name, unit, desc)                                 \
+    {PFD_INPUT, type, PFD_R, 0, addr, field, 0, 0, name, unit, desc},
+
+#define LIVE_IN (PFD_F_LIVE | PFD_F_REFRESH)
+
+const pfd_reg pfd_regs[] = {
+    H(0, PFD_T_F32, PFD_RW, LIVE_IN, F_E, -BIG, BIG, "e", "",
+      "error input e (used when input_sel = 0)")
+    H(2, PFD_T_F32, PFD_RW, LIVE_IN, F_SP, -BIG, BIG, "sp", "",
+      "setpoint (used when input_sel = 1: e = sp - pv)")
+    H(4, PFD_T_F32, PFD_RW, LIVE_IN, F_PV, -BIG, BIG, "pv", "",
+      "process value (used when input_sel = 1)")
+    H(6, PFD_T_I16, PFD_RW, LIVE_IN, F_E_I16, -32768, 32767, "e_i16", "in_fs/32768",
+      "e as a scaled int16: writes e = v*in_fs/32768; reads e likewise, rounded and saturated")
+    H(7, PFD_T_I16, PFD_RW, LIVE_IN, F_SP_I16, -32768, 32767, "sp_i16", "in_fs/32768",
+      "sp as a scaled int16")
+    H(8, PFD_T_I16, PFD_RW, LIVE_IN, F_PV_I16, -32768, 32767, "pv_i16", "in_fs/32768",
+      "pv as a scaled int16")
+    H(9, PFD_T_U16, PFD_RW, PFD_F_LIVE, F_INPUT_SEL, 0, 1, "input_sel", "",
+      "input: 0 e, 1 sp - pv")
+    H(10, PFD_T_U16, PFD_RW, PFD_F_LIVE, F_MODE, 0, 1, "mode", "",
+      "0 auto, 1 manual (output = manual_out; back to auto is bumpless)")
+    H(11, PFD_T_F32, PFD_RW, PFD_F_LIVE, F_MANUAL, -BIG, BIG, "manual_out", "",
+      "output in manual mode")
+    H(13, PFD_T_F32, PFD_RW, PFD_F_LIVE, F_FAILSAFE, -BIG, BIG, "failsafe_out", "",
+      "output while the watchdog is tripped")
+    H(15, PFD_T_U16, PFD_RW, PFD_F_LIVE, F_WATCHDOG, 0, 60000, "watchdog_ms", "ms",
+      "trip to failsafe_out when e/sp/pv are not written for this long (counted in samples); 0 = off")
+    H(16, PFD_T_U16, PFD_RW, 0, F_LOCK, 0, 1, "param_lock", "",
+      "1: staged parameters and commit are refused (exception 01); fixed at 1 by --param-lock")
+    H(17, PFD_T_U16, PFD_W, PFD_F_ACTION | PFD_F_STAGED, F_COMMIT, 1, 1, "commit", "",
+      "write 1: validate the staged set and switch it in between two samples, bumplessly; "
+      "refused (exception 03, nothing changes) if invalid; reads 0")
+    H(18, PFD_T_U16, PFD_W, PFD_F_ACTION, F_COMMAND, 1, 3, "command", "",
+      "write 1: discard staged changes, 2: reset the controller state, 3: clear statistics; reads 0")
+    H(19, PFD_T_U16, PFD_W, PFD_F_ACTION, F_TICK, 1, 65535, "tick", "samples",
+      "--clock external only (else exception 01): advance exactly N samples, "
+      "answered when they are done; reads 0")
+    PARAMS(STAGED_ENTRY)
+    /* Read-only copies for clients that can only read holding registers
+     * (and for FC23: write tick, read the output, in one transaction). */
+    H(62, PFD_T_F32, PFD_R, 0, F_PC, 0, 0, "hold_pc", "", "copy of input register pc")
+    H(64, PFD_T_I16, PFD_R, 0, F_PC_I16, 0, 0, "hold_pc_i16", "out_fs/32768",
+      "copy of input register pc_i16")
+    H(65, PFD_T_U16, PFD_R, 0, F_STATUS, 0, 0, "hold_status", "bits",
+      "copy of input register status")
+
+    I(0, PFD_T_F32, F_PC, "pc", "", "output p_c (after manual, fail-safe and bumpless transfer)")
+    I(2, PFD_T_F32, F_X, "x", "", "flapper displacement x")
+    I(4, PFD_T_F32, F_PB, "pb", "", "nozzle back pressure p_b")
+    I(6, PFD_T_F32, F_Y, "y", "", "bellows displacement y")
+    I(8, PFD_T_F32, F_EU, "e_used", "", "input the loop used in the last sample (e or sp - pv)")
+    I(10, PFD_T_I16, F_PC_I16, "pc_i16", "out_fs/32768",
+      "p_c as int16; q15: the controller's raw Q15 output (plus any transfer offset)")
+    I(11, PFD_T_I16, F_X_I16, "x_i16", "in_fs/32768", "x as int16")
+    I(12, PFD_T_I16, F_PB_I16, "pb_i16", "k1*in_fs/32768", "p_b as int16")
+    I(13, PFD_T_I16, F_Y_I16, "y_i16", "in_fs/32768", "y as int16")
+    I(14, PFD_T_I16, F_EU_I16, "e_used_i16", "in_fs/32768", "e_used as int16")
+    I(15, PFD_T_U16, F_STATUS, "status", "bits",
+      "0 running, 1 watchdog tripped, 2 last commit refused, 3 manual, 4 parameters locked, "
+      "5 read-only server, 6 external clock, 7 staged differs from committed, "
+      "8 commit not yet switched in, 9 q15, 10 bumpless transfer in progress")
+    I(16, PFD_T_U16, F_CRESULT, "commit_result", "",
+      "last commit: 0 ok, 1 invalid parameter, 2 q15 scaling failed, 3 busy, 4 other error")
+    I(17, PFD_T_U16, F_CADDR, "commit_err_addr", "",
+      "holding address of the staged parameter that made the last commit fail; 65535 none")
+    I(18, PFD_T_U16, F_CPARAM, "commit_err_param", "",
+      "the library's pf_param_id of that parameter (pf_param_name); 65535 none")
+    I(19, PFD_T_U16, F_COMMITS, "commits", "", "accepted commits, modulo 65536")
+    I(20, PFD_T_U32, F_SAMPLES, "samples", "", "samples run, modulo 2^32")
+    I(22, PFD_T_U32, F_OVERRUNS, "overruns", "samples",
+      "samples skipped because the loop was late by a period or more")
+    I(24, PFD_T_U32, F_JLAST, "jitter_last_us", "us",
+      "last period jitter abs(t_k - t_(k-1) - T) (internal clock)")
+    I(26, PFD_T_U32, F_JMAX, "jitter_max_us", "us", "largest period jitter since start or clear")
+    I(28, PFD_T_U32, F_WDTRIPS, "watchdog_trips", "", "watchdog trips since start or clear")
+    I(30, PFD_T_U16, F_VMAJOR, "version_major", "", "pneufracd version")
+    I(31, PFD_T_U16, F_VMINOR, "version_minor", "", "")
+    I(32, PFD_T_U16, F_VPATCH, "version_patch", "", "")
+    I(33, PFD_T_U16, F_VMAP, "regmap_version", "", "version of this register map")
+    I(34, PFD_T_U16, F_UNIT, "unit_id", "", "this instance's unit id")
+    I(35, PFD_T_U16, F_NINST, "instances", "", "instances in this daemon")
+    PARAMS(COMMITTED_ENTRY)
+};
+const unsigned pfd_nregs = sizeof pfd_regs / sizeof pfd_regs[0];
+
+unsigned pfd_type_words(int type)
+{
+    return type == PFD_T_F32 || type == PFD_T_U32 ? 2u : 1u;
+}
+
+const pfd_reg *pfd_reg_at(int space, unsigned addr)
+{
+    unsigned i;
+    for (i = 0; i < pfd_nregs; i++) {
+        const pfd_reg *r = &pfd_regs[i];
+        if (r->space == space && addr >= r->addr &&
+            addr < r->addr + pfd_type_words(r->type))
+            return r;
+    }
+    return NULL;
+}
+
+void pfd_f32_pack(float v, uint16_t *w)
+{
+    uint32_t u;
+    memcpy(&u, &v, sizeof u);
+    w[0] = (uint16_t)(u >> 16);
+    w[1] = (uint16_t)(u & 0xFFFFu);
+}
+
+float pfd_f32_unpack(const uint16_t *w)
+{
+    uint32_t u = ((uint32_t)w[0] << 16) | w[1];
+    float v;
+    memcpy(&v, &u, sizeof v);
+    return v;
+}
+
+static double ip_get(const pfd_iparams *ip, int k)
+{
+    switch (k) {
+    case K_CONFIG: return (double)ip->p.config;
+    case K_ARITH: return (double)ip->arith;
+    case K_FS: return ip->fs;
+    case K_IN_FS: return ip->in_fs;
+    case K_OUT_FS: return ip->out_fs;
+    case K_BUMP: return ip->bump_tau;
+    default: return pf_params_get(&ip->p, (pf_param_id)(k - K_P0));
+    }
+}
+
+static void ip_set(pfd_iparams *ip, int k, double v)
+{
+    switch (k) {
+    case K_CONFIG: ip->p.config = (pf_config)(int)v; break;
+    case K_ARITH: ip->arith = (int)v; break;
+    case K_FS: ip->fs = v; break;
+    case K_IN_FS: ip->in_fs = v; break;
+    case K_OUT_FS: ip->out_fs = v; break;
+    case K_BUMP: ip->bump_tau = v; break;
+    default: (void)pf_params_set(&ip->p, (pf_param_id)(k - K_P0), v); break;
+    }
+}
+
+uint16_t pfd_regmap_staged_addr(int param)
+{
+    if (param >= (int)PF_P_A && param <= (int)PF_P_RCI)
+        return HS(K_P0 + param);
+    switch (param) {
+    case PF_P_CONFIG: return HS(K_CONFIG);
+    /* The band follows fs, so a band error is fixed through fs. */
+    case PF_P_FS: case PF_P_WB: case PF_P_WH: case PF_P_ORDER: return HS(K_FS);
+    case PF_P_IN_FS: return HS(K_IN_FS);
+    case PF_P_OUT_FS: return HS(K_OUT_FS);
+    case PFD_P_BUMP_TAU: return HS(K_BUMP);
+    case PFD_P_ARITH: return HS(K_ARITH);
+    default: return 0xFFFFu;
+    }
+}
+
+static double field_value(const pfd_reg *r, const pfd_view *v)
+{
+    const pfd_inst *in = v->inst;
+    const pfd_live *l = &in->hold.live;
+    const pfd_snap *s = v->snap;
+    const double inv_in = 1.0 / in->committed.in_fs;
+
+    if (r->field >= F_COMMITTED)
+        return ip_get(&in->committed, r->field - F_COMMITTED);
+    if (r->field >= F_STAGED)
+        return ip_get(&in->hold.staged, r->field - F_STAGED);
+    switch (r->field) {
+    case F_E: return l->e;
+    case F_SP: return l->sp;
+    case F_PV: return l->pv;
+    case F_E_I16: return pfd_to_q15(l->e, inv_in);
+    case F_SP_I16: return pfd_to_q15(l->sp, inv_in);
+    case F_PV_I16: return pfd_to_q15(l->pv, inv_in);
+    case F_INPUT_SEL: return l->input_sel;
+    case F_MODE: return l->mode;
+    case F_MANUAL: return l->manual_out;
+    case F_FAILSAFE: return l->failsafe_out;
+    case F_WATCHDOG: return l->watchdog_ms;
+    case F_LOCK: return in->hold.param_lock;
+    case F_COMMIT: case F_COMMAND: case F_TICK: return 0;
+    case F_PC: return s->sig.pc;
+    case F_X: return s->sig.x;
+    case F_PB: return s->sig.pb;
+    case F_Y: return s->sig.y;
+    case F_EU: return s->e_used;
+    case F_PC_I16: return s->sig.pc_q15;
+    case F_X_I16: return s->sig.x_q15;
+    case F_PB_I16: return s->sig.pb_q15;
+    case F_Y_I16: return s->sig.y_q15;
+    case F_EU_I16: return pfd_to_q15(s->e_used, inv_in);
+    case F_STATUS: return v->status;
+    case F_CRESULT: return in->commit_result;
+    case F_CADDR: return in->err_addr;
+    case F_CPARAM: return in->err_param;
+    case F_COMMITS: return in->commits;
+    case F_SAMPLES: return s->samples;
+    case F_OVERRUNS: return s->overruns;
+    case F_JLAST: return s->jit_last_us;
+    case F_JMAX: return s->jit_max_us;
+    case F_WDTRIPS: return s->wd_trips;
+    case F_VMAJOR: return PFD_VERSION_MAJOR;
+    case F_VMINOR: return PFD_VERSION_MINOR;
+    case F_VPATCH: return PFD_VERSION_PATCH;
+    case F_VMAP: return PFD_REGMAP_VERSION;
+    case F_UNIT: return in->unit;
+    case F_NINST: return v->n_instances;
+    default: return 0;
+    }
+}
+
+void pfd_regmap_render(int space, const pfd_view *v, uint16_t *img)
+{
+    unsigned i;
+    for (i = 0; i < pfd_nregs; i++) {
+        const pfd_reg *r = &pfd_regs[i];
+        double x;
+        if (r->space != space)
+            continue;
+        x = field_value(r, v);
+        switch (r->type) {
+        case PFD_T_F32:
+            pfd_f32_pack((float)x, img + r->addr);
+            break;
+        case PFD_T_U32: {
+            uint32_t u = (uint32_t)x;
+            img[r->addr] = (uint16_t)(u >> 16);
+            img[r->addr + 1] = (uint16_t)(u & 0xFFFFu);
+            break;
+        }
+        case PFD_T_I16:
+            img[r->addr] = (uint16_t)(int16_t)x; /* two's complement on the wire */
+            break;
+        default:
+            img[r->addr] = (uint16_t)x;
+            break;
+        }
+    }
+}
+
+int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
+                      pfd_wlist *out)
+{
+    unsigned a = addr;
+
+    memset(out, 0, sizeof *out);
+    /* Addresses first, for the whole request: a bad address anywhere
+     * refuses it before any value is looked at. */
+    while (a < addr + count) {
+        const pfd_reg *r = pfd_reg_at(PFD_HOLD, a);
+        unsigned nw;
+        if (r == NULL || r->access == PFD_R || r->addr != a)
+            return 2; /* MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS */
+        nw = pfd_type_words(r->type);
+        if (a + nw > addr + count)
+            return 2; /* half of a 32-bit field */
+        a += nw;
+    }
+    for (a = addr; a < addr + count;) {
+        const pfd_reg *r = pfd_reg_at(PFD_HOLD, a);
+        const uint16_t *w = vals + (a - addr);
+        double v;
+        int ok;
+
+        switch (r->type) {
+        case PFD_T_F32: {
+            float f = pfd_f32_unpack(w);
+            v = (double)f;
+            ok = isfinite(v) && v <= r->max &&
+                 ((r->flags & PFD_F_MIN_EXCL) ? v > r->min : v >= r->min);
+            break;
+        }
+        case PFD_T_I16:
+            v = (double)(int16_t)w[0];
+            ok = 1;
+            break;
+        default:
+            v = (double)w[0];
+            ok = v >= r->min && v <= r->max;
+            break;
+        }
+        if (!ok)
+            return 3; /* MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE */
+        if (r->flags & PFD_F_ACTION) {
+            if (r->field == F_COMMIT)
+                out->commit = (uint16_t)v;
+            else if (r->field == F_COMMAND)
+                out->command = (uint16_t)v;
+            else
+                out->tick = (uint16_t)v;
+        } else {
+            out->w[out->n].r = r;
+            out->w[out->n].v = v;
+            out->n++;
+        }
+        if (r->flags & PFD_F_STAGED)
+            out->staged = 1;
+        if (r->flags & PFD_F_REFRESH)
+            out->refresh = 1;
+        if (r->flags & PFD_F_LIVE)
+            out->live = 1;
+        if (r->field == F_LOCK)
+            out->lock = 1;
+        a += pfd_type_words(r->type);
+    }
+    return 0;
+}
+
+void pfd_regmap_apply(pfd_hold *h, const pfd_iparams *committed,
+                      const pfd_wlist *wl)
+{
+    const double sc = committed->in_fs / 32768.0;
+    pfd_live *l = &h->live;
+    unsigned i;
+
+    for (i = 0; i < wl->n; i++) {
+        const pfd_reg *r = wl->w[i].r;
+        double v = wl->w[i].v;
+        if (r->field >= F_STAGED) {
+            ip_set(&h->staged, r->field - F_STAGED, v);
+            continue;
+        }
+        switch (r->field) {
+        case F_E: l->e = (float)v; break;
+        case F_SP: l->sp = (float)v; break;
+        case F_PV: l->pv = (float)v; break;
+        case F_E_I16: l->e = (float)(v * sc); break;
+        case F_SP_I16: l->sp = (float)(v * sc); break;
+        case F_PV_I16: l->pv = (float)(v * sc); break;
+        case F_INPUT_SEL: l->input_sel = (uint16_t)v; break;
+        case F_MODE: l->mode = (uint16_t)v; break;
+        case F_MANUAL: l->manual_out = (float)v; break;
+        case F_FAILSAFE: l->failsafe_out = (float)v; break;
+        case F_WATCHDOG: l->watchdog_ms = (uint16_t)v; break;
+        case F_LOCK: h->param_lock = (uint16_t)v; break;
+        default: break;
+        }
+    }
+    if (wl->refresh)
+        l->refresh++;
+}
+
+static const char *type_name(int t)
+{
+    static const char *const names[] = {"u16", "i16", "u32", "f32"};
+    return names[t];
+}
+
+static void print_range(FILE *f, const pfd_reg *r)
+{
+    if (r->access == PFD_R)
+        return;
+    if (r->type == PFD_T_I16)
+        fputs("any", f);
+    else
+        fprintf(f, "%s%.9g .. %.9g]", (r->flags & PFD_F_MIN_EXCL) ? "(" : "[",
+                r->min, r->max);
+}
+
+static void print_space(FILE *f, int space)
+{
+    unsigned i;
+    fputs("| Address | Name | Type | Access | Unit | Range | Description |\n"
+          "|---:|---|---|---|---|---|---|\n", f);
+    for (i = 0; i < pfd_nregs; i++) {
+        const pfd_reg *r = &pfd_regs[i];
+        static const char *const acc[] = {"R", "RW", "W"};
+        if (r->space != space)
+            continue;
+        if (pfd_type_words(r->type) == 2)
+            fprintf(f, "| %u-%u | ", (unsigned)r->addr, r->addr + 1u);
+        else
+            fprintf(f, "| %u | ", (unsigned)r->addr);
+        fprintf(f, "`%s` | %s | %s | %s | ", r->name, type_name(r->type),
+                acc[r->access], r->unit);
+        print_range(f, r);
+        fprintf(f, " | %s |\n", r->desc);
+    }
+}
+
+void pfd_regmap_print_md(FILE *f)
+{
+    fprintf(f,
+"<!-- SPDX-License-Identifier: MIT -->\n"
+"# pneufracd register map (version %d)\n"
+"\n"
+"Generated by `pneufracd --print-register-map` from the table in\n"
+"`port/posix/pfd_regmap.c`; the test `regmap_doc` fails if this file and the\n"
+"program disagree. Do not edit by hand.\n"
+"\n"
+"- Every instance has this map; the Modbus unit id selects the instance.\n"
+"  An unknown unit id is answered with exception 0B (gateway target failed).\n"
+"- Addresses are 0-based PDU addresses (mbpoll: add `-0`, or add 1).\n"
+"- `f32`: IEEE-754 binary32 in two registers, high word first (ABCD; mbpoll\n"
+"  `-B`). `u32`: likewise, high word first. `i16`: two's complement.\n"
+"- Function codes: 03 read holding, 04 read input, 06 write one, 16 write\n"
+"  many, 23 write-and-read. Anything else: exception 01.\n"
+"- Exceptions: 01 writes in read-only mode, staged parameters or commit while\n"
+"  `param_lock` = 1, `tick` with the internal clock; 02 an address that is\n"
+"  not in the table, a write to a read-only register or to half of a\n"
+"  32-bit field; 03 a count out of range (reads 1..125, writes 1..123,\n"
+"  FC23 1..121), a value out of range, NaN or infinity, a refused commit;\n"
+"  06 a commit while no parameter slot is free. A request that gets an\n"
+"  exception changes nothing.\n"
+"- A multi-register write is validated whole, then applied together;\n"
+"  `commit`, `command` and `tick` act after the data registers of the same\n"
+"  request, in that order.\n"
+"\n"
+"## Holding registers (FC03 read; FC06, FC16, FC23 write)\n"
+"\n", PFD_REGMAP_VERSION);
+    print_space(f, PFD_HOLD);
+    fputs("\n## Input registers (FC04 read)\n\n", f);
+    print_space(f, PFD_INPUT);
+}

@@ -1,0 +1,108 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * THE register map: one table (pfd_regs) that the server validates every
+ * request against and from which `pneufracd --print-register-map` writes
+ * docs/register-map.md. Every instance (unit id) has the same map.
+ *
+ * Encoding: 32-bit floats are IEEE-754 binary32 over two registers, high
+ * word first (ABCD); u32 likewise. Floats are packed here by hand: the
+ * float helpers of libmodbus 3.1.6 are not used.
+ */
+#ifndef PFD_REGMAP_H
+#define PFD_REGMAP_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "pfd_state.h"
+
+#define PFD_REGMAP_VERSION 1
+
+enum pfd_space { PFD_HOLD = 0, PFD_INPUT = 1 };
+enum pfd_type { PFD_T_U16 = 0, PFD_T_I16, PFD_T_U32, PFD_T_F32 };
+enum pfd_access { PFD_R = 0, PFD_RW, PFD_W };
+
+/* pfd_reg.flags */
+#define PFD_F_STAGED 0x01u  /**< staged parameter: refused while locked */
+#define PFD_F_REFRESH 0x02u /**< a write refreshes the watchdog */
+#define PFD_F_ACTION 0x04u  /**< commit, command, tick: acts, reads as 0 */
+#define PFD_F_MIN_EXCL 0x08u/**< the minimum itself is out of range */
+#define PFD_F_LIVE 0x10u    /**< goes to the loop at once */
+
+/** Sizes of the two register spaces (every address below is mapped). */
+#define PFD_HOLD_SIZE 66
+#define PFD_INPUT_SIZE 78
+
+/* Addresses the server and tests refer to by name. */
+#define PFD_H_E 0
+#define PFD_H_COMMIT 17
+#define PFD_H_COMMAND 18
+#define PFD_H_TICK 19
+#define PFD_H_STAGED 20 /* first staged parameter (config) */
+
+typedef struct pfd_reg {
+    uint8_t space, type, access, flags;
+    uint16_t addr;
+    uint16_t field;  /* what it reads or writes (pfd_regmap.c) */
+    double min, max; /* accepted write range */
+    const char *name, *unit, *desc;
+} pfd_reg;
+
+extern const pfd_reg pfd_regs[];
+extern const unsigned pfd_nregs;
+
+/** Number of registers a type spans. */
+unsigned pfd_type_words(int type);
+
+/** The entry whose registers contain @p addr, or NULL. */
+const pfd_reg *pfd_reg_at(int space, unsigned addr);
+
+/** Everything a read can show. */
+typedef struct pfd_view {
+    const pfd_inst *inst;   /* hold, committed, commit status */
+    const pfd_snap *snap;   /* the loop's latest sample */
+    uint16_t status;        /* composed status bits (pfd_modbus.c) */
+    uint16_t n_instances;
+} pfd_view;
+
+/** Every register of @p space into @p img (PFD_HOLD_SIZE or PFD_INPUT_SIZE words). */
+void pfd_regmap_render(int space, const pfd_view *v, uint16_t *img);
+
+/** One decoded, range-checked write. */
+typedef struct pfd_write {
+    const pfd_reg *r;
+    double v;   /* the value (integers exactly) */
+} pfd_write;
+
+typedef struct pfd_wlist {
+    pfd_write w[128];
+    unsigned n;
+    unsigned staged, refresh, live, lock; /* any write of that kind */
+    uint16_t commit, command, tick;       /* action values; 0 = none */
+} pfd_wlist;
+
+/** Decode holding registers [addr, addr+count) from @p vals. Every
+ *  register must be mapped and writable and every 32-bit field written
+ *  whole (else MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS); every value must be
+ *  in range (else MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE).
+ *  @return 0 or the exception code; nothing is applied here. */
+int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
+                      pfd_wlist *out);
+
+/** Apply the data writes (not the actions) of @p wl to @p h. The int16
+ *  mirrors convert with @p committed's in_fs. */
+void pfd_regmap_apply(pfd_hold *h, const pfd_iparams *committed,
+                      const pfd_wlist *wl);
+
+/** Holding address of the staged register for a pfd_fail parameter id,
+ *  or 0xFFFF. */
+uint16_t pfd_regmap_staged_addr(int param);
+
+/** The Markdown table of docs/register-map.md. */
+void pfd_regmap_print_md(FILE *f);
+
+/** ABCD: high word first. */
+void pfd_f32_pack(float v, uint16_t *w);
+float pfd_f32_unpack(const uint16_t *w);
+
+#endif

@@ -1,0 +1,137 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The state every thread shares: the instances and what crosses between
+ * the Modbus threads and the real-time loop.
+ *
+ * Crossing rules (see docs/pneufracd.md, "Threads"):
+ *  - Modbus -> loop: live inputs through a triple buffer (pfd_live); built
+ *    parameter sets through the `pending` pointer; tick, reset and
+ *    clear-statistics requests as counters. All lock-free.
+ *  - loop -> Modbus: one snapshot per sample through a triple buffer
+ *    (pfd_snap); slot ownership through slot_state.
+ *  - Modbus threads among themselves: pfd_daemon.regs_mx, held only while
+ *    one request is validated and applied; commit_mx serialises commits
+ *    and config-file writes.
+ */
+#ifndef PFD_STATE_H
+#define PFD_STATE_H
+
+#include <pthread.h>
+#include <stdint.h>
+
+#include "pfd_instance.h"
+#include "pfd_tbuf.h"
+
+#define PFD_MAX_INSTANCES 64
+#define PFD_NSLOTS 3
+
+/** What the Modbus side hands to the loop each time a live register changes. */
+typedef struct pfd_live {
+    float e, sp, pv;
+    float manual_out, failsafe_out;
+    uint16_t input_sel;   /**< 0: e, 1: sp - pv */
+    uint16_t mode;        /**< 0: auto, 1: manual */
+    uint16_t watchdog_ms; /**< 0: off */
+    uint32_t refresh;     /**< bumped by every write of e, sp or pv */
+} pfd_live;
+
+/* pfd_snap.flags */
+#define PFD_SNAP_RUNNING 0x1u
+#define PFD_SNAP_TRIPPED 0x2u
+#define PFD_SNAP_MANUAL 0x4u
+#define PFD_SNAP_TRANSFER 0x8u
+
+/** What the loop publishes after every sample. */
+typedef struct pfd_snap {
+    pfd_sig sig;          /**< pc and pc_q15 are the final output */
+    float e_used;
+    uint16_t flags;
+    uint32_t samples, overruns, jit_last_us, jit_max_us, wd_trips;
+    uint32_t applied;     /**< parameter sets the loop has switched in */
+} pfd_snap;
+
+/* slot_state values */
+enum { PFD_SLOT_FREE = 0, PFD_SLOT_PENDING, PFD_SLOT_ACTIVE };
+
+/** Holding registers as the Modbus side keeps them. */
+typedef struct pfd_hold {
+    pfd_live live;
+    uint16_t param_lock;
+    pfd_iparams staged;
+} pfd_hold;
+
+typedef struct pfd_inst {
+    int unit;
+
+    /* shared with the loop */
+    pfd_tbuf in_tb;
+    pfd_live in_buf[3];
+    pfd_tbuf out_tb;
+    pfd_snap out_buf[3];
+    pfd_slot *slot[PFD_NSLOTS];
+    int slot_state[PFD_NSLOTS]; /* atomic */
+    pfd_slot *pending;          /* atomic */
+    uint64_t tick_target;       /* atomic; Modbus adds */
+    uint64_t tick_done;         /* atomic; loop stores */
+    uint32_t reset_req, stats_req; /* atomic; Modbus increments */
+
+    /* loop private */
+    struct {
+        pfd_slot *active;
+        int active_idx;
+        double offset;
+        int64_t next_ns, last_ns;
+        uint32_t wd_count, last_refresh, reset_seen, stats_seen;
+        int tripped;
+        pfd_snap s;
+    } rt;
+
+    /* Modbus side, under pfd_daemon.regs_mx */
+    pfd_hold hold;
+    pfd_iparams committed;
+    uint16_t commit_result, err_addr, err_param, commits;
+    uint32_t published;   /* parameter sets handed to the loop */
+} pfd_inst;
+
+/* commit_result values */
+enum {
+    PFD_COMMIT_OK = 0,
+    PFD_COMMIT_INVALID = 1, /**< a parameter is invalid: err_addr/err_param */
+    PFD_COMMIT_SCALE = 2,   /**< q15: a coefficient does not fit; change in_fs/out_fs */
+    PFD_COMMIT_BUSY = 3,    /**< no free slot (a commit is being switched in) */
+    PFD_COMMIT_FAILED = 4   /**< any other library error */
+};
+
+/** Daemon-wide settings (config file [daemon] section, then the CLI). */
+typedef struct pfd_settings {
+    char listen_addr[64];
+    int listen_port;
+    int external_clock;
+    int max_clients;
+    int read_only;
+    int param_lock;      /**< locked at start, and the lock register is fixed */
+    char allow[512];     /**< comma-separated CIDR list; "" = loopback only */
+    int rt_priority;     /**< SCHED_FIFO priority; 0 = do not try */
+    int mlock;
+    int byte_timeout_ms;
+    int idle_timeout_s;
+} pfd_settings;
+
+typedef struct pfd_daemon {
+    pfd_settings set;
+    int n;
+    pfd_inst *inst[PFD_MAX_INSTANCES];
+    pfd_inst *by_unit[256];
+    pthread_mutex_t regs_mx;
+    pthread_mutex_t commit_mx;
+    pf_ctrl_design *scratch; /* design scratch, under commit_mx */
+    int stop;                /* atomic */
+    /* lockstep hand-shake */
+    pthread_mutex_t tick_mx;
+    pthread_cond_t work_cv, done_cv;
+    /* persistence */
+    const char *config_path; /* NULL: persistence off */
+    void *config_file;       /* pfd_config_file *, what was read (for [daemon]) */
+} pfd_daemon;
+
+#endif

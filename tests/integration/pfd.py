@@ -1,0 +1,192 @@
+# SPDX-License-Identifier: MIT
+"""Helpers for the pneufracd integration tests: start the real daemon on a
+free loopback port, and address its registers by the names of the
+generated register map (so the tests use exactly what docs/ documents)."""
+
+import os
+import re
+import signal
+import subprocess
+import time
+from pathlib import Path
+
+from pymodbus.client import ModbusTcpClient
+
+ROOT = Path(__file__).resolve().parents[2]
+DAEMON = os.environ.get("PNEUFRACD", str(ROOT / "build/port/posix/pneufracd"))
+CLI = os.environ.get("PNEUFRAC_CLI", str(ROOT / "build/tools/pneufrac"))
+# Everything a test waits for is bounded; sanitizer builds are slower.
+SLOW = float(os.environ.get("PNEUFRAC_TEST_SLOWDOWN", "1"))
+
+F32 = ModbusTcpClient.DATATYPE.FLOAT32
+U32 = ModbusTcpClient.DATATYPE.UINT32
+
+
+def _load_regmap():
+    """name -> (space, address, type) from `pneufracd --print-register-map`."""
+    out = subprocess.run([DAEMON, "--print-register-map"], check=True,
+                         capture_output=True, text=True, timeout=30).stdout
+    regs, space = {}, None
+    for line in out.splitlines():
+        if line.startswith("## Holding"):
+            space = "hold"
+        elif line.startswith("## Input"):
+            space = "input"
+        m = re.match(r"\| (\d+)(?:-\d+)? \| `([^`]+)` \| (\w+) \|", line)
+        if m and space:
+            regs[m.group(2)] = (space, int(m.group(1)), m.group(3))
+    return regs
+
+
+REG = _load_regmap()
+
+
+class Daemon:
+    """pneufracd on 127.0.0.1, port 0 (the kernel picks a free one)."""
+
+    def __init__(self, tmp_path, *args, run_for=300, wait_ready=True):
+        self.log_path = Path(tmp_path) / f"pneufracd-{time.monotonic_ns()}.log"
+        self.args = [DAEMON, "--listen", "127.0.0.1:0", "--run-for", str(run_for), *args]
+        self._log = open(self.log_path, "w")
+        self.proc = subprocess.Popen(self.args, stdin=subprocess.DEVNULL,
+                                     stdout=subprocess.DEVNULL, stderr=self._log)
+        self.port = None
+        if wait_ready:
+            self.wait_ready()
+
+    def log(self):
+        return self.log_path.read_text()
+
+    def wait_ready(self, timeout=30):
+        deadline = time.monotonic() + timeout * SLOW
+        while time.monotonic() < deadline:
+            m = re.search(r"msg=listening addr=\S+ port=(\d+)", self.log())
+            if m:
+                self.port = int(m.group(1))
+                return
+            if self.proc.poll() is not None:
+                raise RuntimeError(f"pneufracd exited ({self.proc.returncode}):\n{self.log()}")
+            time.sleep(0.02)
+        raise RuntimeError(f"pneufracd not ready:\n{self.log()}")
+
+    def client(self, timeout=5):
+        c = ModbusTcpClient("127.0.0.1", port=self.port, timeout=timeout * SLOW, retries=0)
+        assert c.connect(), "cannot connect"
+        return c
+
+    def stop(self, sig=signal.SIGTERM, timeout=20):
+        if self.proc.poll() is None:
+            self.proc.send_signal(sig)
+            try:
+                self.proc.wait(timeout=timeout * SLOW)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+                self.proc.wait()
+        self._log.close()
+        return self.proc.returncode
+
+    def kill9(self):
+        self.proc.kill()
+        self.proc.wait()
+        self._log.close()
+
+
+class Regs:
+    """Named access to one instance (unit id) through a pymodbus client."""
+
+    def __init__(self, client, unit=1):
+        self.c = client
+        self.unit = unit
+
+    def _check(self, rr):
+        assert not rr.isError(), f"Modbus error: {rr}"
+        return rr
+
+    def read(self, name):
+        space, addr, typ = REG[name]
+        n = 2 if typ in ("f32", "u32") else 1
+        fn = self.c.read_holding_registers if space == "hold" else self.c.read_input_registers
+        regs = self._check(fn(addr, count=n, device_id=self.unit)).registers
+        if typ == "f32":
+            return self.c.convert_from_registers(regs, F32)
+        if typ == "u32":
+            return self.c.convert_from_registers(regs, U32)
+        if typ == "i16":
+            return regs[0] - 65536 if regs[0] >= 32768 else regs[0]
+        return regs[0]
+
+    @staticmethod
+    def encode(name, value):
+        _, _, typ = REG[name]
+        if typ == "f32":
+            return ModbusTcpClient.convert_to_registers(float(value), F32)
+        if typ == "i16":
+            return [int(value) & 0xFFFF]
+        return [int(value)]
+
+    def write_raw(self, name, value):
+        """Write and return the response (may be an exception)."""
+        _, addr, _ = REG[name]
+        regs = self.encode(name, value)
+        if len(regs) == 1:
+            return self.c.write_register(addr, regs[0], device_id=self.unit)
+        return self.c.write_registers(addr, regs, device_id=self.unit)
+
+    def write(self, name, value):
+        return self._check(self.write_raw(name, value))
+
+    def write_many(self, items):
+        """Write (name, value) pairs that are contiguous, in one FC16."""
+        items = sorted(items, key=lambda kv: REG[kv[0]][1])
+        regs, start = [], REG[items[0][0]][1]
+        for name, value in items:
+            assert REG[name][1] == start + len(regs), f"{name} is not contiguous"
+            regs += self.encode(name, value)
+        return self.c.write_registers(start, regs, device_id=self.unit)
+
+    def tick(self, n=1):
+        self.write("tick", n)
+
+
+def simulate(*args):
+    """`pneufrac simulate ...` as a list of row dicts."""
+    out = subprocess.run([CLI, "simulate", *args], check=True, capture_output=True,
+                         text=True, timeout=120).stdout.splitlines()
+    head = out[0].split(",")
+    return [dict(zip(head, row.split(","))) for row in out[1:]]
+
+
+class Raw:
+    """A bare Modbus TCP socket, for requests pymodbus refuses to build."""
+
+    def __init__(self, port, timeout=5):
+        import socket
+        self.s = socket.create_connection(("127.0.0.1", port), timeout=timeout * SLOW)
+        self.tid = 0
+
+    def close(self):
+        self.s.close()
+
+    def request(self, unit, pdu):
+        """Send one ADU, return the response PDU (function code first)."""
+        import struct
+        self.tid = (self.tid + 1) & 0xFFFF
+        self.s.sendall(struct.pack(">HHHB", self.tid, 0, len(pdu) + 1, unit) + pdu)
+        head = self._recv(7)
+        tid, proto, length, _ = struct.unpack(">HHHB", head)
+        assert tid == self.tid and proto == 0
+        return self._recv(length - 1)
+
+    def _recv(self, n):
+        buf = b""
+        while len(buf) < n:
+            chunk = self.s.recv(n - len(buf))
+            if not chunk:
+                raise ConnectionError("closed by pneufracd")
+            buf += chunk
+        return buf
+
+
+def exception_code(pdu):
+    """Exception code of a response PDU, or None if it is not an exception."""
+    return pdu[1] if pdu[0] & 0x80 else None
