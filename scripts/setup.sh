@@ -4,7 +4,8 @@
 # Prepares a Debian 12 machine for pneufrac and builds it into build/.
 # Safe to run again: each step is skipped when its result is already there.
 #   1. Debian packages (apt only when one is missing)
-#   2. Python venv in .venv/ with the analysis and test packages
+#   2. Python venv in .venv/ with the analysis and test packages, and
+#      pneufrac-fit (tools/python) installed editable
 #   3. CMake configure + build (Release, tests on)
 set -euo pipefail
 
@@ -64,6 +65,15 @@ if "$venv_python" -c "$import_check" >/dev/null 2>&1; then
 else
   log "installing Python packages: ${python_packages[*]}"
   "$venv_python" -m pip install --quiet "${python_packages[@]}"
+fi
+
+# The analysis package (tools/python), editable: it loads build/lib/libpneufrac.so.
+fit_check="import pneufrac_fit, pathlib, sys; sys.exit(pathlib.Path(pneufrac_fit.__file__).resolve().parent != pathlib.Path('tools/python/pneufrac_fit').resolve())"
+if [[ -x .venv/bin/pneufrac-fit ]] && "$venv_python" -c "$fit_check" >/dev/null 2>&1; then
+  log "pneufrac-fit: installed"
+else
+  log "installing pneufrac-fit (tools/python, editable)"
+  "$venv_python" -m pip install --quiet --disable-pip-version-check -e tools/python
 fi
 
 # --- 3. Build ----------------------------------------------------------------

@@ -1,0 +1,195 @@
+# SPDX-License-Identifier: MIT
+"""pneufrac-fit: diagnose measured data against the paper's model.
+
+    pneufrac-fit diagnose DATA.csv --config {p,dd,id,pid} [--fix NAME=VALUE ...]
+                 [--out DIR] [--json]
+    pneufrac-fit generate --config CFG [--effect NAME:K=V[,K=V]] [--n N] [--fs HZ]
+                 [--noise F] [--seed S] [--set NAME=VALUE ...] [-o FILE.csv]
+
+Exit status: 0 success, 2 bad input or arguments (one line on stderr), 3 the
+shared library is missing or does not match.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+
+from . import model
+
+EXIT_USAGE = 2
+EXIT_LIBRARY = 3
+
+
+class UsageError(Exception):
+    pass
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        print(f"pneufrac-fit: error: {message}", file=sys.stderr)
+        sys.exit(EXIT_USAGE)
+
+
+def _parser():
+    p = _Parser(prog="pneufrac-fit", description=__doc__.split("\n\n")[0])
+    sub = p.add_subparsers(dest="cmd", required=True, parser_class=_Parser)
+    d = sub.add_parser("diagnose", help="fit, show what is wrong, name the cause, extend")
+    d.add_argument("data", help="CSV with header t,e,pc (# comments allowed)")
+    d.add_argument("--config", required=True, choices=["p", "dd", "id", "pid"])
+    d.add_argument("--fix", action="append", default=[], metavar="NAME=VALUE",
+                   help="hold a group at a value (K, L, tau, rho, beta, q, RC, nu, w, "
+                        "RCd, RCi_ratio)")
+    d.add_argument("--out", metavar="DIR", help="write report.md, diagnosis.json and PNGs")
+    d.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    d.add_argument("--jobs", type=int, default=None, help="worker processes (default 2)")
+    d.add_argument("--oversample", type=int, default=2,
+                   help="simulate at this multiple of the data rate (default 2)")
+    d.add_argument("--order", type=int, default=5, help="Oustaloup order N (default 5)")
+    d.add_argument("--seed", type=int, default=0, help="seed of the fresh starts")
+    d.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    g = sub.add_parser("generate", help="synthetic bump test with a hidden effect")
+    g.add_argument("--config", required=True, choices=["p", "dd", "id", "pid"])
+    g.add_argument("--effect", default="none",
+                   help="none | deadtime:t=S | lag:tau=S | backlash:width=W | "
+                        "nozzle:xh=X | saturation:lo=L,hi=H (W, X in input units)")
+    g.add_argument("--n", type=int, default=6000, help="samples (default 6000)")
+    g.add_argument("--fs", type=float, default=1000.0, help="output rate, Hz (default 1000)")
+    g.add_argument("--noise", type=float, default=0.002,
+                   help="noise sd as a fraction of the output span (default 0.002)")
+    g.add_argument("--oversample", type=int, default=4,
+                   help="internal rate multiple (default 4)")
+    g.add_argument("--seed", type=int, default=1)
+    g.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                   help="paper parameter of the simulated plant (e.g. tau=0.002)")
+    g.add_argument("-o", "--output", help="CSV file (default stdout)")
+    return p
+
+
+def _kv(text: str, what: str) -> tuple[str, float]:
+    if "=" not in text:
+        raise UsageError(f"{what} '{text}': expected NAME=VALUE")
+    k, v = text.split("=", 1)
+    try:
+        x = float(v)
+    except ValueError:
+        raise UsageError(f"{what} '{text}': '{v}' is not a number") from None
+    if not math.isfinite(x):
+        raise UsageError(f"{what} '{text}': value must be finite")
+    return k.strip(), x
+
+
+def parse_fixes(items, config) -> dict:
+    out = {}
+    groups = model.CONFIG_GROUPS[config]
+    for it in items:
+        k, v = _kv(it, "--fix")
+        if k not in groups:
+            hint = ""
+            if k in ("k1", "k2", "a", "b", "A", "ks", "pmin", "pmax", "RCi"):
+                hint = (" (not identifiable on its own: only groups reach the output; "
+                        "k1, k2, a, b, A, ks, pmin enter through K and L, pmax through rho)")
+            raise UsageError(f"--fix {k}: not a group of config {config}{hint}; "
+                             f"groups: {', '.join(groups)}")
+        tr, lo, hi, _ = model.GROUPS[k]
+        if lo is not None and not lo <= v <= hi:
+            raise UsageError(f"--fix {k}={v:g}: outside [{lo:g}, {hi:g}]")
+        if lo is None and not v > 0:
+            raise UsageError(f"--fix {k}={v:g}: must be > 0")
+        out[k] = v
+    if "RCi_ratio" in out and out["RCi_ratio"] <= 1:
+        raise UsageError("--fix RCi_ratio must be > 1")
+    return out
+
+
+def parse_effect(text: str, fs: float) -> tuple[str, dict]:
+    names = {"none": "none", "deadtime": "dead_time", "dead_time": "dead_time",
+             "lag": "lag", "backlash": "backlash", "nozzle": "nozzle",
+             "saturation": "saturation"}
+    name, _, rest = text.partition(":")
+    if name not in names:
+        raise UsageError(f"--effect {text}: unknown effect '{name}'")
+    eff = names[name]
+    kv = dict(_kv(x, "--effect") for x in rest.split(",") if x) if rest else {}
+    need = {"none": [], "dead_time": ["t"], "lag": ["tau"], "backlash": ["width"],
+            "nozzle": ["xh"], "saturation": ["lo", "hi"]}[eff]
+    if sorted(kv) != sorted(need):
+        raise UsageError(f"--effect {text}: {name} takes "
+                         + (",".join(f"{k}=..." for k in need) or "no values"))
+    if eff == "dead_time":
+        return eff, {"dead_time": kv["t"]}
+    if eff == "lag":
+        return eff, {"lag": kv["tau"]}
+    if eff == "backlash":
+        return eff, {"deadband": kv["width"]}
+    if eff == "nozzle":
+        return eff, {"nozzle_xh": kv["xh"]}
+    if eff == "saturation":
+        if not kv["lo"] < kv["hi"]:
+            raise UsageError("--effect saturation: lo must be below hi")
+        return eff, {"sat_lo": kv["lo"], "sat_hi": kv["hi"]}
+    return eff, {}
+
+
+def cmd_diagnose(a) -> int:
+    from . import data, diagnose, output
+    fixes = parse_fixes(a.fix, a.config)
+    if a.oversample < 1 or a.oversample > 16:
+        raise UsageError("--oversample must be in [1, 16]")
+    if not 1 <= a.order <= 8:
+        raise UsageError("--order must be in [1, 8]")
+    rec = data.read_csv(a.data)
+    d = diagnose.diagnose(rec, a.config, fixes, order=a.order, oversample=a.oversample,
+                          jobs=a.jobs, progress=not a.quiet, seed=a.seed)
+    if a.out:
+        path = output.write_report(d, a.out)
+        if not a.quiet:
+            print(f"[pneufrac-fit] report: {path}", file=sys.stderr)
+    if a.json:
+        print(output.to_json(d))
+    elif not a.out:
+        print(f"cause: {d.cause}")
+        for s in d.why:
+            print(f"  {s}")
+    return 0
+
+
+def cmd_generate(a) -> int:
+    from . import data, generate
+    eff, ep = parse_effect(a.effect, a.fs)
+    params = dict(_kv(s, "--set") for s in a.set)
+    unknown = [k for k in params if k not in model.lib.default_params(a.config)]
+    if unknown:
+        raise UsageError(f"--set {unknown[0]}: not a paper parameter")
+    if a.n < 10 or a.fs <= 0 or a.noise < 0 or a.oversample < 1:
+        raise UsageError("--n >= 10, --fs > 0, --noise >= 0, --oversample >= 1")
+    try:
+        ds = generate.generate(a.config, eff, ep, n=a.n, fs=a.fs, noise=a.noise,
+                               oversample=a.oversample, seed=a.seed, params=params)
+    except model.lib.ModelError as exc:
+        raise UsageError(str(exc)) from None
+    path = a.output or "/dev/stdout"
+    data.write_csv(path, ds.t, ds.e, ds.pc, ds.comments())
+    return 0
+
+
+def main(argv=None) -> int:
+    a = _parser().parse_args(argv)
+    from . import data, lib
+    try:
+        if a.cmd == "diagnose":
+            return cmd_diagnose(a)
+        return cmd_generate(a)
+    except (UsageError, data.DataError) as exc:
+        print(f"pneufrac-fit: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except lib.ModelError as exc:
+        print(f"pneufrac-fit: error: the library refused the model: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except lib.LibraryError as exc:
+        print(f"pneufrac-fit: error: {exc}", file=sys.stderr)
+        return EXIT_LIBRARY
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,249 @@
+# SPDX-License-Identifier: MIT
+"""Residual evidence: what a fitted model gets wrong, in numbers and words."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import model
+
+Z99 = 2.5758293035489  # two-sided 99 % normal quantile
+MAXLAG = 40
+
+
+def _xcorr(a: np.ndarray, b: np.ndarray, lags) -> np.ndarray:
+    """Normalised cross-correlation r_ab(k) = sum a[n+k] b[n] / (|a||b|)."""
+    a = a - a.mean()
+    b = b - b.mean()
+    den = math.sqrt(float(a @ a) * float(b @ b)) or 1.0
+    out = []
+    n = a.size
+    for k in lags:
+        if k >= 0:
+            out.append(float(a[k:] @ b[:n - k]) / den)
+        else:
+            out.append(float(a[:n + k] @ b[-k:]) / den)
+    return np.array(out)
+
+
+def steps(e: np.ndarray, min_rel: float = 0.02):
+    """(index, delta) of every input step larger than min_rel of the span."""
+    d = np.diff(e)
+    span = float(np.ptp(e)) or 1.0
+    k = np.flatnonzero(np.abs(d) > min_rel * span) + 1
+    return k, d[k - 1]
+
+
+def analyse(pb, fr, sd: float) -> dict:
+    y, e = pb.y, pb.e
+    r = y - fr.sim
+    n = r.size
+    lags = np.arange(0, MAXLAG + 1)
+    acf = _xcorr(r, r, lags)
+    de = np.diff(e, prepend=e[0])
+    clag = np.arange(-MAXLAG, MAXLAG + 1)
+    ccf = _xcorr(r, de, clag)
+    bound = Z99 / math.sqrt(n)
+
+    # residual by input level (signed amplitude), settled part of each hold
+    k_st, d_st = steps(e)
+    settle = np.ones(n, bool)
+    for k in k_st:
+        settle[k:k + 10] = False
+    lo, hi = float(np.min(e)), float(np.max(e))
+    edges = np.linspace(lo, hi, 7)
+    amp = []
+    for i in range(6):
+        m = settle & (e >= edges[i]) & (e <= edges[i + 1] if i == 5 else e < edges[i + 1])
+        if m.sum() >= 10:
+            amp.append((0.5 * (edges[i] + edges[i + 1]), float(np.mean(r[m])),
+                        float(np.std(r[m])), int(m.sum())))
+
+    # residual by step direction: mean over each hold after the step
+    seg_end = list(k_st[1:]) + [n]
+    rise, fall = [], []
+    for k, d, k2 in zip(k_st, d_st, seg_end):
+        a, b = k + 5, k2
+        if b - a < 5:
+            continue
+        (rise if d > 0 else fall).append(float(np.mean(r[a:b])))
+
+    # early response after steps: step-aligned, normalised by the step size
+    W = 40
+    M, S = [], []
+    for k, d in zip(k_st, d_st):
+        if k < 5 or k + W >= n or (k_st[(k_st > k)][:1] < k + W).any():
+            continue
+        M.append((y[k - 5:k + W] - y[k - 1]) / d)
+        S.append((fr.sim[k - 5:k + W] - fr.sim[k - 1]) / d)
+    early = None
+    if M:
+        Mm, Sm = np.mean(M, 0), np.mean(S, 0)
+        best, shifts = None, np.arange(-10.0, 20.25, 0.25)
+        j = np.arange(Sm.size, dtype=float)
+        errs = []
+        for s in shifts:
+            shifted = np.interp(j - s, j, Sm)   # model delayed by s samples
+            errs.append(float(np.sum((Mm[5:] - shifted[5:]) ** 2)))
+        best = float(shifts[int(np.argmin(errs))])
+        early = {"measured": Mm, "model": Sm, "lag_samples": best, "offset": 5}
+
+    rs = np.sort(r)
+    return {
+        "r": r, "acf": acf, "lags": lags, "ccf": ccf, "clags": clag,
+        "bound": bound, "amp": amp, "rise": rise, "fall": fall, "early": early,
+        "rms": float(np.sqrt(np.mean(r * r))),
+        "acf_out": int(np.sum(np.abs(acf[1:]) > bound)),
+        "ccf_out": int(np.sum(np.abs(ccf) > bound)),
+        "q99": float(rs[int(0.99 * (n - 1))]), "q01": float(rs[int(0.01 * (n - 1))]),
+    }
+
+
+def _t(x: list) -> tuple[float, float]:
+    if len(x) < 2:
+        return (x[0] if x else 0.0), math.inf
+    return float(np.mean(x)), float(np.std(x, ddof=1) / math.sqrt(len(x)))
+
+
+def describe(ev: dict, pb, sd: float, floor: float, base) -> list[str]:
+    """The baseline's residual evidence, one finding per string."""
+    out = []
+    fs = pb.setup.fs
+    out.append(f"Baseline validation NRMSE {base.nrmse_val:.4f} against an estimated "
+               f"noise floor of {floor:.4f} (sensor noise sd {sd:.3g}).")
+    b = ev["bound"]
+    if ev["acf_out"] > 2:
+        k = int(np.argmax(np.abs(ev["acf"][1:]))) + 1
+        out.append(f"Residual autocorrelation leaves the 99 % band (+-{b:.3f}) at "
+                   f"{ev['acf_out']} of {MAXLAG} lags (largest {ev['acf'][k]:.2f} at lag {k}): "
+                   "the residual is not white, the model misses structure.")
+    else:
+        out.append(f"Residual autocorrelation stays inside the 99 % band (+-{b:.3f}) "
+                   f"at {MAXLAG - ev['acf_out']} of {MAXLAG} lags: close to white.")
+    k = int(np.argmax(np.abs(ev["ccf"])))
+    lag = int(ev["clags"][k])
+    if abs(ev["ccf"][k]) > b:
+        out.append(f"Residual-input cross-correlation (input steps) peaks at lag {lag:+d} "
+                   f"samples ({ev['ccf'][k]:+.2f}, 99 % band +-{b:.3f}): "
+                   + ("the output's answer to a step is wrong right after it."
+                      if 0 <= lag <= 15 else "the response to steps is mis-shaped."))
+    else:
+        out.append("Residual-input cross-correlation stays inside its 99 % band.")
+    if ev["early"] is not None:
+        ls = ev["early"]["lag_samples"]
+        out.append(f"Early response after steps: the measured output follows the model "
+                   f"shifted by {ls:+.2f} samples ({ls / fs * 1e3:+.2f} ms).")
+    mr, sr = _t(ev["rise"])
+    mf, sf = _t(ev["fall"])
+    if math.isfinite(sr) and math.isfinite(sf):
+        z = (mr - mf) / math.sqrt(sr ** 2 + sf ** 2) if sr + sf > 0 else 0.0
+        out.append(f"Step direction: mean residual after rising steps {mr:+.3g}, after falling "
+                   f"steps {mf:+.3g} ({z:+.1f} standard errors apart)"
+                   + (": hysteresis, the output lags the input's direction (dead band)."
+                      if z < -3 else
+                      (": direction-dependent error." if abs(z) > 3 else ": no clear direction effect.")))
+    if ev["amp"]:
+        means = np.array([a[1] for a in ev["amp"]])
+        cents = np.array([a[0] for a in ev["amp"]])
+        spread = float(np.ptp(means))
+        worst = ev["amp"][int(np.argmax(np.abs(means)))]
+        if spread > 3 * sd / math.sqrt(max(min(a[3] for a in ev["amp"]), 1)) and spread > 0.3 * sd:
+            shape = _shape(cents, means)
+            out.append(f"Residual by input level: mean residual ranges over {spread:.3g} "
+                       f"(largest {worst[1]:+.3g} at e = {worst[0]:.3g}); {shape}")
+        else:
+            out.append("Residual by input level: no systematic trend with amplitude.")
+    return out
+
+
+def _shape(c, m) -> str:
+    """Words for how the level-wise residual bends."""
+    if len(c) < 3:
+        return "few levels."
+    p = np.polyfit(c, m, 3)
+    lin, cub = p[2], p[0]
+    edge = max(abs(m[0]), abs(m[-1]))
+    mid = float(np.mean(np.abs(m[1:-1]))) if len(m) > 2 else 0.0
+    if edge > 2.5 * mid and m[0] * m[-1] < 0 and m[-1] < 0:
+        return ("the model overshoots the data at both extremes of the input: the "
+                "output flattens at large amplitude (clipping or gain compression).")
+    if m[-1] < 0 and m[0] > 0:
+        return "the measured gain falls at large amplitude (gain compression)."
+    return "the measured gain changes with the level (a nonlinearity)."
+
+
+def verdict(cause, base, ext, cands, evb, eva, pb, floor) -> list[str]:
+    """Why this cause: the numbers that decided and the evidence they fix."""
+    out = []
+    fs = pb.setup.fs
+    table = sorted(cands, key=lambda c: c.nrmse_val)
+    if cause == "none":
+        best = table[0]
+        out.append(
+            f"No effect is named: the best candidate, {best.effect}, changes the held-out "
+            f"NRMSE from {base.nrmse_val:.4f} to {best.nrmse_val:.4f} "
+            f"({100 * getattr(best, 'val_gain', 0):.1f} % of the mean-square error, need "
+            f"> 5 %) with dBIC {getattr(best, 'dbic', 0):+.1f} (need < -10).")
+        if base.nrmse_val <= 1.5 * floor:
+            out.append(f"The baseline already explains the data down to the noise "
+                       f"(validation NRMSE {base.nrmse_val:.4f}, noise floor {floor:.4f}).")
+        else:
+            out.append(f"The baseline is above the noise floor ({base.nrmse_val:.4f} vs "
+                       f"{floor:.4f}) but none of the catalogued causes explains the rest.")
+        return out
+    p = ext.effect_params
+    desc = describe_effect(cause, p, fs)
+    out.append(f"Cause: {cause} at the {model.PLACE[cause]}: {desc}.")
+    out.append(f"Held-out NRMSE {base.nrmse_val:.4f} -> {ext.nrmse_val:.4f} "
+               f"(noise floor {floor:.4f}); BIC {ext.bic - base.bic:+.1f}.")
+    others = [c for c in table if c.effect != cause]
+    if others:
+        o = others[0]
+        out.append(f"Runner-up: {o.effect} reaches {o.nrmse_val:.4f} held-out"
+                   + ("" if getattr(o, "passes", False) else " and fails a guard") + ".")
+    k = evb["early"]["lag_samples"] if evb["early"] else 0.0
+    ka = eva["early"]["lag_samples"] if eva["early"] else 0.0
+    if cause == "dead_time":
+        out.append(f"The residual evidence agrees: after steps the output answers "
+                   f"{k:+.1f} samples late against the baseline and {ka:+.1f} after the fix; "
+                   "a pure delay shifts the whole response without changing its shape, "
+                   "which a lag (rounded start) or the relay's own dynamics cannot mimic.")
+    elif cause == "lag":
+        out.append(f"The residual evidence agrees: the output's early response is "
+                   f"rounded, not shifted (best shift {k:+.1f} samples), and the residual "
+                   "correlates with the input steps over the first few samples; a first-"
+                   "order lag on the line explains it, a pure delay does not.")
+    elif cause == "saturation":
+        out.append("The residual evidence agrees: the error sits at the extremes of the "
+                   "input range, where the measured output is flat while the model "
+                   "keeps rising: p_c is clipped.")
+    elif cause == "backlash":
+        mr, _ = _t(evb["rise"])
+        mf, _ = _t(evb["fall"])
+        out.append(f"The residual evidence agrees: the baseline's error depends on the "
+                   f"direction of the last step (rising {mr:+.3g}, falling {mf:+.3g}): "
+                   "the flapper stays put until the input has crossed the dead band.")
+    elif cause == "nozzle":
+        out.append("The residual evidence agrees: the error grows smoothly with the "
+                   "input's amplitude, without flat tops: the nozzle's gain falls away "
+                   "from its operating point.")
+    out.append(f"After the fix: residual autocorrelation outside the 99 % band at "
+               f"{eva['acf_out']} lags (was {evb['acf_out']}), cross-correlation at "
+               f"{eva['ccf_out']} lags (was {evb['ccf_out']}).")
+    return out
+
+
+def describe_effect(cause: str, p: dict, fs: float) -> str:
+    if cause == "dead_time":
+        return (f"dead time {p['dead_time'] * 1e3:.4g} ms "
+                f"({p['dead_time_samples']} samples)")
+    if cause == "lag":
+        return f"line lag {p['lag'] * 1e3:.4g} ms ({p['lag'] * fs:.2f} samples)"
+    if cause == "saturation":
+        return f"p_c clipped to [{p['sat_lo']:.4g}, {p['sat_hi']:.4g}]"
+    if cause == "backlash":
+        return f"dead band {p['deadband']:.4g} input units wide"
+    if cause == "nozzle":
+        return f"nozzle x_1/2 = {p['nozzle_xh']:.4g} input units"
+    return ""

@@ -1,0 +1,148 @@
+# SPDX-License-Identifier: MIT
+"""Figures of the diagnosis (matplotlib, Agg: no display needed)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from . import evidence as ev_mod  # noqa: E402
+
+
+def _zoom(d, width: int):
+    """A window in the validation part that holds a few steps."""
+    n0 = d.nfit
+    k, _ = ev_mod.steps(d.e)
+    k = k[k > n0 + 5]
+    a = int(k[0]) - width // 10 if k.size else n0
+    a = max(0, min(a, d.n - width))
+    return a, min(d.n, a + width)
+
+
+def overview(d, path: Path) -> None:
+    t = d.t - d.t[0]
+    y = d.y + d.pc0
+    yb = d.baseline.sim + d.pc0
+    ye = d.extended.sim + d.pc0
+    a, b = _zoom(d, int(min(d.n // 4, 1.0 * d.fs)))
+    fig, ax = plt.subplots(3, 1, figsize=(9, 7.5), constrained_layout=True)
+    ax[0].plot(t, y, lw=0.6, color="0.5", label="measured")
+    ax[0].plot(t, yb, lw=0.8, color="C3", label="baseline")
+    if d.cause != "none":
+        ax[0].plot(t, ye, lw=0.8, color="C0", label=f"extended ({d.cause})")
+    ax[0].axvline(t[d.nfit], color="k", ls="--", lw=0.8)
+    ax[0].text(t[d.nfit], ax[0].get_ylim()[1], " validation", va="top", fontsize=8)
+    ax[0].set_ylabel("p_c")
+    ax[0].legend(loc="lower left", fontsize=8, ncol=3)
+    ax[0].set_title(f"config {d.config}: verdict {d.cause}; validation NRMSE "
+                    f"{d.baseline.nrmse_val:.4f} -> {d.extended.nrmse_val:.4f} "
+                    f"(noise floor {d.noise_floor_val:.4f})", fontsize=10)
+    ax[1].plot(t[a:b], y[a:b], ".", ms=2, color="0.5", label="measured")
+    ax[1].plot(t[a:b], yb[a:b], lw=1, color="C3", label="baseline")
+    if d.cause != "none":
+        ax[1].plot(t[a:b], ye[a:b], lw=1, color="C0", label="extended")
+    ax[1].set_ylabel("p_c (zoom)")
+    ax2 = ax[1].twinx()
+    ax2.step(t[a:b], d.e[a:b] + d.e0, where="post", color="C2", lw=0.7, alpha=0.6)
+    ax2.set_ylabel("e", color="C2")
+    ax[1].legend(loc="lower left", fontsize=8)
+    rb = d.y - d.baseline.sim
+    re = d.y - d.extended.sim
+    ax[2].plot(t, rb, lw=0.5, color="C3", label="residual, baseline")
+    if d.cause != "none":
+        ax[2].plot(t, re, lw=0.5, color="C0", label="residual, extended")
+    s = d.noise_sd
+    ax[2].axhline(2.576 * s, color="k", lw=0.6, ls=":")
+    ax[2].axhline(-2.576 * s, color="k", lw=0.6, ls=":", label="±2.58 noise sd")
+    ax[2].axvline(t[d.nfit], color="k", ls="--", lw=0.8)
+    ax[2].set_xlabel("t (s)")
+    ax[2].set_ylabel("residual")
+    ax[2].legend(loc="lower left", fontsize=8, ncol=3)
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+
+
+def residuals(d, ev: dict, fr, title: str, path: Path) -> None:
+    fs = d.fs
+    t = d.t - d.t[0]
+    fig, ax = plt.subplots(2, 3, figsize=(12, 6.5), constrained_layout=True)
+    fig.suptitle(title, fontsize=11)
+    a = ax[0, 0]
+    a.plot(t, ev["r"], lw=0.5)
+    a.axvline(t[d.nfit], color="k", ls="--", lw=0.8)
+    a.set_title("residual vs time")
+    a.set_xlabel("t (s)")
+    a = ax[0, 1]
+    a.bar(ev["lags"][1:], ev["acf"][1:], width=0.8)
+    a.axhline(ev["bound"], color="r", ls="--", lw=0.8)
+    a.axhline(-ev["bound"], color="r", ls="--", lw=0.8, label="99 % bound")
+    a.set_title(f"residual autocorrelation ({ev['acf_out']} lags outside)")
+    a.set_xlabel("lag (samples)")
+    a.legend(fontsize=8)
+    a = ax[0, 2]
+    a.bar(ev["clags"], ev["ccf"], width=0.8, color="C1")
+    a.axhline(ev["bound"], color="r", ls="--", lw=0.8)
+    a.axhline(-ev["bound"], color="r", ls="--", lw=0.8)
+    a.set_title("residual–input-step cross-correlation")
+    a.set_xlabel("lag (samples; > 0: residual after the step)")
+    a = ax[1, 0]
+    if ev["amp"]:
+        c = [x[0] + d.e0 for x in ev["amp"]]
+        m = [x[1] for x in ev["amp"]]
+        s = [x[2] / np.sqrt(x[3]) * 2.576 for x in ev["amp"]]
+        a.errorbar(c, m, yerr=s, fmt="o-", capsize=3)
+    a.axhline(0, color="k", lw=0.6)
+    a.set_title("mean residual by input level (settled)")
+    a.set_xlabel("e")
+    a = ax[1, 1]
+    data = [ev["rise"] or [0.0], ev["fall"] or [0.0]]
+    a.boxplot(data, tick_labels=["after rising steps", "after falling steps"])
+    a.axhline(0, color="k", lw=0.6)
+    a.set_title("mean residual per hold, by step direction")
+    a = ax[1, 2]
+    if ev["early"] is not None:
+        off = ev["early"]["offset"]
+        j = (np.arange(ev["early"]["measured"].size) - off) / fs * 1e3
+        a.plot(j, ev["early"]["measured"], "o", ms=3, color="0.4", label="measured")
+        a.plot(j, ev["early"]["model"], "-", color="C3", label="model")
+        a.axvline(0, color="k", lw=0.6)
+        a.set_title(f"early response (best shift {ev['early']['lag_samples']:+.2f} samples)")
+        a.set_xlabel("time after step (ms)")
+        a.set_ylabel("Δp_c / Δe (mean over steps)")
+        a.legend(fontsize=8)
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+
+
+def candidates(d, path: Path) -> None:
+    cs = sorted(d.candidates, key=lambda c: c.nrmse_val)
+    fig, ax = plt.subplots(figsize=(7, 3.2), constrained_layout=True)
+    names = ["baseline"] + [c.effect for c in cs]
+    vals = [d.baseline.nrmse_val] + [c.nrmse_val for c in cs]
+    cols = ["0.6"] + ["C0" if c.effect == d.cause else ("C2" if c.passes else "C7") for c in cs]
+    ax.barh(names[::-1], vals[::-1], color=cols[::-1])
+    ax.axvline(d.noise_floor_val, color="k", ls="--", lw=0.8, label="noise floor")
+    ax.set_xlabel("validation NRMSE")
+    ax.set_title(f"candidates (verdict: {d.cause})", fontsize=10)
+    ax.legend(fontsize=8)
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+
+
+def all_figures(d, out: Path) -> dict:
+    out = Path(out)
+    files = {"overview": "overview.png", "before": "residuals-baseline.png",
+             "after": "residuals-extended.png", "candidates": "candidates.png"}
+    overview(d, out / files["overview"])
+    residuals(d, d.ev_before, d.baseline, "Baseline (paper's linear model): residual evidence",
+              out / files["before"])
+    residuals(d, d.ev_after, d.extended,
+              f"After the fix ({d.cause}): residual evidence" if d.cause != "none"
+              else "Baseline kept (no cause named): residual evidence",
+              out / files["after"])
+    candidates(d, out / files["candidates"])
+    return files
