@@ -13,6 +13,8 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 log() { printf '[firmware] %s\n' "$*"; }
+# shellcheck source=scripts/fw-image.sh
+. scripts/fw-image.sh
 
 for tool in cmake arm-none-eabi-gcc arm-none-eabi-nm arm-none-eabi-size; do
   if ! command -v "$tool" >/dev/null 2>&1; then
@@ -89,28 +91,12 @@ mkdir -p "$gen_dir"
 # link_example <cpu> <dir> <archive>: links port/cortex-m/example_isr.c (a
 # Q15 Example 6 run from an ISR) into a real image and checks the budgets.
 link_example() {
-  local cpu=$1 dir=$2 archive=$3 flags elf ctrl_flash inst_ram
-  flags=(-mcpu="$cpu" -mthumb)
-  [[ $cpu == cortex-m4 ]] && flags+=(-mfloat-abi=hard -mfpu=fpv4-sp-d16)
-  elf=$dir/example6.elf
-  arm-none-eabi-gcc "${flags[@]}" -std=c99 -Os -ffunction-sections -fdata-sections \
-    -Wall -Wextra -Werror -Ilib/include -I"$gen_dir" port/cortex-m/example_isr.c \
-    "$archive" -nostartfiles --specs=nano.specs -T port/cortex-m/example.ld \
-    -Wl,--gc-sections -o "$elf" || return 1
+  local cpu=$1 dir=$2 archive=$3 elf=$2/example6.elf ctrl_flash inst_ram
+  fw_link "$cpu" "$archive" port/cortex-m/example_isr.c "$gen_dir" "$elf" || return 1
   log "example image $elf ($cpu): whole image, then the controller's share"
   arm-none-eabi-size -B "$elf"
-  # The controller: every pf_* function and the coefficient set, in flash;
-  # the instance (the static 'controller') in RAM.
-  ctrl_flash=0
-  inst_ram=""
-  while read -r _ size type name; do
-    if [[ $type == [tTrR] && $name == pf_* ]]; then
-      ctrl_flash=$((ctrl_flash + 16#$size))
-    elif [[ $name == controller ]]; then
-      inst_ram=$((16#$size))
-    fi
-  done < <(arm-none-eabi-nm -S "$elf")
-  if [[ -z $inst_ram ]] || ((ctrl_flash == 0)); then
+  read -r ctrl_flash inst_ram < <(fw_measure "$elf")
+  if ((inst_ram == 0 || ctrl_flash == 0)); then
     violations+=("$cpu: could not measure the example's controller in $elf")
     return 0
   fi
