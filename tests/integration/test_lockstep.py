@@ -26,18 +26,24 @@ def run_step(r, n):
     return pc, pcq
 
 
-@pytest.mark.parametrize("arith", ["float", "q15"])
-def test_default_example6_matches_simulate(daemon, arith):
-    d = daemon("--clock", "external", "--arith", arith)
-    r = Regs(d.client())
-    extra = ["--arith", "q15", "--in-fs", "1", "--out-fs", "0.01"] if arith == "q15" else ["--arith", "float"]
-    ref = simulate("--config", "dd", "--fs", str(FS), "--duration", str(DURATION), *extra)
+def assert_matches_simulate(r, ref, arith):
+    """Step the daemon through len(ref) samples: Q15 must equal
+    `pneufrac simulate` bit for bit, float to 1e-6."""
     pc, pcq = run_step(r, len(ref))
     if arith == "q15":
         assert pcq == [int(row["pc_q15"]) for row in ref]
     else:
         worst = max(abs(a - float(row["pc"])) for a, row in zip(pc, ref))
         assert worst <= 1e-6
+
+
+@pytest.mark.parametrize("arith", ["float", "q15"])
+def test_default_example6_matches_simulate(daemon, arith):
+    d = daemon("--clock", "external", "--arith", arith)
+    r = Regs(d.client())
+    extra = ["--arith", "q15", "--in-fs", "1", "--out-fs", "0.01"] if arith == "q15" else ["--arith", "float"]
+    ref = simulate("--config", "dd", "--fs", str(FS), "--duration", str(DURATION), *extra)
+    assert_matches_simulate(r, ref, arith)
     assert r.read("samples") == len(ref)
 
 
@@ -71,9 +77,4 @@ def test_committed_configuration_matches_simulate(daemon, config, arith, out_fs)
     extra = (["--arith", "q15", "--in-fs", "1", "--out-fs", repr(out_fs)]
              if arith == "q15" else ["--arith", "float"])
     ref = simulate("--config", config, "--fs", "2000", "--duration", "0.15", *sets, *extra)
-    pc, pcq = run_step(r, len(ref))
-    if arith == "q15":
-        assert pcq == [int(row["pc_q15"]) for row in ref]
-    else:
-        worst = max(abs(a - float(row["pc"])) for a, row in zip(pc, ref))
-        assert worst <= 1e-6
+    assert_matches_simulate(r, ref, arith)
