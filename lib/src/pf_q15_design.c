@@ -9,10 +9,12 @@
 
 #define PF_PI 3.14159265358979323846
 
+/* v = m 2^-sh with |m| in [2^(bits-1), 2^bits): as many significant bits
+ * as the mantissa holds, whatever the magnitude of v. */
 static pf_status qc_norm(int32_t *m, uint8_t *sh, double v, int bits)
 {
     int e, s;
-    double f;
+    double r;
     if (!isfinite(v))
         return PF_E_SCALE;
     if (v == 0.0) {
@@ -20,24 +22,23 @@ static pf_status qc_norm(int32_t *m, uint8_t *sh, double v, int bits)
         *sh = 0;
         return PF_OK;
     }
-    f = frexp(v, &e);          /* v = f 2^e, 0.5 <= |f| < 1 */
-    s = bits - e;              /* m = v 2^s has |m| in [2^(bits-1), 2^bits) */
+    (void)frexp(v, &e);        /* v = f 2^e, 0.5 <= |f| < 1 */
+    s = bits - e;
     if (s < 0)
         return PF_E_SCALE;
-    if (s > 62) {              /* below 2^-32 of a unit: keep what fits */
+    if (s > 62) {              /* a value this small keeps fewer bits */
         *m = (int32_t)llround(ldexp(v, 62));
         *sh = 62;
         return PF_OK;
     }
-    (void)f;
-    f = llround(ldexp(v, s));
-    if (fabs(f) >= ldexp(1.0, bits)) { /* rounding carried into a new bit */
+    r = (double)llround(ldexp(v, s));
+    if (fabs(r) >= ldexp(1.0, bits)) { /* rounding carried into a new bit */
         if (s == 0)
             return PF_E_SCALE;
         s--;
-        f = llround(ldexp(v, s));
+        r = (double)llround(ldexp(v, s));
     }
-    *m = (int32_t)f;
+    *m = (int32_t)r;
     *sh = (uint8_t)s;
     return PF_OK;
 }
