@@ -4,8 +4,9 @@
  * template (pf_ctrl_float.inc), in integers. Each pf_qc carries a physical
  * coefficient times the ratio of the scales of the nodes it connects
  * (pf_ctrl_q15_design.c), so this file never sees a physical unit.
- * Overflow: every node is clamped to +-2^30 (4x its design peak); the
- * output saturates to the int16 range.
+ * Overflow: every node is a sum of unsaturated 64-bit products clamped
+ * once to +-2^30 (4x its design peak); the output saturates to the int16
+ * range.
  */
 #include <stddef.h>
 #include <string.h>
@@ -47,68 +48,52 @@ static int16_t output_line(pf_ctrl_q15 *in, int32_t pc)
 int16_t pf_ctrl_step_q15(pf_ctrl_q15 *in, int16_t e_q15)
 {
     const pf_ctrl_coeffs_q15 *c = in->c;
-    int32_t n[PF_N_COUNT] = {0};
-    int32_t e, sP, sQ = 0, sV, sW;
+    int32_t e, sP, sQ = 0, sV = 0, sW = 0, x, pb, v, w, pc, rv = 0, rw = 0, m;
     int64_t fP, fQ = 0, fV = 0, fW = 0;
-    int32_t bV = 0, bW = 0, sig_m, sig_y, sig_pc, x, pc, rv = 0, rw = 0;
 
     e = pf_mulc(c->e_in, c->hold ? (int32_t)e_q15 + in->e1 : (int32_t)e_q15);
     in->e1 = e_q15;
     sP = pf_q_op_state(&in->P, &fP);
     if (c->has_q)
         sQ = pf_q_op_state(&in->Q, &fQ);
-    if (c->has_v) {
+    if (c->has_v)
         sV = pf_q_op_state(&in->V, &fV);
-        bV = pf_mulc(c->v_b, sV);
-    }
-    if (c->has_w) {
+    if (c->has_w)
         sW = pf_q_op_state(&in->W, &fW);
-        bW = pf_mulc(c->w_b, sW);
-    }
-    sig_m = pf_q_sat((int64_t)pf_mulc(c->sm_v, bV) - pf_mulc(c->sm_w, bW));
-    sig_y = pf_mulc(c->sy_m, sig_m);
-    if (c->has_q)
-        sig_y = pf_q_sat((int64_t)sig_y + sQ);
-    sig_pc = pf_mulc(c->sz_s, sP);
 
-    x = pf_q_sat((int64_t)pf_mulc(c->loop_e, e) - pf_mulc(c->loop_sy, sig_y) -
-                 pf_mulc(c->loop_sz, sig_pc));
+    /* x straight from the states (pf_controller.h): one wide sum, one
+     * saturation, however small x is against the terms that form it. */
+    x = pf_q_sat(pf_mulw(c->x_e, e) - pf_mulw(c->x_q, sQ) - pf_mulw(c->x_v, sV) +
+                 pf_mulw(c->x_w, sW) - pf_mulw(c->x_p, sP));
     if (c->saturate) {
         /* Saturation is the only in-loop effect here, and it is monotone:
          * if the linear solution's p_c is beyond a limit, the true one sits
          * on that limit, and x follows from it directly. */
-        int32_t pc_lin = pf_q_sat((int64_t)pf_mulc(c->pc_x, x) + sig_pc);
+        int32_t pc_lin = pf_q_sat(pf_mulw(c->pc_x, x) + pf_mulw(c->pc_p, sP));
         int32_t pc_c = clamp_pc(c, pc_lin);
         if (pc_c != pc_lin)
-            x = pf_q_sat((int64_t)pf_mulc(c->ce, e) - pf_mulc(c->x_pc, pc_c) -
-                         pf_mulc(c->cy, sig_y));
+            x = pf_q_sat(pf_mulw(c->ce, e) - pf_mulw(c->x_pc, pc_c) - pf_mulw(c->t_q, sQ) -
+                         pf_mulw(c->t_v, sV) + pf_mulw(c->t_w, sW));
     }
-    n[PF_N_E] = e;
-    n[PF_N_X] = x;
-    n[PF_N_PB] = pf_mulc(c->k1, x);
-    n[PF_N_V] = pf_q_sat((int64_t)pf_mulc(c->relay_v_pb, n[PF_N_PB]) +
-                         pf_mulc(c->relay_v_s, sP));
-    n[PF_N_W] = pf_q_op_update(&in->P, n[PF_N_V], fP);
-    pc = clamp_pc(c, pf_q_sat((int64_t)pf_mulc(c->relay_z_pb, n[PF_N_PB]) +
-                              pf_mulc(c->relay_z_w, n[PF_N_W])));
-    n[PF_N_PC] = pc;
+    pb = pf_mulc(c->k1, x);
+    v = pf_q_sat(pf_mulw(c->relay_v_pb, pb) + pf_mulw(c->relay_v_s, sP));
+    w = pf_q_op_update(&in->P, v, fP);
+    pc = clamp_pc(c, pf_q_sat(pf_mulw(c->relay_z_pb, pb) + pf_mulw(c->relay_z_w, w)));
     if (c->has_v) {
-        rv = pf_q_sat((int64_t)pf_mulc(c->v_a, pc) + bV);
-        n[PF_N_DV] = pf_q_sat((int64_t)pf_mulc(c->dv_pc, pc) - pf_mulc(c->dv_r, rv));
-        n[PF_N_RV] = pf_q_op_update(&in->V, n[PF_N_DV], fV);
+        rv = pf_q_sat(pf_mulw(c->v_a, pc) + pf_mulw(c->v_b, sV));
+        (void)pf_q_op_update(&in->V,
+                             pf_q_sat(pf_mulw(c->dv_pc, pc) - pf_mulw(c->dv_r, rv)), fV);
     }
     if (c->has_w) {
-        rw = pf_q_sat((int64_t)pf_mulc(c->w_a, pc) + bW);
-        n[PF_N_DW] = pf_q_sat((int64_t)pf_mulc(c->dw_pc, pc) - pf_mulc(c->dw_r, rw));
-        n[PF_N_RW] = pf_q_op_update(&in->W, n[PF_N_DW], fW);
+        rw = pf_q_sat(pf_mulw(c->w_a, pc) + pf_mulw(c->w_b, sW));
+        (void)pf_q_op_update(&in->W,
+                             pf_q_sat(pf_mulw(c->dw_pc, pc) - pf_mulw(c->dw_r, rw)), fW);
     }
-    n[PF_N_M] = pf_q_sat((int64_t)(c->has_v ? pf_mulc(c->m_v, rv) : pf_mulc(c->m_pc, pc)) -
-                         (c->has_w ? pf_mulc(c->m_w, rw) : 0));
-    n[PF_N_Y] = c->has_q ? pf_q_op_update(&in->Q, n[PF_N_M], fQ)
-                         : pf_mulc(c->kA_m, n[PF_N_M]);
-    in->x = n[PF_N_X];
-    in->pb = n[PF_N_PB];
-    in->y = n[PF_N_Y];
+    m = pf_q_sat((c->has_v ? pf_mulw(c->m_v, rv) : pf_mulw(c->m_pc, pc)) -
+                 (c->has_w ? pf_mulw(c->m_w, rw) : 0));
+    in->x = x;
+    in->pb = pb;
+    in->y = c->has_q ? pf_q_op_update(&in->Q, m, fQ) : pf_mulc(c->kA_m, m);
     in->pc = pc;
     return output_line(in, pc);
 }
@@ -165,5 +150,5 @@ void pf_ctrl_monitor_q15(const pf_ctrl_q15 *in, int16_t *x, int16_t *pb,
     if (y != NULL)
         *y = pf_q_to_q15(c->mon_y, in->y);
     if (pc != NULL)
-        *pc = pf_q_to_q15(c->mon_pc, in->pc);
+        *pc = pf_q_to_q15(c->pc_out, in->pc);
 }

@@ -39,6 +39,13 @@ static void node_scales(const pf_ctrl_design *d, double in_fs,
     for (n = 0; n < PF_N_COUNT; n++)
         if (s[n] == 0.0)
             s[n] = s[PF_N_PC];
+    /* The supply limits must be representable in p_c's scale, or they
+     * would clamp to the node's range and collapse onto each other. */
+    if (d->rt.saturate) {
+        double lim = fmax(fabs(d->rt.sat_lo), fabs(d->rt.sat_hi));
+        if (lim * s[PF_N_PC] > PF_Q_TARGET)
+            s[PF_N_PC] = PF_Q_TARGET / lim;
+    }
 }
 
 /* q = v * s[to] / s[from]: a physical coefficient between two nodes. */
@@ -71,7 +78,10 @@ pf_status pf_ctrl_coeffs_q15_make(pf_ctrl_coeffs_q15 *cq,
     if (!isfinite(out_fs) || !(out_fs > 0.0) || out_fs > 1e12)
         return PF_E_PARAM(PF_P_OUT_FS);
     c = &d->rt;
-    if (c->play_r > 0.0 || c->nozzle_xh > 0.0)
+    /* Backlash and the nozzle curve need the iterative loop solution; the
+     * refined approximant's extra pole has a branch gain 1e6..1e13 times
+     * the others, more than one shared branch shift can hold. */
+    if (c->play_r > 0.0 || c->nozzle_xh > 0.0 || d->opt.approx == PF_APPROX_REFINED)
         return PF_E_UNSUPPORTED;
     node_scales(d, in_fs, s);
     memset(cq, 0, sizeof *cq);
@@ -96,17 +106,24 @@ pf_status pf_ctrl_coeffs_q15_make(pf_ctrl_coeffs_q15 *cq,
         st = pf_qc_make(&cq->e_in, s[PF_N_E] * in_fs / 32768.0 * (c->hold ? 0.5 : 1.0));
     QC(v_b, c->v_den_inv, PF_N_RV, PF_N_RV);
     QC(w_b, c->w_den_inv, PF_N_RW, PF_N_RW);
-    QC(sm_v, 1.0, PF_N_M, PF_N_RV);
-    QC(sm_w, 1.0, PF_N_M, PF_N_RW);
-    QC(sy_m, c->has_q ? c->Q.D : c->kA, PF_N_Y, PF_N_M);
-    QC(sz_s, c->k2 * c->relay_sz, PF_N_PC, PF_N_W);
-    QC(loop_e, c->loop_inv * c->ce, PF_N_X, PF_N_E);
-    QC(loop_sy, c->loop_inv * c->cy, PF_N_X, PF_N_Y);
-    QC(loop_sz, c->loop_inv * c->cy * c->alpha_y, PF_N_X, PF_N_PC);
-    QC(pc_x, c->k2 * c->alpha_z * c->k1, PF_N_PC, PF_N_X);
-    QC(ce, c->ce, PF_N_X, PF_N_E);
-    QC(cy, c->cy, PF_N_X, PF_N_Y);
-    QC(x_pc, c->cy * c->alpha_y, PF_N_X, PF_N_PC);
+    {
+        /* The loop solution (pf_controller.h), expanded down to the state
+         * contributions: sigma_y = Dq (S_V/(1+D_V) - S_W/(1+D_W)) + S_Q,
+         * sigma_pc = k2 relay_sz S_P, with Dq the bellows feedthrough. */
+        double Dq = c->has_q ? c->Q.D : c->kA, li = c->loop_inv, cy = c->cy;
+        QC(x_e, li * c->ce, PF_N_X, PF_N_E);
+        QC(x_q, li * cy, PF_N_X, PF_N_Y);
+        QC(x_v, li * cy * Dq * c->v_den_inv, PF_N_X, PF_N_RV);
+        QC(x_w, li * cy * Dq * c->w_den_inv, PF_N_X, PF_N_RW);
+        QC(x_p, li * cy * c->alpha_y * c->k2 * c->relay_sz, PF_N_X, PF_N_W);
+        QC(ce, c->ce, PF_N_X, PF_N_E);
+        QC(x_pc, cy * c->alpha_y, PF_N_X, PF_N_PC);
+        QC(t_q, cy, PF_N_X, PF_N_Y);
+        QC(t_v, cy * Dq * c->v_den_inv, PF_N_X, PF_N_RV);
+        QC(t_w, cy * Dq * c->w_den_inv, PF_N_X, PF_N_RW);
+        QC(pc_x, c->k2 * c->alpha_z * c->k1, PF_N_PC, PF_N_X);
+        QC(pc_p, c->k2 * c->relay_sz, PF_N_PC, PF_N_W);
+    }
     QC(k1, c->k1, PF_N_PB, PF_N_X);
     QC(relay_v_pb, c->relay_den_inv, PF_N_V, PF_N_PB);
     QC(relay_v_s, -c->pmin * c->relay_den_inv, PF_N_V, PF_N_W);
@@ -135,7 +152,5 @@ pf_status pf_ctrl_coeffs_q15_make(pf_ctrl_coeffs_q15 *cq,
         st = pf_qc_make(&cq->mon_y, 32768.0 / (in_fs * s[PF_N_Y]));
     if (st == PF_OK)
         st = pf_qc_make(&cq->mon_pb, 32768.0 / (c->k1 * in_fs * s[PF_N_PB]));
-    if (st == PF_OK)
-        st = pf_qc_make(&cq->mon_pc, 32768.0 / (out_fs * s[PF_N_PC]));
     return st;
 }

@@ -24,16 +24,18 @@
 static inline int32_t pf_q_op_state(const pf_fracop_q15 *in, int64_t *sf)
 {
     const pf_fracop_coeffs_q15 *c = in->c;
-    int64_t acc = 0;
-    int32_t s;
+    int64_t acc = 0, wide;
     int k, n = c->n_int < 0 ? -c->n_int : c->n_int;
     for (k = 0; k < c->n_sec; k++)
         acc += (int64_t)c->G_m[k] * pf_q_state(in->s[k]);
     *sf = pf_round_shift(acc, c->G_sh);
-    s = pf_q_sat(*sf);
+    /* Through the integer stages wide as well: sf alone can exceed the
+     * fractional output's range (it cancels against d*u), so it is
+     * saturated only once, at the end. */
+    wide = *sf;
     for (k = 0; k < n; k++)
-        s = pf_q_sat((int64_t)pf_mulc(c->int_d[k], s) + pf_q_state(in->si[k]));
-    return s;
+        wide = pf_mulw_wide(c->int_d[k], wide) + pf_q_state(in->si[k]);
+    return pf_q_sat(wide);
 }
 
 static inline int32_t pf_q_op_update(pf_fracop_q15 *in, int32_t u, int64_t sf)

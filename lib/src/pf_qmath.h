@@ -40,11 +40,34 @@ static inline int64_t pf_round_shift(int64_t p, unsigned sh)
     return sh == 0 ? p : (p + ((int64_t)1 << (sh - 1))) >> sh;
 }
 
-/* c * x, rounded half up and saturated to the internal range.
- * |c.m| < 2^31 and |x| <= 2^31 keep the product below 2^62. */
+/* c * x rounded half up, NOT saturated: one term of a node formed as a
+ * sum and saturated once, so that a small difference of large terms keeps
+ * its precision. |c.m| < 2^31 and |x| <= 2^31 keep the product below 2^62;
+ * the term is clamped to +-2^60 so that a sum of eight cannot wrap. */
+static inline int64_t pf_mulw(pf_qc c, int64_t x)
+{
+    const int64_t lim = (int64_t)1 << 60;
+    int64_t v = pf_round_shift((int64_t)c.m * x, c.sh);
+    return v > lim ? lim : (v < -lim ? -lim : v);
+}
+
+/* pf_mulw for an operand beyond +-2^31 (a wide intermediate): the operand
+ * gives up low bits and the shift as many, so the product stays in range;
+ * it loses only bits far below the operand's own magnitude. */
+static inline int64_t pf_mulw_wide(pf_qc c, int64_t x)
+{
+    const int64_t lim = (int64_t)1 << 31;
+    while ((x > lim || x < -lim) && c.sh > 0) {
+        x >>= 1;
+        c.sh--;
+    }
+    return pf_mulw(c, x > lim ? lim : (x < -lim ? -lim : x));
+}
+
+/* c * x, rounded half up and saturated to the internal range. */
 static inline int32_t pf_mulc(pf_qc c, int64_t x)
 {
-    return pf_q_sat(pf_round_shift((int64_t)c.m * x, c.sh));
+    return pf_q_sat(pf_mulw(c, x));
 }
 
 /* The integer part of a state (floor), in the internal range. */

@@ -86,8 +86,9 @@ static void test_paper_examples_lsb(void **state)
         double s2 = 0, e2 = 0, worst = run_compare(r, 0.5, NSTEP, &s2, &e2);
         printf("%-6s  %-10.4g  %5.2f LSB  %5.1f dB\n", pf_config_name((pf_config)cfg),
                r->out_fs, worst, 10 * log10(s2 / e2));
-        assert_true(worst <= 8.0);
-        assert_true(10 * log10(s2 / e2) > 60.0);
+        /* the issue allows 8 LSB; the design holds output rounding */
+        assert_true(worst <= 1.0);
+        assert_true(10 * log10(s2 / e2) > 90.0);
         free(r);
     }
 }
@@ -198,7 +199,7 @@ static void test_effects_match_double(void **state)
     worst = run_compare(r, 0.5, NSTEP, NULL, NULL);
     worst = fmax(worst, run_compare(r, -0.3, NSTEP, NULL, NULL));
     printf("id with saturation, lag, dead time: max %.2f LSB\n", worst);
-    assert_true(worst <= 8.0);
+    assert_true(worst <= 1.0);
     free(r);
 }
 
@@ -219,6 +220,84 @@ static void test_unsupported_effects(void **state)
     assert_int_equal(pf_ctrl_coeffs_q15_make(&cq, &d, NAN, 1.0), PF_E_PARAM(PF_P_IN_FS));
 }
 
+/* A seeded sweep of valid designs away from the paper's values (orders
+ * over their ranges, gains and time constants over decades, supply limits
+ * cutting into the response): Q15 must follow double within 1 LSB. This is
+ * what catches a node whose terms clamp before they cancel. */
+static double urand(unsigned *seed, double lo, double hi)
+{
+    *seed = *seed * 1664525u + 1013904223u;
+    return lo + (hi - lo) * ((*seed >> 8) / 16777216.0);
+}
+
+static double lrand(unsigned *seed, double lo, double hi)
+{
+    return exp(urand(seed, log(lo), log(hi)));
+}
+
+static void test_random_designs(void **state)
+{
+    static const double rates[] = {5000.0, 20000.0, 50000.0};
+    unsigned seed = 20261121u;
+    int trial, ran = 0;
+    double worst = 0;
+    (void)state;
+    for (trial = 0; trial < 60; trial++) {
+        static pf_ctrl_design d;
+        static pf_ctrl_f64 f;
+        static pf_ctrl_coeffs_q15 cq;
+        static pf_ctrl_q15 q;
+        pf_params p;
+        pf_effects fx;
+        pf_design_opts o;
+        double peak = 0, amp = urand(&seed, 0.2, 1.0), out_fs, err = 0;
+        int16_t eq = (int16_t)lround(amp * 16384.0);
+        long n, N = 8000;
+        pf_params_default(&p, (pf_config)(trial % PF_CFG_COUNT));
+        p.k1 *= lrand(&seed, 0.1, 100.0);
+        p.tau = lrand(&seed, 1e-4, 1e-2);
+        p.pmax = p.pmin * lrand(&seed, 1.0, 30.0);
+        p.beta = urand(&seed, 0.3, 1.0);
+        p.q = trial % 3 == 0 ? 0.0 : urand(&seed, 0.3, 1.0);
+        p.nu = urand(&seed, 0.5, 1.0);
+        p.w = urand(&seed, p.nu, 1.0);
+        p.RC = lrand(&seed, 1e-3, 1.0);
+        p.RCd = lrand(&seed, 1e-4, 1e-2);
+        p.RCi = p.RCd * lrand(&seed, 2.0, 100.0);
+        memset(&fx, 0, sizeof fx);
+        pf_design_opts_default(&o, rates[trial % 3]);
+        assert_int_equal(pf_ctrl_design_make(&d, &p, NULL, &o), PF_OK);
+        pf_ctrl_init_f64(&f, &d.rt, NULL, 0);
+        /* the run below: a step, then its reversal (the larger swing) */
+        for (n = 0; n < N; n++)
+            peak = fmax(peak, fabs(pf_ctrl_step_f64(&f, (n < N / 2 ? eq : -eq) / 16384.0)));
+        if (trial % 4 == 1) { /* supply limits inside the response */
+            fx.saturate = 1;
+            fx.sat_lo = -0.3 * peak;
+            fx.sat_hi = 0.6 * peak;
+            assert_int_equal(pf_ctrl_design_make(&d, &p, &fx, &o), PF_OK);
+        }
+        out_fs = 1.25 * peak;
+        if (pf_ctrl_coeffs_q15_make(&cq, &d, 2.0, out_fs) != PF_OK)
+            continue; /* PF_E_SCALE is a documented refusal, not an error */
+        ran++;
+        pf_ctrl_init_f64(&f, &d.rt, NULL, 0);
+        pf_ctrl_init_q15(&q, &cq, NULL, 0);
+        for (n = 0; n < N; n++) {
+            int16_t e = n < N / 2 ? eq : (int16_t)-eq;
+            double ref = pf_ctrl_step_f64(&f, e / 16384.0) / out_fs * 32768.0;
+            err = fmax(err, fabs(pf_ctrl_step_q15(&q, e) - ref));
+        }
+        if (err > 1.0)
+            printf("trial %d (%s, fs %.0f): %.2f LSB\n", trial, pf_config_name(p.config),
+                   o.fs, err);
+        worst = fmax(worst, err);
+    }
+    printf("random designs: %d of 60 ran in Q15, worst %.2f LSB against double\n", ran, worst);
+    assert_true(ran >= 50);
+    assert_true(worst <= 1.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -229,6 +308,7 @@ int main(void)
         cmocka_unit_test(test_output_saturates),
         cmocka_unit_test(test_effects_match_double),
         cmocka_unit_test(test_unsupported_effects),
+        cmocka_unit_test(test_random_designs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

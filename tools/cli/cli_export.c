@@ -104,12 +104,11 @@ int cli_export_c_q15(FILE *f, const char *name, const char *comment,
     if (c->has_w)
         op_q15(f, "W", &c->W);
 #define QC(x) fprintf(f, "  .%s = {%ld, %u},\n", #x, (long)c->x.m, (unsigned)c->x.sh)
-    QC(e_in); QC(ce); QC(cy); QC(k1); QC(relay_v_pb); QC(relay_v_s);
-    QC(relay_z_pb); QC(relay_z_w); QC(v_a); QC(v_b); QC(w_a); QC(w_b);
-    QC(m_v); QC(m_pc); QC(m_w); QC(kA_m); QC(dv_pc); QC(dv_r); QC(dw_pc);
-    QC(dw_r); QC(loop_e); QC(loop_sy); QC(loop_sz); QC(sy_m);
-    QC(sz_s); QC(sm_v); QC(sm_w); QC(pc_out); QC(pc_x); QC(x_pc);
-    QC(mon_x); QC(mon_pb); QC(mon_y); QC(mon_pc);
+    QC(e_in); QC(x_e); QC(x_q); QC(x_v); QC(x_w); QC(x_p); QC(ce); QC(x_pc);
+    QC(t_q); QC(t_v); QC(t_w); QC(pc_x); QC(pc_p); QC(k1); QC(relay_v_pb);
+    QC(relay_v_s); QC(relay_z_pb); QC(relay_z_w); QC(v_a); QC(v_b); QC(w_a);
+    QC(w_b); QC(m_v); QC(m_pc); QC(m_w); QC(kA_m); QC(dv_pc); QC(dv_r);
+    QC(dw_pc); QC(dw_r); QC(pc_out); QC(mon_x); QC(mon_pb); QC(mon_y);
 #undef QC
     fprintf(f, "  .sat_lo = %ld, .sat_hi = %ld, .lag_m = %ld, .lag_sh = %u,\n",
             (long)c->sat_lo, (long)c->sat_hi, (long)c->lag_m, (unsigned)c->lag_sh);

@@ -167,12 +167,22 @@ enum pf_ctrl_node {
 
 /** Q15 coefficient set: integers only, usable as static const data on an
  *  MCU without FPU. Every pf_qc multiplies one internal signal into the
- *  scale of another; scales were chosen at design time (pf_ctrl_q15.c). */
+ *  scale of another; scales were chosen at design time
+ *  (pf_ctrl_q15_design.c). Every node is formed as a sum of unsaturated
+ *  64-bit products and saturated once, so a node that is a small
+ *  difference of large terms (x, p_c - r) keeps its precision. */
 typedef struct pf_ctrl_coeffs_q15 {
     uint8_t has_q, has_v, has_w, saturate, hold;
     pf_fracop_coeffs_q15 P, Q, V, W;
     pf_qc e_in;                    /**< Q15 e -> internal e */
-    pf_qc ce, cy;                  /**< e -> x, y -> x */
+    /* The loop solution, folded from the operators' state contributions
+     * (S_Q, S_V, S_W, S_P) straight into x, so that no intermediate (such
+     * as sigma_y, larger than the small x it helps to form) needs a scale:
+     *   x = x_e e - x_q S_Q - x_v S_V + x_w S_W - x_p S_P          (linear)
+     *   x = ce e - x_pc p_c - (t_q S_Q + t_v S_V - t_w S_W)   (p_c clipped) */
+    pf_qc x_e, x_q, x_v, x_w, x_p;
+    pf_qc ce, x_pc, t_q, t_v, t_w;
+    pf_qc pc_x, pc_p;              /**< p_c before clipping: from x and S_P */
     pf_qc k1;                      /**< x -> p_b */
     pf_qc relay_v_pb, relay_v_s;   /**< p_b, S_P -> v */
     pf_qc relay_z_pb, relay_z_w;   /**< p_b, w -> p_c (k2 folded in) */
@@ -180,17 +190,11 @@ typedef struct pf_ctrl_coeffs_q15 {
     pf_qc m_v, m_pc, m_w;          /**< r_V or p_c, r_W -> m */
     pf_qc kA_m;                    /**< m -> y when q = 0 */
     pf_qc dv_pc, dv_r, dw_pc, dw_r;/**< p_c, r -> restrictor operator input */
-    pf_qc loop_e, loop_sy, loop_sz;/**< closed-form x from e, sigma_y, sigma_z */
-    pf_qc sy_m;                    /**< sigma_m -> sigma_y */
-    pf_qc sz_s;                    /**< sigma_z from S_P */
-    pf_qc sm_v, sm_w;              /**< sigma_m from b_V, b_W */
-    pf_qc pc_out;                  /**< internal p_c -> Q15 output */
-    pf_qc pc_x;                    /**< x -> p_c (for saturation re-solve) */
-    pf_qc x_pc;                    /**< p_c -> x through y (alpha_y*cy) */
+    pf_qc pc_out;                  /**< internal p_c -> Q15 output (also p_c's monitor) */
     int32_t sat_lo, sat_hi;        /**< saturation limits, internal p_c */
     int32_t lag_m; uint8_t lag_sh; /**< output lag leak */
     uint32_t delay_len;
-    pf_qc mon_x, mon_pb, mon_y, mon_pc; /**< monitored node -> Q15 of its full scale */
+    pf_qc mon_x, mon_pb, mon_y;    /**< monitored node -> Q15 of its full scale */
 } pf_ctrl_coeffs_q15;
 
 /** Q15 runtime instance. */
@@ -206,8 +210,8 @@ typedef struct pf_ctrl_q15 {
 
 /** Derive the Q15 coefficient set. e = in_fs maps to Q15 +1.0 at the input,
  *  p_c = out_fs to +1.0 at the output (both finite, in (0, 1e12]).
- *  Supports saturation, lag and dead time; backlash and the nozzle curve
- *  are float/double only.
+ *  Supports saturation, lag and dead time; backlash, the nozzle curve and
+ *  the refined approximation are float/double only (PF_E_UNSUPPORTED).
  *  @return PF_OK, PF_E_PARAM(PF_P_IN_FS | PF_P_OUT_FS), PF_E_UNSUPPORTED,
  *          or PF_E_SCALE when a coefficient between two node scales does
  *          not fit a 31-bit mantissa with a shift in [0, 62]. */
