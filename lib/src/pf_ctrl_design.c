@@ -59,6 +59,7 @@ static pf_status derive_loop(pf_ctrl_coeffs_f64 *c, const pf_params *p)
     c->k1 = p->k1;
     c->k2 = p->k2;
     c->kA = p->A / p->ks;
+    c->k2_inv = 1.0 / p->k2;
     c->pmin = p->pmin;
     /* pmin w + pmax v = p_b with w = D_P v + S_P. */
     c->relay_den_inv = 1.0 / (p->pmax + p->pmin * DP);
@@ -99,12 +100,13 @@ static pf_status derive_effects(pf_ctrl_coeffs_f64 *c, const pf_effects *fx,
     double n;
     c->play_r = 0.5 * fx->backlash;
     c->nozzle_xh = fx->nozzle_xh;
+    c->nozzle_xh_inv = fx->nozzle_xh > 0.0 ? 1.0 / fx->nozzle_xh : 0.0;
     c->saturate = fx->saturate != 0;
     c->sat_lo = fx->saturate ? fx->sat_lo : 0.0;
     c->sat_hi = fx->saturate ? fx->sat_hi : 0.0;
     c->in_loop_fx = c->play_r > 0.0 || c->nozzle_xh > 0.0 || c->saturate;
     /* Exact discretisation of 1/(lag s + 1) for an input held over a sample. */
-    c->lag_lam = fx->lag > 0.0 ? 1.0 - exp(-1.0 / (fs * fx->lag)) : 0.0;
+    c->lag_lam = fx->lag > 0.0 ? -expm1(-1.0 / (fs * fx->lag)) : 0.0;
     n = floor(fx->dead_time * fs + 0.5);
     if (n > PF_DELAY_MAX)
         return PF_E_PARAM(PF_P_DEAD_TIME);
@@ -163,6 +165,7 @@ void pf_ctrl_coeffs_f32_make(pf_ctrl_coeffs_f32 *cf, const pf_ctrl_coeffs_f64 *c
     cf->k1 = (float)c->k1;
     cf->k2 = (float)c->k2;
     cf->kA = (float)c->kA;
+    cf->k2_inv = (float)c->k2_inv;
     cf->pmin = (float)c->pmin;
     cf->relay_den_inv = (float)c->relay_den_inv;
     cf->relay_d0 = (float)c->relay_d0;
@@ -178,6 +181,7 @@ void pf_ctrl_coeffs_f32_make(pf_ctrl_coeffs_f32 *cf, const pf_ctrl_coeffs_f64 *c
     cf->slope_inv = (float)c->slope_inv;
     cf->play_r = (float)c->play_r;
     cf->nozzle_xh = (float)c->nozzle_xh;
+    cf->nozzle_xh_inv = (float)c->nozzle_xh_inv;
     cf->saturate = c->saturate;
     cf->sat_lo = (float)c->sat_lo;
     cf->sat_hi = (float)c->sat_hi;

@@ -13,4 +13,4 @@
 #include "pf_ctrl_float.inc"
 
 double pf_play(double prev, double x, double r) { return play_f64(prev, x, r); }
-double pf_nozzle(double x, double xh) { return nozzle_f64(x, xh); }
+double pf_nozzle(double x, double xh) { return nozzle_f64(x, xh, 1.0 / xh); }

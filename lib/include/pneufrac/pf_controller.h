@@ -52,6 +52,7 @@ typedef struct pf_ctrl_coeffs_f64 {
                                        restrictors (1/RC) s^-nu, s^-w */
     double ce, cy;                /**< lever ratios b/(a+b), a/(a+b) */
     double k1, k2, kA;            /**< nozzle, relay, A/ks (bellows if q = 0) */
+    double k2_inv;                /**< 1/k2 (z = p_c/k2, recorded) */
     double pmin;                  /**< Psi_min */
     double relay_den_inv;         /**< 1/(pmax + pmin*D_P) */
     double relay_d0, relay_w;     /**< 1/pmax, 1 - pmin/pmax */
@@ -62,6 +63,7 @@ typedef struct pf_ctrl_coeffs_f64 {
     double loop_inv;              /**< 1/(1 + L0), L0 = cy*alpha_y*k2*alpha_z*k1 */
     double slope_inv;             /**< 1/(1 + min(0, L0)): brackets the loop root */
     double play_r, nozzle_xh;     /**< backlash half-width; nozzle x_1/2 */
+    double nozzle_xh_inv;         /**< 1/x_1/2 */
     uint8_t saturate;
     double sat_lo, sat_hi;
     double lag_lam;               /**< 1 - exp(-1/(fs*lag)); 0 = off */
@@ -72,11 +74,11 @@ typedef struct pf_ctrl_coeffs_f64 {
 typedef struct pf_ctrl_coeffs_f32 {
     uint8_t has_q, has_v, has_w, in_loop_fx, hold;
     pf_fracop_coeffs_f32 P, Q, V, W;
-    float ce, cy, k1, k2, kA, pmin;
+    float ce, cy, k1, k2, kA, k2_inv, pmin;
     float relay_den_inv, relay_d0, relay_w, relay_sz;
     float v_a, v_den_inv, w_a, w_den_inv;
     float alpha_z, alpha_y, loop_inv, slope_inv;
-    float play_r, nozzle_xh;
+    float play_r, nozzle_xh, nozzle_xh_inv;
     uint8_t saturate;
     float sat_lo, sat_hi, lag_lam;
     uint32_t delay_len;
@@ -116,7 +118,7 @@ typedef struct pf_ctrl_signals_f32 { float e, x, pb, z, pc, y, out; } pf_ctrl_si
 typedef struct pf_ctrl_f64 {
     const pf_ctrl_coeffs_f64 *c;
     pf_fracop_f64 P, Q, V, W;
-    double e1, xb, lag;
+    double e1, xb, lag, lag_c;
     double *dbuf;
     uint32_t didx;
     pf_ctrl_signals_f64 sig;
@@ -126,7 +128,7 @@ typedef struct pf_ctrl_f64 {
 typedef struct pf_ctrl_f32 {
     const pf_ctrl_coeffs_f32 *c;
     pf_fracop_f32 P, Q, V, W;
-    float e1, xb, lag;
+    float e1, xb, lag, lag_c;
     float *dbuf;
     uint32_t didx;
     pf_ctrl_signals_f32 sig;
