@@ -15,11 +15,13 @@ fw_link() {
 }
 
 # fw_measure <elf>: prints "<flash> <ram>": the bytes of every pf_* symbol
-# (runtime code and coefficient set) and of the instance, 'controller'.
+# (runtime code and coefficient set) plus the compiler helpers the runtime
+# pulls in (__aeabi_*: 64-bit multiply and shifts on an M0+), and of the
+# instance, 'controller'.
 fw_measure() {
   local flash=0 ram=0 size type name
   while read -r _ size type name; do
-    if [[ $type == [tTrR] && $name == pf_* ]]; then
+    if [[ $type == [tTrR] && ($name == pf_* || $name == __aeabi_*) ]]; then
       flash=$((flash + 16#$size))
     elif [[ $name == controller ]]; then
       ram=$((16#$size))

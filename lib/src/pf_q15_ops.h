@@ -6,9 +6,9 @@
  * Integer only: this is the code the Cortex-M0+ build must keep free of
  * floating-point helpers.
  *
- * Leaky branch:  s <- s + lam*(u - s), lam = lam_m * 2^-lam_sh, lam_m in
- * [2^29, 2^30): the pole's distance from z = 1 keeps 30 bits of relative
- * precision however small it is, and the state's 30 fractional bits let
+ * Leaky branch:  s <- s + lam*(u - s), lam = lam_m * 2^-lam_sh with
+ * lam_sh >= 30 (the leak format, pf_q15_design.c): the pole's distance
+ * from z = 1 keeps 30 bits of relative precision however small it is, and the state's 30 fractional bits let
  * increments far below one LSB accumulate.
  * The states are in the scale of the operator input; the G_m products are
  * summed in int64 and rounded once.

@@ -245,8 +245,8 @@ int cli_opts_build(const cli_opts *a, const cli_command *cmd, cli_run *run)
         }
     }
     run->fx = a->fx.fx;
-    /* Zero fields ask the library for its defaults, which follow fs and
-     * t_slow; pf_design_opts_default would fix them before --t-slow. */
+    /* Zero fields ask the library for its defaults, which it derives from
+     * fs and t_slow when it resolves the options. */
     run->opt.fs = a->fs;
     run->opt.wb = a->wb;
     run->opt.wh = a->wh;

@@ -94,8 +94,7 @@ static void describe_param(const cli_run *run, pf_param_id id, char *buf,
         snprintf(buf, n, "--order must be in 1..%d", PF_MAX_ORDER);
         break;
     case PF_P_TSLOW:
-        snprintf(buf, n, "--t-slow %.10g (the lower band edge derived from "
-                 "it must stay >= 1e-9*fs)", run->opt.t_slow);
+        snprintf(buf, n, "--t-slow %.10g (must be at most 1e9 s)", run->opt.t_slow);
         break;
     case PF_P_IN_FS:
         snprintf(buf, n, "--in-fs %.10g", run->in_fs);

@@ -62,7 +62,8 @@ typedef enum pf_input_model {
  *  "use the default"; see pf_design_opts_resolve(). */
 typedef struct pf_design_opts {
     double fs;        /**< sample rate, Hz, in (0, 1e7] (required) */
-    double wb;        /**< lower band edge, rad/s; 0 = default 0.01/t_slow */
+    double wb;        /**< lower band edge, rad/s; 0 = default
+                           max(0.01/t_slow, 2e-9 fs) */
     double wh;        /**< upper band edge, rad/s; 0 = default pi*fs; <= pi*fs */
     int order;        /**< Oustaloup N in [1, PF_MAX_ORDER]; 0 = default */
     pf_approx approx; /**< approximation method */
@@ -207,10 +208,10 @@ typedef struct pf_fracop_q15 {
 } pf_fracop_q15;
 
 /** Derive a Q15 coefficient set. Physical input in_fs maps to Q15 +1.0 at
- *  the input, out_fs to +1.0 at the output (both finite and > 0). An
- *  operator with a differentiating integer part (alpha > 1/2) has no Q15
- *  set (PF_E_SCALE): a Tustin differentiator's state gain, 2 fs, does not
- *  fit the state format.
+ *  the input, out_fs to +1.0 at the output (both finite and > 0). For an
+ *  operator with a differentiating integer part (alpha > 1/2) the state
+ *  gain 2 fs, scaled from in_fs to out_fs, must stay below 2: otherwise
+ *  PF_E_SCALE (out_fs must then be large against in_fs).
  *  @return PF_OK, PF_E_PARAM(PF_P_IN_FS | PF_P_OUT_FS) or PF_E_SCALE. */
 pf_status pf_fracop_coeffs_q15_make(pf_fracop_coeffs_q15 *cq,
                                     const pf_fracop_design *op, double in_fs,
