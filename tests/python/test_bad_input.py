@@ -1,9 +1,16 @@
 # SPDX-License-Identifier: MIT
 """Every bad input gives one clear line on stderr and exit status 2."""
+import os
+import subprocess
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 
-from pneufrac_fit import cli, generate
+from pneufrac_fit import cli, diagnose, generate
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def _write(path, t, e, pc, header="t,e,pc"):
@@ -50,6 +57,10 @@ def _case(tmp_path, name):
         e = 0.3 + 1e-4 * np.random.default_rng(1).standard_normal(e.size)
     elif name == "no-validation-excitation":
         e = e.copy(); e[650:] = e[650]
+    elif name == "flat-output-tail":
+        pc = pc.copy(); pc[700:] = pc[700]
+    elif name == "flat-output-tail-rounding":
+        pc = pc.copy(); pc[700:] = 0.1 + 1e-17 * (np.arange(pc.size - 700) % 3)
     return _write(tmp_path / f"{name}.csv", t, e, pc, header)
 
 
@@ -64,6 +75,8 @@ CASES = {
     "flat": "flat",
     "flat-noisy": "flat",
     "no-validation-excitation": "validation",
+    "flat-output-tail": "output pc does not move in the last 30 % (validation)",
+    "flat-output-tail-rounding": "output pc does not move in the last 30 % (validation)",
 }
 
 
@@ -106,3 +119,137 @@ def test_bad_config(tmp_path, capsys):
     with pytest.raises(SystemExit) as ex:
         cli.main(["diagnose", "x.csv", "--config", "pd"])
     assert ex.value.code == 2
+
+
+def _one_line(rc, err, msg):
+    assert rc == 2, err
+    assert "Traceback" not in err
+    assert err.count("\n") == 1 and err.startswith("pneufrac-fit: error:"), err
+    assert msg.lower() in err.lower(), err
+
+
+GEN = ["generate", "--config", "p", "--n", "300"]
+
+
+@pytest.mark.parametrize("extra,msg", [
+    (["--fs", "nan"], "--fs nan"),
+    (["--fs", "inf"], "--fs inf"),
+    (["--fs", "-5"], "--fs -5"),
+    (["--fs", "1"], "shortest hold"),
+    (["--fs", "1e9"], "--fs 1e+09"),
+    (["--noise", "nan"], "--noise nan"),
+    (["--noise", "-0.1"], "--noise -0.1"),
+    (["--noise", "inf"], "--noise inf"),
+    (["--n", "5"], "--n 5"),
+    (["--oversample", "0"], "--oversample 0"),
+    (["-o", "/nonexistent-dir/x.csv"], "-o /nonexistent-dir/x.csv: cannot write"),
+])
+def test_bad_generate(tmp_path, capsys, extra, msg):
+    rc, err = _run(capsys, GEN + extra)
+    _one_line(rc, err, msg)
+
+
+def test_generate_output_is_a_directory(tmp_path, capsys):
+    rc, err = _run(capsys, GEN + ["-o", str(tmp_path)])
+    _one_line(rc, err, "cannot write")
+
+
+def test_bump_input_terminates_at_low_rate():
+    """A hold shorter than a sample is one sample (it used to loop forever)."""
+    e = generate.bump_input(60, 1.0, np.random.default_rng(0))
+    assert e.size == 60 and np.count_nonzero(np.diff(e)) >= 50
+
+
+def _no_fit(monkeypatch, seen=None):
+    def fake(rec, config, fixes=None, **kw):
+        if seen is None:
+            raise AssertionError("the fit ran")
+        seen.update(kw)
+        raise cli.UsageError("stop here")
+    monkeypatch.setattr(diagnose, "diagnose", fake)
+
+
+def test_out_not_a_directory_before_fit(tmp_path, capsys, monkeypatch):
+    t, e, pc = _good()
+    path = _write(tmp_path / "ok.csv", t, e, pc)
+    f = tmp_path / "file"
+    f.write_text("x")
+    _no_fit(monkeypatch)
+    rc, err = _run(capsys, ["diagnose", path, "--config", "p", "--out", str(f / "sub")])
+    _one_line(rc, err, f"--out {f / 'sub'}: cannot create the directory")
+
+
+def test_out_created_before_fit(tmp_path, capsys, monkeypatch):
+    t, e, pc = _good()
+    path = _write(tmp_path / "ok.csv", t, e, pc)
+    seen = {}
+    _no_fit(monkeypatch, seen)
+    out = tmp_path / "a" / "b"
+    rc, err = _run(capsys, ["diagnose", path, "--config", "p", "--out", str(out),
+                            "--jobs", "99"])
+    assert rc == 2 and "stop here" in err
+    assert out.is_dir() and seen["jobs"] == 5          # created first; jobs clamped
+
+
+@pytest.mark.parametrize("jobs,want", [("0", 1), ("-3", 1), ("3", 3)])
+def test_jobs_clamped(tmp_path, capsys, monkeypatch, jobs, want):
+    t, e, pc = _good()
+    path = _write(tmp_path / "ok.csv", t, e, pc)
+    seen = {}
+    _no_fit(monkeypatch, seen)
+    _run(capsys, ["diagnose", path, "--config", "p", "--jobs", jobs])
+    assert seen["jobs"] == want
+
+
+@pytest.mark.parametrize("extra,msg", [
+    (["--e0", "0.5"], "--e0 and --pc0 go together"),
+    (["--e0", "nan", "--pc0", "1"], "--e0 must be finite"),
+    (["--e0", "0", "--pc0", "inf"], "--pc0 must be finite"),
+])
+def test_bad_operating_point(tmp_path, capsys, extra, msg):
+    t, e, pc = _good()
+    path = _write(tmp_path / "ok.csv", t, e, pc)
+    rc, err = _run(capsys, ["diagnose", path, "--config", "p"] + extra)
+    _one_line(rc, err, msg)
+
+
+def test_operating_point_option_reaches_the_fit(tmp_path, capsys, monkeypatch):
+    t, e, pc = _good()
+    path = _write(tmp_path / "ok.csv", t, e, pc)
+    got = {}
+
+    def fake(rec, config, fixes=None, **kw):
+        got["op"] = (rec.e0, rec.pc0)
+        raise cli.UsageError("stop here")
+    monkeypatch.setattr(diagnose, "diagnose", fake)
+    _run(capsys, ["diagnose", path, "--config", "p", "--e0", "0.25", "--pc0", "3"])
+    assert got["op"] == (0.25, 3.0)
+
+
+def test_pid_fix_nu_above_w(tmp_path, capsys):
+    t, e, pc = _good()
+    path = _write(tmp_path / "ok.csv", t, e, pc)
+    rc, err = _run(capsys, ["diagnose", path, "--config", "pid", "--fix", "nu=0.9",
+                            "--fix", "w=0.8"])
+    _one_line(rc, err, "needs nu <= w")
+
+
+def _exe():
+    p = Path(sys.executable).with_name("pneufrac-fit")
+    return [str(p)] if p.exists() else [sys.executable, "-m", "pneufrac_fit.cli"]
+
+
+def test_broken_pipe_is_quiet():
+    """generate | head -1: no traceback, no complaint, status 0."""
+    env = dict(os.environ)
+    env.setdefault("PYTHONPATH", str(ROOT / "tools" / "python"))
+    pr = subprocess.Popen(_exe() + ["generate", "--config", "p", "--n", "40000",
+                                    "--oversample", "1"],
+                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)
+    first = pr.stdout.readline()
+    pr.stdout.close()
+    err = pr.stderr.read().decode()
+    rc = pr.wait(timeout=60)
+    pr.stderr.close()
+    assert first.startswith(b"#")
+    assert rc == 0 and err == "", err

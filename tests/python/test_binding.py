@@ -13,32 +13,79 @@ from pneufrac_fit import lib, model
 ROOT = Path(__file__).resolve().parents[2]
 
 
+MIRRORS = [("pf_params", lib.Params), ("pf_effects", lib.Effects),
+           ("pf_design_opts", lib.DesignOpts), ("pf_ctrl_design", lib.DesignHead)]
+
+
 @pytest.mark.skipif(shutil.which("cc") is None, reason="no C compiler")
 def test_mirror_offsets_match_headers(tmp_path):
+    """sizeof and offsetof of every mirrored field, from the C compiler."""
+    lines = []
+    for cname, cls in MIRRORS:
+        for fname, _ in cls._fields_:
+            lines.append(f'  printf("{cname}.{fname} %zu %zu\\n", offsetof({cname}, {fname}), '
+                         f'sizeof((({cname} *)0)->{fname}));')
+        if cname != "pf_ctrl_design":
+            lines.append(f'  printf("{cname}.sizeof %zu\\n", sizeof({cname}));')
     src = tmp_path / "off.c"
     src.write_text("""
 #include <stdio.h>
 #include <stddef.h>
 #include "pneufrac/pneufrac.h"
 int main(void) {
-  printf("%zu %zu %zu %zu\\n", sizeof(pf_params), sizeof(pf_effects), sizeof(pf_design_opts),
-         offsetof(pf_ctrl_design, rt));
-  printf("%zu %zu %zu %zu\\n", offsetof(pf_params, RCi), offsetof(pf_effects, lag),
-         offsetof(pf_effects, saturate), offsetof(pf_design_opts, input));
-  printf("%zu %zu\\n", sizeof(pf_ctrl_design), sizeof(pf_ctrl_f64));
+%s
+  printf("pf_ctrl_design.rt %%zu\\n", offsetof(pf_ctrl_design, rt));
+  printf("sizes %%zu %%zu\\n", sizeof(pf_ctrl_design), sizeof(pf_ctrl_f64));
   return 0;
 }
-""")
+""" % "\n".join(lines))
     exe = tmp_path / "off"
     subprocess.run(["cc", "-std=c99", "-I", str(ROOT / "lib" / "include"), str(src), "-o",
                     str(exe)], check=True)
-    a, b, c = [list(map(int, ln.split())) for ln in
-               subprocess.run([str(exe)], capture_output=True, text=True).stdout.splitlines()]
-    assert a == [ctypes.sizeof(lib.Params), ctypes.sizeof(lib.Effects),
-                 ctypes.sizeof(lib.DesignOpts), lib.RT_OFFSET]
-    assert b == [lib.Params.RCi.offset, lib.Effects.lag.offset, lib.Effects.saturate.offset,
-                 lib.DesignOpts.input.offset]
-    assert c[0] <= lib.DESIGN_BYTES and c[1] <= lib.INSTANCE_BYTES
+    out = subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout
+    got = {ln.split()[0]: [int(x) for x in ln.split()[1:]] for ln in out.splitlines()}
+    want = {}
+    for cname, cls in MIRRORS:
+        for fname, ctype in cls._fields_:
+            want[f"{cname}.{fname}"] = [getattr(cls, fname).offset, ctypes.sizeof(ctype)]
+        if cname != "pf_ctrl_design":
+            want[f"{cname}.sizeof"] = [ctypes.sizeof(cls)]
+    mismatch = {k: (got.get(k), v) for k, v in want.items() if got.get(k) != v}
+    assert not mismatch, f"C (offset, size) vs ctypes: {mismatch}"
+    n_fields = sum(len(cls._fields_) for _, cls in MIRRORS)
+    assert n_fields >= 33                       # every field, not a sample
+    assert got["pf_ctrl_design.rt"] == [lib.RT_OFFSET]
+    design, instance = got["sizes"]
+    assert design <= lib.DESIGN_BYTES and instance <= lib.INSTANCE_BYTES
+
+
+def test_check_layout_reads_back_every_field():
+    """The run-time self-check sees every field: a request with a distinct
+    value per field round-trips through the library's design."""
+    import ctypes as C
+    l = lib.load()
+    p, fx, o = lib._layout_request(l)
+    assert len({getattr(p, n) for n, _ in lib.Params._fields_[1:]}) >= 15
+    buf = C.create_string_buffer(lib.DESIGN_BYTES)
+    assert l.pf_ctrl_design_make(buf, C.byref(p), C.byref(fx), C.byref(o)) == 0
+    d = lib.DesignHead.from_buffer(buf)
+    for part, req in (("p", p), ("fx", fx), ("opt", o)):
+        for n, _ in type(req)._fields_:
+            assert getattr(getattr(d, part), n) == getattr(req, n), f"{part}.{n}"
+
+
+def test_layout_checked_before_caching(monkeypatch):
+    """A library that fails the self-check is not cached as loaded."""
+    monkeypatch.setattr(lib, "_lib", None)
+
+    def boom(_l):
+        raise lib.LibraryError("mismatch")
+    monkeypatch.setattr(lib, "check_layout", boom)
+    with pytest.raises(lib.LibraryError):
+        lib.load()
+    assert lib._lib is None
+    with pytest.raises(lib.LibraryError):   # and the next call checks again
+        lib.load()
 
 
 def test_groups_round_trip():

@@ -2,23 +2,34 @@
 """pneufrac-fit: diagnose measured data against the paper's model.
 
     pneufrac-fit diagnose DATA.csv --config {p,dd,id,pid} [--fix NAME=VALUE ...]
-                 [--out DIR] [--json]
+                 [--e0 E --pc0 P] [--out DIR] [--json]
     pneufrac-fit generate --config CFG [--effect NAME:K=V[,K=V]] [--n N] [--fs HZ]
                  [--noise F] [--seed S] [--set NAME=VALUE ...] [-o FILE.csv]
 
 Exit status: 0 success, 2 bad input or arguments (one line on stderr), 3 the
-shared library is missing or does not match.
+shared library is missing or does not match. A closed output pipe
+(`generate | head`) ends the command quietly with status 0.
 """
 from __future__ import annotations
 
 import argparse
 import math
+import os
 import sys
+from pathlib import Path
 
 from . import model
 
 EXIT_USAGE = 2
 EXIT_LIBRARY = 3
+MAX_JOBS = 5
+# generate: the shortest hold of bump_input (0.06 s) must span 2 samples.
+MIN_HOLD = 0.06
+MIN_FS = 2.0 / MIN_HOLD
+MAX_FS = 1e6
+MAX_N = 10_000_000
+MAX_NOISE = 1.0
+LIB_FS_MAX = 1e7       # PF_FS_MAX of the library
 
 
 class UsageError(Exception):
@@ -42,7 +53,13 @@ def _parser():
                         "RCd, RCi_ratio)")
     d.add_argument("--out", metavar="DIR", help="write report.md, diagnosis.json and PNGs")
     d.add_argument("--json", action="store_true", help="print one JSON object on stdout")
-    d.add_argument("--jobs", type=int, default=None, help="worker processes (default 2)")
+    d.add_argument("--e0", type=float, default=None,
+                   help="operating point of the input (with --pc0; default: the "
+                        "record's opening rest stretch)")
+    d.add_argument("--pc0", type=float, default=None,
+                   help="operating point of the output (with --e0)")
+    d.add_argument("--jobs", type=int, default=None,
+                   help=f"worker processes, 1..{MAX_JOBS} (default 2)")
     d.add_argument("--oversample", type=int, default=2,
                    help="simulate at this multiple of the data rate (default 2)")
     d.add_argument("--order", type=int, default=5, help="Oustaloup order N (default 5)")
@@ -54,9 +71,10 @@ def _parser():
                    help="none | deadtime:t=S | lag:tau=S | backlash:width=W | "
                         "nozzle:xh=X | saturation:lo=L,hi=H (W, X in input units)")
     g.add_argument("--n", type=int, default=6000, help="samples (default 6000)")
-    g.add_argument("--fs", type=float, default=1000.0, help="output rate, Hz (default 1000)")
+    g.add_argument("--fs", type=float, default=1000.0,
+                   help=f"output rate, Hz, {MIN_FS:.4g}..{MAX_FS:g} (default 1000)")
     g.add_argument("--noise", type=float, default=0.002,
-                   help="noise sd as a fraction of the output span (default 0.002)")
+                   help="noise sd as a fraction of the output span, 0..1 (default 0.002)")
     g.add_argument("--oversample", type=int, default=4,
                    help="internal rate multiple (default 4)")
     g.add_argument("--seed", type=int, default=1)
@@ -97,6 +115,9 @@ def parse_fixes(items, config) -> dict:
         if lo is None and not v > 0:
             raise UsageError(f"--fix {k}={v:g}: must be > 0")
         out[k] = v
+    if config == "pid" and "nu" in out and "w" in out and out["nu"] > out["w"]:
+        raise UsageError(f"--fix nu={out['nu']:g} w={out['w']:g}: the pid configuration "
+                         "needs nu <= w")
     if "RCi_ratio" in out and out["RCi_ratio"] <= 1:
         raise UsageError("--fix RCi_ratio must be > 1")
     return out
@@ -131,6 +152,19 @@ def parse_effect(text: str, fs: float) -> tuple[str, dict]:
     return eff, {}
 
 
+def _out_dir(path: str) -> Path:
+    """Create (or check) the report directory before the long fit."""
+    out = Path(path)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise UsageError(f"--out {path}: cannot create the directory: "
+                         f"{exc.strerror or exc}") from None
+    if not os.access(out, os.W_OK | os.X_OK):
+        raise UsageError(f"--out {path}: the directory is not writable")
+    return out
+
+
 def cmd_diagnose(a) -> int:
     from . import data, diagnose, output
     fixes = parse_fixes(a.fix, a.config)
@@ -138,39 +172,90 @@ def cmd_diagnose(a) -> int:
         raise UsageError("--oversample must be in [1, 16]")
     if not 1 <= a.order <= 8:
         raise UsageError("--order must be in [1, 8]")
+    if (a.e0 is None) != (a.pc0 is None):
+        raise UsageError("--e0 and --pc0 go together (the operating point of input "
+                         "and output)")
+    for name, v in (("--e0", a.e0), ("--pc0", a.pc0)):
+        if v is not None and not math.isfinite(v):
+            raise UsageError(f"{name} must be finite")
+    jobs = None if a.jobs is None else min(max(a.jobs, 1), MAX_JOBS)
     rec = data.read_csv(a.data)
+    if a.e0 is not None:
+        data.set_operating_point(rec, a.e0, a.pc0)
+    out = _out_dir(a.out) if a.out else None      # before the (long) fit
     d = diagnose.diagnose(rec, a.config, fixes, order=a.order, oversample=a.oversample,
-                          jobs=a.jobs, progress=not a.quiet, seed=a.seed)
-    if a.out:
-        path = output.write_report(d, a.out)
+                          jobs=jobs, progress=not a.quiet, seed=a.seed)
+    if out is not None:
+        try:
+            path = output.write_report(d, out)
+        except OSError as exc:
+            raise UsageError(f"--out {a.out}: cannot write the report: "
+                             f"{exc.strerror or exc}") from None
         if not a.quiet:
             print(f"[pneufrac-fit] report: {path}", file=sys.stderr)
     if a.json:
         print(output.to_json(d))
-    elif not a.out:
+    elif out is None:
         print(f"cause: {d.cause}")
         for s in d.why:
             print(f"  {s}")
     return 0
 
 
+def _check_generate(a) -> None:
+    if not MIN_FS <= a.fs <= MAX_FS:      # NaN fails too
+        why = (f" (the shortest hold, {MIN_HOLD:g} s, must span at least 2 samples)"
+               if math.isfinite(a.fs) and 0 < a.fs < MIN_FS else "")
+        raise UsageError(f"--fs {a.fs:g}: must be in [{MIN_FS:.4g}, {MAX_FS:g}] Hz{why}")
+    if not 0.0 <= a.noise <= MAX_NOISE:   # NaN fails too
+        raise UsageError(f"--noise {a.noise:g}: must be in [0, {MAX_NOISE:g}] "
+                         "(a fraction of the output span)")
+    if not 10 <= a.n <= MAX_N:
+        raise UsageError(f"--n {a.n}: must be in [10, {MAX_N}]")
+    if not 1 <= a.oversample <= 64:
+        raise UsageError(f"--oversample {a.oversample}: must be in [1, 64]")
+    if a.fs * a.oversample > LIB_FS_MAX:
+        raise UsageError(f"--fs x --oversample = {a.fs * a.oversample:g} Hz: the plant is "
+                         f"simulated at that rate, at most {LIB_FS_MAX:g} Hz")
+
+
 def cmd_generate(a) -> int:
     from . import data, generate
+    _check_generate(a)
     eff, ep = parse_effect(a.effect, a.fs)
     params = dict(_kv(s, "--set") for s in a.set)
     unknown = [k for k in params if k not in model.lib.default_params(a.config)]
     if unknown:
         raise UsageError(f"--set {unknown[0]}: not a paper parameter")
-    if a.n < 10 or a.fs <= 0 or a.noise < 0 or a.oversample < 1:
-        raise UsageError("--n >= 10, --fs > 0, --noise >= 0, --oversample >= 1")
     try:
         ds = generate.generate(a.config, eff, ep, n=a.n, fs=a.fs, noise=a.noise,
                                oversample=a.oversample, seed=a.seed, params=params)
     except model.lib.ModelError as exc:
         raise UsageError(str(exc)) from None
-    path = a.output or "/dev/stdout"
-    data.write_csv(path, ds.t, ds.e, ds.pc, ds.comments())
+    if a.output:
+        try:
+            data.write_csv(a.output, ds.t, ds.e, ds.pc, ds.comments())
+        except OSError as exc:
+            raise UsageError(f"-o {a.output}: cannot write: {exc.strerror or exc}") from None
+    else:
+        data.write_csv(sys.stdout, ds.t, ds.e, ds.pc, ds.comments())
+        sys.stdout.flush()
     return 0
+
+
+def _quiet_broken_pipe() -> None:
+    """The reader went away (generate | head): point stdout at /dev/null so
+    that the interpreter's final flush does not complain either."""
+    try:
+        fd = sys.stdout.fileno()
+    except (AttributeError, OSError, ValueError):
+        return
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, fd)
+        os.close(devnull)
+    except OSError:
+        pass
 
 
 def main(argv=None) -> int:
@@ -189,6 +274,13 @@ def main(argv=None) -> int:
     except lib.LibraryError as exc:
         print(f"pneufrac-fit: error: {exc}", file=sys.stderr)
         return EXIT_LIBRARY
+    except BrokenPipeError:
+        _quiet_broken_pipe()
+        return 0
+    except OSError as exc:
+        where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
+        print(f"pneufrac-fit: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return EXIT_USAGE
 
 
 if __name__ == "__main__":

@@ -111,26 +111,62 @@ def make_record(t, e, pc, source: str = "<data>") -> Record:
     return rec
 
 
-def change_points(e: np.ndarray, rel: float = 1e-9) -> np.ndarray:
-    """Indices n where e[n] != e[n-1] (beyond rounding)."""
+# An input change is a step of e larger than STEP_SIGMAS times the noise on
+# e (robust sd, input_noise) and larger than rounding (1e-9 of the span).
+# The operating point, the noise estimate of the diagnosis and the flatness
+# check all use this one definition.
+STEP_SIGMAS = 20.0
+
+
+def input_noise(e: np.ndarray) -> float:
+    """Robust sd of the noise on e from first differences: 1.4826 MAD / sqrt 2.
+    Steps are rare outliers of the differences, so a stepped input without
+    noise gives 0."""
+    d = np.diff(np.asarray(e, float))
+    if d.size == 0:
+        return 0.0
+    return 1.4826 * float(np.median(np.abs(d - np.median(d)))) / math.sqrt(2.0)
+
+
+def change_points(e: np.ndarray, sigma: float | None = None) -> np.ndarray:
+    """Indices n where the input changes: |e[n] - e[n-1]| beyond STEP_SIGMAS
+    times the noise on e (sigma; estimated by input_noise when None) and
+    beyond rounding."""
+    e = np.asarray(e, float)
+    if e.size < 2:
+        return np.zeros(0, int)
+    if sigma is None:
+        sigma = input_noise(e)
     span = float(np.max(e) - np.min(e))
-    d = np.abs(np.diff(e))
-    return np.flatnonzero(d > rel * max(span, 1e-300)) + 1
+    thr = max(STEP_SIGMAS * sigma, 1e-9 * max(span, 1e-300))
+    return np.flatnonzero(np.abs(np.diff(e)) > thr) + 1
 
 
 def _operating_point(rec: Record) -> None:
     """The model is incremental from rest: if the record opens with a
-    constant-input stretch, that stretch is the operating point."""
+    constant-input stretch (no input change, noise allowed), that stretch
+    is the operating point."""
     cp = change_points(rec.e)
     first = int(cp[0]) if cp.size else rec.n
     if first >= 5:
-        rec.e0 = float(rec.e[0])
+        rec.e0 = float(np.mean(rec.e[:first]))
         rec.pc0 = float(np.mean(rec.pc[:first]))
         rec.notes.append(f"operating point from the first {first} samples at rest: "
                          f"e0 = {rec.e0:.6g}, pc0 = {rec.pc0:.6g}")
     else:
         rec.notes.append("record does not open at rest: the model starts from "
-                         "rest at e = 0, pc = 0")
+                         "rest at e = 0, pc = 0 (give --e0 and --pc0 if the "
+                         "operating point is known)")
+
+
+def set_operating_point(rec: Record, e0: float, pc0: float) -> None:
+    """An operating point given by the user replaces the detected one."""
+    if not (math.isfinite(e0) and math.isfinite(pc0)):
+        raise DataError("the operating point e0, pc0 must be finite")
+    rec.notes = [n for n in rec.notes if not n.startswith(("operating point from",
+                                                           "record does not open"))]
+    rec.e0, rec.pc0 = float(e0), float(pc0)
+    rec.notes.append(f"operating point given: e0 = {rec.e0:.6g}, pc0 = {rec.pc0:.6g}")
 
 
 def _check_excitation(rec: Record) -> None:
@@ -141,24 +177,40 @@ def _check_excitation(rec: Record) -> None:
         raise DataError(f"{rec.source}: the input e is flat (constant {e[0]:.6g}): "
                         "it cannot excite the model; a bump test needs input steps")
     # Measurement noise on e is not excitation: compare the span with it.
-    d = np.diff(e)
-    sig = 1.4826 * float(np.median(np.abs(d - np.median(d)))) / math.sqrt(2.0)
-    if span < 20.0 * sig:
+    sig = input_noise(e)
+    if span < STEP_SIGMAS * sig:
         raise DataError(f"{rec.source}: the input e is flat (span {span:.3g} is within "
-                        f"20x its noise {sig:.3g}): it cannot excite the model")
+                        f"{STEP_SIGMAS:g}x its noise {sig:.3g}): it cannot excite the model")
     split = int(0.7 * rec.n)
     if np.ptp(e[:split]) < 0.05 * span or np.ptp(e[split - 1:]) < 0.05 * span:
         raise DataError(f"{rec.source}: the input must move in both the first 70 % (fit) "
                         "and the last 30 % (validation) of the record")
-    pspan = float(np.max(rec.pc) - np.min(rec.pc))
-    if pspan == 0.0:
+    pc = rec.pc
+    pspan = float(np.max(pc) - np.min(pc))
+    if pspan <= 1e-12 * max(float(np.max(np.abs(pc))), 1e-300) or pspan == 0.0:
         raise DataError(f"{rec.source}: the output pc is constant: nothing to fit")
+    # The output must move in both parts too: a validation part with a
+    # constant output has no spread to normalise the error by.
+    for part, name in ((pc[:split], "the first 70 % (fit)"),
+                       (pc[split:], "the last 30 % (validation)")):
+        if np.ptp(part) < 0.05 * pspan:
+            raise DataError(f"{rec.source}: the output pc does not move in {name} of the "
+                            f"record (range {np.ptp(part):.3g}, under 5 % of its span "
+                            f"{pspan:.3g}): it must respond in both parts")
 
 
 def write_csv(path, t, e, pc, comments=()) -> None:
+    """Write a record; path may be an open text stream (e.g. sys.stdout)."""
+    if hasattr(path, "write"):
+        _write_rows(path, t, e, pc, comments)
+        return
     with open(path, "w", encoding="utf-8") as f:
-        for c in comments:
-            f.write(f"# {c}\n")
-        f.write("t,e,pc\n")
-        for a, b, c in zip(t, e, pc):
-            f.write(f"{a:.9g},{b:.9g},{c:.9g}\n")
+        _write_rows(f, t, e, pc, comments)
+
+
+def _write_rows(f, t, e, pc, comments) -> None:
+    for c in comments:
+        f.write(f"# {c}\n")
+    f.write("t,e,pc\n")
+    for a, b, c in zip(t, e, pc):
+        f.write(f"{a:.9g},{b:.9g},{c:.9g}\n")

@@ -309,10 +309,12 @@ def choose(base: FitResult, cands: list[FitResult]):
 
 def noise_estimate(y: np.ndarray, e: np.ndarray) -> float:
     """Sensor noise sd from second differences away from input changes
-    (robust: median absolute deviation)."""
+    (robust: median absolute deviation). Input changes are those of
+    data.change_points, the same as for the operating point."""
+    from .data import change_points
     d2 = y[2:] - 2 * y[1:-1] + y[:-2]
     near = np.zeros(y.size, bool)
-    for k in np.flatnonzero(np.diff(e) != 0) + 1:
+    for k in change_points(e):
         near[max(0, k - 2):k + 12] = True
     d2 = d2[~near[1:-1]]
     if d2.size < 20:
@@ -341,7 +343,8 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 5,
     ext = best if best is not None else base
     sd = noise_estimate(pb.y, pb.e)
     n = pb.nfit
-    floor = sd / float(np.std(pb.y[n:]))
+    sy = float(np.std(pb.y[n:]))
+    floor = sd / sy if sy > 0 else math.inf
     evb = ev_mod.analyse(pb, base, sd)
     eva = ev_mod.analyse(pb, ext, sd)
     evidence = ev_mod.describe(evb, pb, sd, floor, base)

@@ -94,17 +94,45 @@ def _effect_specs(effect: str, pb: Problem):
 
 
 def specs(pb: Problem, effect: str):
+    """(name, transform, lo, hi) of every fitted parameter. The library needs
+    nu <= w in the pid configuration: there w is fitted as s in [0, 1] with
+    w = nu + (1 - nu) s (transform "wnu"), so that every value tried, and
+    every value reported, is one the library simulates as it stands; with
+    w held and nu free, nu is bounded by w instead."""
     out = []
+    pid = pb.setup.config == "pid"
     for g in pb.free:
         tr, _, _, _ = model.GROUPS[g]
         lo, hi = pb.setup.bounds(g)
+        if pid and g == "w":
+            tr, lo, hi = "wnu", 0.0, 1.0
+        elif pid and g == "nu" and "w" in pb.fixed:
+            hi = min(hi, pb.fixed["w"])
         out.append((g, tr, lo, hi))
     return out + _effect_specs(effect, pb)
 
 
-def _to_theta(sp, values: dict) -> np.ndarray:
+def _nu(pb: Problem | None, values: dict) -> float:
+    nu = values.get("nu")
+    if nu is None and pb is not None:
+        nu = pb.fixed.get("nu")
+    return float(nu)
+
+
+def w_from_s(nu: float, s: float) -> float:
+    return nu + (1.0 - nu) * s
+
+
+def s_from_w(nu: float, w: float) -> float:
+    return min(max((w - nu) / (1.0 - nu), 0.0), 1.0) if nu < 1.0 else 0.0
+
+
+def _to_theta(sp, values: dict, pb: Problem | None = None) -> np.ndarray:
     th = []
     for name, tr, lo, hi in sp:
+        if tr == "wnu":
+            th.append(s_from_w(_nu(pb, values), values[name]))
+            continue
         v = min(max(values[name], lo), hi)
         th.append(math.log(v) if tr == "log" else v)
     return np.array(th)
@@ -116,9 +144,13 @@ def _bounds(sp):
     return np.array(lo), np.array(hi)
 
 
-def _from_theta(sp, th) -> dict:
-    return {name: (math.exp(v) if tr == "log" else float(v))
-            for (name, tr, _, _), v in zip(sp, th)}
+def _from_theta(sp, th, pb: Problem | None = None) -> dict:
+    out = {name: (math.exp(v) if tr == "log" else float(v))
+           for (name, tr, _, _), v in zip(sp, th)}
+    for name, tr, _, _ in sp:
+        if tr == "wnu":          # s -> w, once nu (free or held) is known
+            out[name] = w_from_s(_nu(pb, out), out[name])
+    return out
 
 
 def effect_report(effect: str, vals: dict, fs: float, dead: int = 0) -> dict:
@@ -162,7 +194,7 @@ def _residual_fn(pb, sp, effect, dead, scale, state):
         state["calls"] += 1
         if state["calls"] > state["budget"]:
             raise _Budget()
-        vals = _from_theta(sp, th)
+        vals = _from_theta(sp, th, pb)
         try:
             r = (simulate(pb, effect, vals, dead, n) - y) / scale
         except lib.ModelError:
@@ -181,7 +213,7 @@ def lm_fit(pb: Problem, effect: str, start: dict, dead: int = 0,
            budget: int = 400, label: str = "") -> FitResult:
     """Least squares from one start; returns the best point visited."""
     sp = specs(pb, effect)
-    th0 = _to_theta(sp, start)
+    th0 = _to_theta(sp, start, pb)
     lo, hi = _bounds(sp)
     th0 = np.clip(th0, lo + 1e-9 * (hi - lo), hi - 1e-9 * (hi - lo))
     scale = max(float(np.std(pb.y[:pb.nfit])), 1e-300)
@@ -195,7 +227,7 @@ def lm_fit(pb: Problem, effect: str, start: dict, dead: int = 0,
     except _Budget:
         pass
     c, th = state["best"]
-    vals = _from_theta(sp, th)
+    vals = _from_theta(sp, th, pb)
     fr = FitResult(effect, {}, {}, [s[0] for s in sp], th, c * scale * scale,
                    start=label)
     g, ev, _ = _sim_parts(pb, effect, vals, dead)
@@ -250,6 +282,16 @@ def uncertainty(pb: Problem, fr: FitResult) -> None:
             var += np.where(np.abs(Vt[k]) > 1e-3, np.inf, 0.0)
     se = np.sqrt(var * s2)
     for (name, tr, lo, hi), th, s in zip(sp, fr.theta, se):
+        if tr == "wnu":
+            # Reported in w itself (nu taken at its fitted value): the
+            # interval is that of w = nu + (1 - nu) s, within [nu, 1].
+            nu = _nu(pb, fr.values or fr.groups)
+            s = (1.0 - nu) * s
+            fr.se[name] = float(s)
+            w = w_from_s(nu, th)
+            fr.ci[name] = ((None, None) if not math.isfinite(s) else
+                           (float(max(nu, w - 1.96 * s)), float(min(1.0, w + 1.96 * s))))
+            continue
         fr.se[name] = float(s)
         if not math.isfinite(s) or (tr == "log" and 1.96 * s > 600):
             fr.ci[name] = (None, None)
@@ -261,7 +303,7 @@ def uncertainty(pb: Problem, fr: FitResult) -> None:
 
 def evaluate(pb: Problem, fr: FitResult) -> None:
     """Whole-record simulation, NRMSE on fit and validation parts, BIC."""
-    vals = _from_theta(specs(pb, fr.effect), fr.theta)
+    vals = _from_theta(specs(pb, fr.effect), fr.theta, pb)
     dead = fr.effect_params.get("dead_time_samples", 0)
     fr.sim = simulate(pb, fr.effect, vals, dead)
     n = pb.nfit
@@ -302,6 +344,11 @@ def random_starts(pb: Problem, rng: np.random.Generator, m: int) -> list[dict]:
                 g[name] = rng.uniform(0.0, 1.0) if nom["q"] > 0 else 0.0
             else:  # orders
                 g[name] = rng.uniform(0.4, 1.0)
+        if pb.setup.config == "pid":   # the library needs nu <= w
+            if "w" in g:
+                g["w"] = w_from_s(_nu(pb, g), rng.uniform(0.0, 1.0))
+            elif "nu" in g:
+                g["nu"] = min(g["nu"], pb.fixed["w"])
         out.append(g)
     return out
 

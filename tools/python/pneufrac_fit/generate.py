@@ -36,7 +36,7 @@ def bump_input(n: int, fs: float, rng: np.random.Generator, amp: float = 1.0,
             if abs(new - level) >= min_step * amp:
                 break
         level = new
-        k = int(round(rng.uniform(*hold) * fs))
+        k = max(1, int(round(rng.uniform(*hold) * fs)))   # fs < 1/hold: 1 sample
         e[i:i + k] = level
         i += k
     return e

@@ -142,45 +142,64 @@ def load():
     lib.pf_nozzle.restype = C.c_double
     lib.pf_play.argtypes = [C.c_double, C.c_double, C.c_double]
     lib.pf_play.restype = C.c_double
-    _lib = lib
     check_layout(lib)
+    _lib = lib          # cached only once the mirror is known to match
     return lib
 
 
-def check_layout(lib) -> None:
-    """Design a known controller, read back what the library stored of the
-    request, and run it: if the mirror's offsets were wrong these checks
-    would see garbage."""
+def _layout_request(lib):
+    """A valid design request with a distinct value in every mirrored field,
+    so that a field read back from the wrong offset shows."""
     p = Params()
     lib.pf_params_default(C.byref(p), CONFIGS["dd"])
-    fx = Effects(backlash=0.5, nozzle_xh=0.0, saturate=1, sat_lo=-1.0,
+    names = [n for n, _ in Params._fields_[1:]]
+    for i, n in enumerate(names):      # shrink each a little, differently
+        setattr(p, n, getattr(p, n) * (1.0 - 0.001 * (i + 1)))
+    fx = Effects(backlash=0.5, nozzle_xh=0.25, saturate=1, sat_lo=-1.0,
                  sat_hi=2.0, dead_time=0.003, lag=0.01)
     o = DesignOpts()
     lib.pf_design_opts_default(C.byref(o), 1000.0)
+    o.wb, o.wh, o.order, o.prewarp, o.t_slow = 0.0125, 2500.0, 4, 150.0, 7.5
+    return p, fx, o
+
+
+def check_layout(lib) -> None:
+    """Design a known controller, read back every field the library stored
+    of the request, and run it: if the mirror's offsets were wrong these
+    checks would see garbage."""
+    p, fx, o = _layout_request(lib)
     buf = C.create_string_buffer(DESIGN_BYTES)
     st = lib.pf_ctrl_design_make(buf, C.byref(p), C.byref(fx), C.byref(o))
     if st != 0:
         raise LibraryError(f"layout self-check: design refused (status {st})")
     d = DesignHead.from_buffer(buf)
-    ok = (d.p.config == 1 and d.p.b == 9.0 and d.p.RCi == 0.1 and d.p.tau == 0.001
-          and d.fx.backlash == 0.5 and d.fx.saturate == 1 and d.fx.sat_hi == 2.0
-          and d.fx.lag == 0.01 and d.opt.fs == 1000.0 and d.opt.order >= 1
-          and d.opt.t_slow == 10.0 and d.opt.input == 0)
+    bad = [f"pf_params.{n}" for n, _ in Params._fields_ if getattr(d.p, n) != getattr(p, n)]
+    bad += [f"pf_effects.{n}" for n, _ in Effects._fields_
+            if getattr(d.fx, n) != getattr(fx, n)]
+    bad += [f"pf_design_opts.{n}" for n, _ in DesignOpts._fields_
+            if getattr(d.opt, n) != getattr(o, n)]
+    ok = not bad
     if ok:
+        fx0 = Effects(saturate=1, sat_lo=-1.0, sat_hi=2.0, dead_time=0.003)
+        st = lib.pf_ctrl_design_make(buf, C.byref(p), C.byref(fx0), C.byref(o))
         inst = C.create_string_buffer(INSTANCE_BYTES)
         dbuf = (C.c_double * (3 + DELAY_SPARE))()
-        st = lib.pf_ctrl_init_f64(inst, C.c_void_p(C.addressof(buf) + RT_OFFSET),
-                                  dbuf, len(dbuf))
+        if st == 0:
+            st = lib.pf_ctrl_init_f64(inst, C.c_void_p(C.addressof(buf) + RT_OFFSET),
+                                      dbuf, len(dbuf))
         e = np.ones(6)
         out = np.empty(6)
         dp = C.POINTER(C.c_double)
         if st == 0:
             lib.pf_ctrl_run_f64(inst, e.ctypes.data_as(dp), out.ctypes.data_as(dp), 6)
         ok = st == 0 and np.all(out[:3] == 0.0) and np.all(out[3:] > 0.0)
+        if not ok:
+            bad.append("pf_ctrl_design.rt (the run gave garbage)")
     if not ok:
         raise LibraryError(
             "libpneufrac does not match the ctypes mirror in pneufrac_fit/lib.py "
-            "(pf_params, pf_effects, pf_design_opts or pf_ctrl_design changed?)")
+            f"(mismatch at {', '.join(bad[:4])}; pf_params, pf_effects, "
+            "pf_design_opts or pf_ctrl_design changed?)")
 
 
 def status_message(lib, st: int) -> tuple[str | None, str]:

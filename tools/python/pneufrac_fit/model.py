@@ -117,7 +117,9 @@ def physical_from_groups(config: str, g: dict) -> dict:
     if config == "pid":
         p["RCd"] = g["RCd"]
         p["RCi"] = g["RCd"] * g["RCi_ratio"]
-        p["w"] = max(p["w"], p["nu"])
+        # No silent clamp: the library refuses nu > w (pf_params), and the fit
+        # keeps nu <= w by its parameterisation (fit.specs), so the groups
+        # reported are the ones simulated.
     return p
 
 
