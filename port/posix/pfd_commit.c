@@ -3,6 +3,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "pfd_log.h"
 
@@ -135,7 +136,8 @@ uint16_t pfd_status_bits(const pfd_daemon *d, const pfd_inst *in,
         b |= 1u << 6;
     if (!iparams_equal(&in->hold.staged, &in->committed))
         b |= 1u << 7;
-    if (s->applied != in->published)
+    /* The set the loop ran last is not the one committed last. */
+    if (s->gen != in->gen)
         b |= 1u << 8;
     if (in->committed.arith == PFD_ARITH_Q15)
         b |= 1u << 9;
@@ -155,6 +157,13 @@ unsigned pfd_settle_samples(double fs)
     return (unsigned)n;
 }
 
+/* Modbus exception codes pfd_commit() answers with (libmodbus's
+ * MODBUS_EXCEPTION_*; this file does not otherwise need modbus.h). */
+#define EXC_ILLEGAL_FUNCTION 1
+#define EXC_ILLEGAL_VALUE 3
+#define EXC_DEVICE_FAILURE 4
+#define EXC_BUSY 6
+
 static int refuse(pfd_daemon *d, pfd_inst *in, uint16_t result, int param)
 {
     pthread_mutex_lock(&d->regs_mx);
@@ -162,17 +171,41 @@ static int refuse(pfd_daemon *d, pfd_inst *in, uint16_t result, int param)
     in->err_param = param == PF_P_COUNT ? 0xFFFFu : (uint16_t)param;
     in->err_addr = param == PF_P_COUNT ? 0xFFFFu : pfd_regmap_staged_addr(param);
     pthread_mutex_unlock(&d->regs_mx);
-    return result == PFD_COMMIT_BUSY ? 6 : result == PFD_COMMIT_FAILED ? 4 : 3;
+    return result == PFD_COMMIT_BUSY     ? EXC_BUSY
+           : result == PFD_COMMIT_FAILED ? EXC_DEVICE_FAILURE
+                                         : EXC_ILLEGAL_VALUE;
 }
+
+/* Under commit_mx: a slot to build into, neither the loop's active one nor
+ * the pending one (which must survive a build that fails). With three
+ * slots one is always free, except in the few instructions between the
+ * loop taking a pending set and marking its old slot free; a commit that
+ * lands there waits for it, a bounded time, and is refused as busy only
+ * if the loop stalls right there. @return the index, or -1. */
+static int free_slot(const pfd_inst *in)
+{
+    const struct timespec pause = {0, 50000L};
+    int k, tries;
+
+    for (tries = 0; tries < 200; tries++) {
+        for (k = 0; k < PFD_NSLOTS; k++)
+            if (__atomic_load_n(&in->slot_state[k], __ATOMIC_ACQUIRE) == PFD_SLOT_FREE)
+                return k;
+        nanosleep(&pause, NULL);
+    }
+    return -1;
+}
+
+static int persist_locked(pfd_daemon *d);
 
 int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
 {
     pfd_hold tmp;
     pfd_iparams ip;
-    pfd_slot *p, *slot = NULL;
+    pfd_slot *slot, *old;
     pfd_fail why;
     float e_hold;
-    int k, rc;
+    int k, j;
 
     pthread_mutex_lock(&d->commit_mx);
 
@@ -183,38 +216,41 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
     e_hold = ((const pfd_snap *)pfd_tbuf_latest(&in->out_tb))->e_used;
     pthread_mutex_unlock(&d->regs_mx);
 
-    /* A set the loop has not taken yet is ours again: this one replaces it. */
-    p = __atomic_exchange_n(&in->pending, (pfd_slot *)NULL, __ATOMIC_ACQ_REL);
-    for (k = 0; k < PFD_NSLOTS; k++)
-        if (in->slot[k] == p)
-            __atomic_store_n(&in->slot_state[k], PFD_SLOT_FREE, __ATOMIC_RELEASE);
-    for (k = 0; k < PFD_NSLOTS && slot == NULL; k++)
-        if (__atomic_load_n(&in->slot_state[k], __ATOMIC_ACQUIRE) == PFD_SLOT_FREE)
-            slot = in->slot[k];
-    if (slot == NULL) {
-        rc = refuse(d, in, PFD_COMMIT_BUSY, PF_P_COUNT);
+    k = free_slot(in);
+    if (k < 0) {
+        int rc = refuse(d, in, PFD_COMMIT_BUSY, PF_P_COUNT);
         pthread_mutex_unlock(&d->commit_mx);
         return rc;
     }
-    for (k = 0; k < PFD_NSLOTS; k++)
-        if (in->slot[k] == slot)
-            break;
-
+    slot = in->slot[k];
     if (pfd_slot_build(slot, &ip, d->scratch, &why) != 0) {
         uint16_t res = why.st == PF_E_SCALE ? PFD_COMMIT_SCALE
                        : why.param != PF_P_COUNT ? PFD_COMMIT_INVALID
                                                  : PFD_COMMIT_FAILED;
+        int rc;
         pfd_log(PFD_LOG_WARN, "commit-refused", "unit=%d result=%u param=%s status=\"%s\"",
                 in->unit, (unsigned)res, pfd_param_name(why.param),
                 why.st == PFD_E_DAEMON ? "out of range" : pf_status_str(why.st));
+        /* The slot was free and stays free: a pending set, if any, is
+         * still what `committed` and the config file describe. */
         rc = refuse(d, in, res, why.param);
         pthread_mutex_unlock(&d->commit_mx);
         return rc;
     }
     if (e_hold != 0.0f)
         pfd_slot_settle(slot, e_hold, pfd_settle_samples(ip.fs));
+    /* in->gen changes only under commit_mx, which we hold. */
+    slot->gen = in->gen + 1u;
 
     pthread_mutex_lock(&d->regs_mx);
+    /* execute() checked the lock, but another client may have set it
+     * since; checked again where the commit takes effect, so that no
+     * commit is applied after the lock write has been answered. */
+    if (in->hold.param_lock) {
+        pthread_mutex_unlock(&d->regs_mx);
+        pthread_mutex_unlock(&d->commit_mx);
+        return EXC_ILLEGAL_FUNCTION;
+    }
     pfd_regmap_apply(&in->hold, &in->committed, wl);
     if (wl->live)
         pfd_publish_live(in);
@@ -222,21 +258,35 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
     in->commit_result = PFD_COMMIT_OK;
     in->err_addr = 0xFFFFu;
     in->err_param = 0xFFFFu;
-    in->commits++;
-    in->published++;
+    in->gen = slot->gen;
     __atomic_store_n(&in->slot_state[k], PFD_SLOT_PENDING, __ATOMIC_RELEASE);
-    __atomic_store_n(&in->pending, slot, __ATOMIC_RELEASE);
+    /* Swap: a set the loop has not taken yet is replaced, and its slot is
+     * ours again. The exchange decides who gets it, the loop or us. */
+    old = __atomic_exchange_n(&in->pending, slot, __ATOMIC_ACQ_REL);
+    for (j = 0; j < PFD_NSLOTS && old != NULL; j++)
+        if (in->slot[j] == old)
+            __atomic_store_n(&in->slot_state[j], PFD_SLOT_FREE, __ATOMIC_RELEASE);
     pthread_mutex_unlock(&d->regs_mx);
 
     pfd_log(PFD_LOG_INFO, "commit", "unit=%d config=%s arith=%s fs=%.9g",
             in->unit, pf_config_name(ip.p.config),
             ip.arith == PFD_ARITH_Q15 ? "q15" : "float", ip.fs);
+    /* Answered only once the file is on disk; if it cannot be written the
+     * set still runs (it was switched in above), and the client learns
+     * that it would not survive a restart. */
+    if (persist_locked(d) != 0) {
+        pthread_mutex_lock(&d->regs_mx);
+        in->commit_result = PFD_COMMIT_UNSAVED;
+        pthread_mutex_unlock(&d->regs_mx);
+        pthread_mutex_unlock(&d->commit_mx);
+        return EXC_DEVICE_FAILURE;
+    }
     pthread_mutex_unlock(&d->commit_mx);
-    pfd_persist(d);
     return 0;
 }
 
-int pfd_persist(pfd_daemon *d)
+/* Under commit_mx. */
+static int persist_locked(pfd_daemon *d)
 {
     static pfd_config c;
     char err[512];
@@ -244,7 +294,6 @@ int pfd_persist(pfd_daemon *d)
 
     if (d->config_path == NULL)
         return 0;
-    pthread_mutex_lock(&d->commit_mx);
     pthread_mutex_lock(&d->regs_mx);
     c = *(const pfd_config *)d->config_file;
     c.n = d->n;
@@ -256,7 +305,6 @@ int pfd_persist(pfd_daemon *d)
     }
     pthread_mutex_unlock(&d->regs_mx);
     rc = pfd_config_write(d->config_path, &c, err, sizeof err);
-    pthread_mutex_unlock(&d->commit_mx);
     if (rc != 0) {
         __atomic_store_n(&persist_failed, 1, __ATOMIC_RELAXED);
         pfd_log(PFD_LOG_ERROR, "persist-failed", "error=\"%s\"", err);
@@ -265,4 +313,13 @@ int pfd_persist(pfd_daemon *d)
     __atomic_store_n(&persist_failed, 0, __ATOMIC_RELAXED);
     pfd_log(PFD_LOG_DEBUG, "persisted", "file=%s", d->config_path);
     return 0;
+}
+
+int pfd_persist(pfd_daemon *d)
+{
+    int rc;
+    pthread_mutex_lock(&d->commit_mx);
+    rc = persist_locked(d);
+    pthread_mutex_unlock(&d->commit_mx);
+    return rc;
 }

@@ -68,6 +68,7 @@ int pfd_slot_build(pfd_slot *s, const pfd_iparams *ip, pf_ctrl_design *scratch,
     s->decay = ip->bump_tau > 0.0 ? exp(-1.0 / (ip->fs * ip->bump_tau)) : 0.0;
     s->inv_in_fs = 1.0 / ip->in_fs;
     s->inv_out_fs = 1.0 / ip->out_fs;
+    s->inv_pb_fs = s->inv_in_fs / ip->p.k1;
     return 0;
 }
 
@@ -125,7 +126,7 @@ void pfd_slot_step(pfd_slot *s, float e, pfd_sig *out)
         out->y = s->f.sig.y;
         out->pc_q15 = pfd_to_q15((double)pc, s->inv_out_fs);
         out->x_q15 = pfd_to_q15((double)out->x, s->inv_in_fs);
-        out->pb_q15 = pfd_to_q15((double)out->pb, s->inv_in_fs / s->ip.p.k1);
+        out->pb_q15 = pfd_to_q15((double)out->pb, s->inv_pb_fs);
         out->y_q15 = pfd_to_q15((double)out->y, s->inv_in_fs);
     }
 }

@@ -68,6 +68,9 @@ typedef struct pfd_slot {
     uint64_t period_ns;   /**< round(1e9/fs) */
     double decay;         /**< per-sample factor of the bumpless offset */
     double inv_in_fs, inv_out_fs; /**< for the int16 mirrors */
+    double inv_pb_fs;     /**< 1/(k1*in_fs): p_b's int16 mirror, without a
+                               division per sample */
+    uint32_t gen;         /**< set by the commit that built it (pfd_inst.gen) */
 } pfd_slot;
 
 /** Check @p ip (daemon limits, then the library's), design it with

@@ -10,8 +10,6 @@ static enum pfd_log_level min_level = PFD_LOG_INFO;
 
 void pfd_log_set_level(enum pfd_log_level lvl) { min_level = lvl; }
 
-int pfd_log_enabled(enum pfd_log_level lvl) { return lvl >= min_level; }
-
 void pfd_log(enum pfd_log_level lvl, const char *msg, const char *fmt, ...)
 {
     static const char *const names[] = {"debug", "info", "warn", "error"};

@@ -7,7 +7,6 @@ enum pfd_log_level { PFD_LOG_DEBUG = 0, PFD_LOG_INFO, PFD_LOG_WARN, PFD_LOG_ERRO
 
 /** Lowest level printed; PFD_LOG_INFO unless --verbose. */
 void pfd_log_set_level(enum pfd_log_level lvl);
-int pfd_log_enabled(enum pfd_log_level lvl);
 
 /** One line: ts, level, msg=<msg>, then @p fmt (key=value pairs, printf
  *  style). Never called from the real-time thread: it may block. */

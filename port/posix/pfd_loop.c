@@ -52,7 +52,7 @@ static void run_sample(pfd_inst *in, uint32_t missed, int64_t jitter_ns)
     const float e = l->input_sel ? l->sp - l->pv : l->e;
     uint32_t req;
     double y, out, tiny;
-    uint16_t flags = PFD_SNAP_RUNNING;
+    uint16_t flags = 0;
 
     req = __atomic_load_n(&in->reset_req, __ATOMIC_ACQUIRE);
     if (req != in->rt.reset_seen) {
@@ -89,7 +89,6 @@ static void run_sample(pfd_inst *in, uint32_t missed, int64_t jitter_ns)
         __atomic_store_n(&in->slot_state[in->rt.active_idx], PFD_SLOT_ACTIVE,
                          __ATOMIC_RELEASE);
         __atomic_store_n(&in->slot_state[old_idx], PFD_SLOT_FREE, __ATOMIC_RELEASE);
-        in->rt.s.applied++;
     } else {
         pfd_slot_step(in->rt.active, e, &sig);
         in->rt.offset *= in->rt.active->decay;
@@ -153,6 +152,7 @@ static void run_sample(pfd_inst *in, uint32_t missed, int64_t jitter_ns)
     }
     hist_overruns += missed;
     in->rt.s.sig = sig;
+    in->rt.s.gen = in->rt.active->gen;
     in->rt.s.e_used = e;
     in->rt.s.flags = flags;
     s = (pfd_snap *)pfd_tbuf_back(&in->out_tb);
@@ -292,7 +292,9 @@ static void *loop_main(void *arg)
 
 static void lock_memory(const pfd_daemon *d)
 {
+#ifndef PFD_ASAN
     struct rlimit rl;
+#endif
 
     if (!d->set.mlock) {
         pfd_log(PFD_LOG_INFO, "mlockall", "result=off reason=--no-mlock");
@@ -311,7 +313,6 @@ static void lock_memory(const pfd_daemon *d)
                 "result=skipped reason=rlimit-memlock-finite");
         return;
     }
-    (void)rl;
     if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0)
         pfd_log(PFD_LOG_INFO, "mlockall", "result=locked");
     else
@@ -411,11 +412,4 @@ int pfd_loop_tick(pfd_daemon *d, pfd_inst *in, unsigned n)
         timed_wait(&d->done_cv, &d->tick_mx, 200);
     pthread_mutex_unlock(&d->tick_mx);
     return stopping(d) ? -1 : 0;
-}
-
-void pfd_loop_kick(pfd_daemon *d)
-{
-    pthread_mutex_lock(&d->tick_mx);
-    pthread_cond_signal(&d->work_cv);
-    pthread_mutex_unlock(&d->tick_mx);
 }

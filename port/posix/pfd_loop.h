@@ -25,7 +25,4 @@ void pfd_loop_log_stats(const pfd_daemon *d);
  *  (or the daemon stops). @return 0, or -1 if stopping. */
 int pfd_loop_tick(pfd_daemon *d, pfd_inst *in, unsigned n);
 
-/** Wake the loop (lockstep) after a request counter changed. */
-void pfd_loop_kick(pfd_daemon *d);
-
 #endif

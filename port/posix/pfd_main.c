@@ -35,8 +35,9 @@ static void usage(FILE *f)
 "  --config FILE            instances and settings (docs/pneufracd.md); commits\n"
 "                           and the state at shutdown are written back to it\n"
 "  --config-fallback-defaults  run the defaults (and log why) if FILE is\n"
-"                           missing, corrupt or invalid; it is renamed to\n"
-"                           FILE.corrupt first if it exists\n"
+"                           missing, corrupt or invalid (a set that cannot\n"
+"                           be designed included); it is renamed to\n"
+"                           FILE.corrupt (FILE.corrupt.N if that exists)\n"
 "  --clock internal|external   external: the tick register advances samples\n"
 "  --allow CIDR[,CIDR...]   client networks allowed to connect (default\n"
 "                           127.0.0.0/8)\n"
@@ -306,35 +307,48 @@ static void describe_fail(char *buf, size_t n, const pfd_fail *why)
         snprintf(buf, n, "out of memory");
     else if (why->st == PF_E_SCALE)
         snprintf(buf, n, "q15: a coefficient does not fit (change in_fs/out_fs)");
+    else if (why->param != (int)PF_P_COUNT && why->st == PFD_E_DAEMON)
+        snprintf(buf, n, "invalid parameter '%s' (out of range)", pfd_param_name(why->param));
     else if (why->param != (int)PF_P_COUNT)
-        snprintf(buf, n, "invalid parameter '%s' (%s)", pfd_param_name(why->param),
-                 why->st == PFD_E_DAEMON ? "out of range" : pf_status_str(why->st));
+        /* pf_status_str() would only say "invalid parameter" again. */
+        snprintf(buf, n, "invalid parameter '%s'", pfd_param_name(why->param));
     else
         snprintf(buf, n, "%s", pf_status_str(why->st));
+}
+
+/* Design every instance of @p c, as pfd_inst_add() will: a file that
+ * parses but cannot be designed is as unusable as a corrupt one, and must
+ * be found out before the daemon commits to it (or seals it).
+ * @return 0, or -1 with "config FILE:LINE: [instance U]: why" in @p err. */
+static int design_all(const char *path, const pfd_config *c, char *err, size_t n)
+{
+    static pf_ctrl_design scratch;
+    static pfd_slot slot;
+    int i;
+
+    for (i = 0; i < c->n; i++) {
+        pfd_fail why;
+        if (pfd_slot_build(&slot, &c->inst[i].ip, &scratch, &why) != 0) {
+            char d[200];
+            describe_fail(d, sizeof d, &why);
+            snprintf(err, n, "config %s:%d: [instance %d]: %s", path, c->inst[i].line,
+                     c->inst[i].unit, d);
+            return -1;
+        }
+    }
+    return 0;
 }
 
 /* --seal-config: accept a hand-edited file once it parses and designs. */
 static int seal(const char *path)
 {
     static pfd_config c;
-    static pf_ctrl_design scratch;
-    static pfd_slot slot;
     char err[600];
-    int i;
 
-    if (pfd_config_load(path, &c, 0, err, sizeof err) != 0) {
+    if (pfd_config_load(path, &c, 0, err, sizeof err) != 0 ||
+        design_all(path, &c, err, sizeof err) != 0) {
         pfd_fatal("%s", err);
         return EXIT_USAGE;
-    }
-    for (i = 0; i < c.n; i++) {
-        pfd_fail why;
-        if (pfd_slot_build(&slot, &c.inst[i].ip, &scratch, &why) != 0) {
-            char d[200];
-            describe_fail(d, sizeof d, &why);
-            pfd_fatal("config %s:%d: [instance %d]: %s", path, c.inst[i].line,
-                      c.inst[i].unit, d);
-            return EXIT_USAGE;
-        }
     }
     if (pfd_config_write(path, &c, err, sizeof err) != 0) {
         pfd_fatal("%s", err);
@@ -343,6 +357,31 @@ static int seal(const char *path)
     fprintf(stderr, "pneufracd: %s: sealed (%d instance%s)\n", path, c.n,
             c.n == 1 ? "" : "s");
     return 0;
+}
+
+/* --config-fallback-defaults: move an unusable FILE aside, to FILE.corrupt,
+ * or FILE.corrupt.N if that exists already: an earlier bad file may be
+ * the one someone still wants to look at. */
+static void move_aside(const char *path)
+{
+    char aside[4200];
+    int k;
+
+    if (access(path, F_OK) != 0)
+        return;
+    for (k = 0; k < 1000; k++) {
+        if (k == 0)
+            snprintf(aside, sizeof aside, "%s.corrupt", path);
+        else
+            snprintf(aside, sizeof aside, "%s.corrupt.%d", path, k);
+        if (access(aside, F_OK) != 0)
+            break;
+    }
+    if (k < 1000 && rename(path, aside) == 0)
+        pfd_log(PFD_LOG_WARN, "config-fallback", "moved=%s", aside);
+    else
+        pfd_log(PFD_LOG_WARN, "config-fallback", "moved=none error=\"cannot move %s aside\"",
+                path);
 }
 
 static pfd_config file_cfg; /* as read: persistence writes its [daemon] back */
@@ -403,15 +442,13 @@ int main(int argc, char **argv)
     memset(&file_cfg, 0, sizeof file_cfg);
     pfd_settings_default(&file_cfg.set);
     if (a.config != NULL) {
-        if (pfd_config_load(a.config, &file_cfg, 1, err, sizeof err) != 0) {
-            char aside[4200];
+        if (pfd_config_load(a.config, &file_cfg, 1, err, sizeof err) != 0 ||
+            design_all(a.config, &file_cfg, err, sizeof err) != 0) {
             if (!a.fallback) {
                 pfd_fatal("%s", err);
                 return EXIT_USAGE;
             }
-            snprintf(aside, sizeof aside, "%s.corrupt", a.config);
-            if (access(a.config, F_OK) == 0 && rename(a.config, aside) == 0)
-                pfd_log(PFD_LOG_WARN, "config-fallback", "moved=%s", aside);
+            move_aside(a.config);
             pfd_log(PFD_LOG_WARN, "config-fallback", "using=defaults error=\"%s\"", err);
             memset(&file_cfg, 0, sizeof file_cfg);
             pfd_settings_default(&file_cfg.set);

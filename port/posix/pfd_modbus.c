@@ -62,9 +62,9 @@ static int reply_exc(reqctx *r, int code)
     return modbus_reply_exception(r->ctx, r->req, (unsigned)code) < 0 ? -1 : 0;
 }
 
-/* Copy registers [addr, addr+cnt) of @p space into the scratch mapping that
+/* Render every register of @p space into the scratch mapping that
  * modbus_reply() reads from. */
-static void fill(reqctx *r, pfd_inst *in, int space, unsigned addr, unsigned cnt)
+static void fill(reqctx *r, pfd_inst *in, int space)
 {
     uint16_t img[PFD_INPUT_SIZE > PFD_HOLD_SIZE ? PFD_INPUT_SIZE : PFD_HOLD_SIZE];
     pfd_view v;
@@ -76,8 +76,8 @@ static void fill(reqctx *r, pfd_inst *in, int space, unsigned addr, unsigned cnt
     v.n_instances = (uint16_t)r->d->n;
     pfd_regmap_render(space, &v, img);
     pthread_mutex_unlock(&r->d->regs_mx);
-    memcpy((space == PFD_HOLD ? r->map->tab_registers : r->map->tab_input_registers) + addr,
-           img + addr, cnt * sizeof img[0]);
+    memcpy(space == PFD_HOLD ? r->map->tab_registers : r->map->tab_input_registers,
+           img, (space == PFD_HOLD ? PFD_HOLD_SIZE : PFD_INPUT_SIZE) * sizeof img[0]);
 }
 
 /* Validated writes: state checks, then data, commit, command, tick.
@@ -89,7 +89,9 @@ static int execute(reqctx *r, pfd_inst *in, const pfd_wlist *wl)
 
     pthread_mutex_lock(&d->regs_mx);
     rc = 0;
-    if ((wl->staged || wl->commit) && in->hold.param_lock)
+    /* Discarding the staged set changes staged registers too, so the lock
+     * refuses it like a staged write. */
+    if ((wl->staged || wl->commit || wl->command == 1) && in->hold.param_lock)
         rc = MODBUS_EXCEPTION_ILLEGAL_FUNCTION;
     if (wl->lock && d->set.param_lock) {
         unsigned i;
@@ -131,6 +133,7 @@ static int handle(reqctx *r)
     pfd_inst *in;
     pfd_wlist wl;
     uint16_t vals[128];
+    uint8_t patched[MODBUS_TCP_MAX_ADU_LENGTH]; /* FC23's answer, see there */
     unsigned i;
     int rc;
 
@@ -159,7 +162,7 @@ static int handle(reqctx *r)
             return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
         if (addr + cnt > size)
             return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS);
-        fill(r, in, space, addr, cnt);
+        fill(r, in, space);
         break;
     }
     case MODBUS_FC_WRITE_SINGLE_REGISTER:
@@ -216,8 +219,20 @@ static int handle(reqctx *r)
             rc = execute(r, in, &wl);
         if (rc != 0)
             return rc < 0 ? -1 : reply_exc(r, rc);
-        /* Read after the write, as the function code specifies. */
-        fill(r, in, PFD_HOLD, addr, cnt);
+        /* Read after the write, as the function code specifies. But
+         * libmodbus 3.1.6 copies the written values into the mapping
+         * before it reads, so registers the two ranges share would echo
+         * the raw write (tick, commit or command instead of 0, e_i16
+         * before rounding). Answer from a copy of the request whose write
+         * payload is what the registers now read. */
+        fill(r, in, PFD_HOLD);
+        memcpy(patched, req, (size_t)r->len);
+        for (i = 0; i < wcnt; i++) {
+            uint16_t v = r->map->tab_registers[waddr + i];
+            patched[MBAP_LEN + 10 + 2 * i] = (uint8_t)(v >> 8);
+            patched[MBAP_LEN + 11 + 2 * i] = (uint8_t)(v & 0xFFu);
+        }
+        req = patched;
         break;
     }
     default:

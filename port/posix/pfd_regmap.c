@@ -109,10 +109,12 @@ const pfd_reg pfd_regs[] = {
     H(15, PFD_T_U16, PFD_RW, PFD_F_LIVE, F_WATCHDOG, 0, 60000, "watchdog_ms", "ms",
       "trip to failsafe_out when e/sp/pv are not written for this long (counted in samples); 0 = off")
     H(16, PFD_T_U16, PFD_RW, 0, F_LOCK, 0, 1, "param_lock", "",
-      "1: staged parameters and commit are refused (exception 01); fixed at 1 by --param-lock")
+      "1: staged parameters, commit and command 1 are refused (exception 01); "
+      "fixed at 1 by --param-lock")
     H(17, PFD_T_U16, PFD_W, PFD_F_ACTION | PFD_F_STAGED, F_COMMIT, 1, 1, "commit", "",
       "write 1: validate the staged set and switch it in between two samples, bumplessly; "
-      "refused (exception 03, nothing changes) if invalid; reads 0")
+      "refused (exception 03, nothing changes) if invalid; exception 04 with commit_result 5 "
+      "if it runs but the config file could not be written; reads 0")
     H(18, PFD_T_U16, PFD_W, PFD_F_ACTION, F_COMMAND, 1, 3, "command", "",
       "write 1: discard staged changes, 2: reset the controller state, 3: clear statistics; reads 0")
     H(19, PFD_T_U16, PFD_W, PFD_F_ACTION, F_TICK, 1, 65535, "tick", "samples",
@@ -139,11 +141,13 @@ const pfd_reg pfd_regs[] = {
     I(13, PFD_T_I16, F_Y_I16, "y_i16", "in_fs/32768", "y as int16")
     I(14, PFD_T_I16, F_EU_I16, "e_used_i16", "in_fs/32768", "e_used as int16")
     I(15, PFD_T_U16, F_STATUS, "status", "bits",
-      "0 running, 1 watchdog tripped, 2 last commit refused, 3 manual, 4 parameters locked, "
-      "5 read-only server, 6 external clock, 7 staged differs from committed, "
-      "8 commit not yet switched in, 9 q15, 10 bumpless transfer in progress")
+      "0 running, 1 watchdog tripped, 2 last commit not ok (commit_result not 0), 3 manual, "
+      "4 parameters locked, 5 read-only server, 6 external clock, "
+      "7 staged differs from committed, 8 commit not yet switched in, 9 q15, "
+      "10 bumpless transfer in progress, 11 the last write of the config file failed")
     I(16, PFD_T_U16, F_CRESULT, "commit_result", "",
-      "last commit: 0 ok, 1 invalid parameter, 2 q15 scaling failed, 3 busy, 4 other error")
+      "last commit: 0 ok, 1 invalid parameter, 2 q15 scaling failed, 3 busy, 4 other error, "
+      "5 applied and running but not persisted (config file write failed)")
     I(17, PFD_T_U16, F_CADDR, "commit_err_addr", "",
       "holding address of the staged parameter that made the last commit fail; 65535 none")
     I(18, PFD_T_U16, F_CPARAM, "commit_err_param", "",
@@ -280,7 +284,7 @@ static double field_value(const pfd_reg *r, const pfd_view *v)
     case F_CRESULT: return in->commit_result;
     case F_CADDR: return in->err_addr;
     case F_CPARAM: return in->err_param;
-    case F_COMMITS: return in->commits;
+    case F_COMMITS: return in->gen & 0xFFFFu; /* one per accepted commit */
     case F_SAMPLES: return s->samples;
     case F_OVERRUNS: return s->overruns;
     case F_JLAST: return s->jit_last_us;
@@ -482,13 +486,17 @@ void pfd_regmap_print_md(FILE *f)
 "  `-B`). `u32`: likewise, high word first. `i16`: two's complement.\n"
 "- Function codes: 03 read holding, 04 read input, 06 write one, 16 write\n"
 "  many, 23 write-and-read. Anything else: exception 01.\n"
-"- Exceptions: 01 writes in read-only mode, staged parameters or commit while\n"
-"  `param_lock` = 1, `tick` with the internal clock; 02 an address that is\n"
-"  not in the table, a write to a read-only register or to half of a\n"
-"  32-bit field; 03 a count out of range (reads 1..125, writes 1..123,\n"
-"  FC23 1..121), a value out of range, NaN or infinity, a refused commit;\n"
-"  06 a commit while no parameter slot is free. A request that gets an\n"
-"  exception changes nothing.\n"
+"- Exceptions: 01 writes in read-only mode, staged parameters, commit or\n"
+"  `command` 1 while `param_lock` = 1, `tick` with the internal clock; 02 an\n"
+"  address that is not in the table, a write to a read-only register or to\n"
+"  half of a 32-bit field; 03 a count out of range (reads 1..125, writes\n"
+"  1..123, FC23 1..121), a value out of range, NaN or infinity, a refused\n"
+"  commit; 04 a commit that was applied but could not be persisted\n"
+"  (`commit_result` 5), or an unexpected library error (`commit_result` 4);\n"
+"  06 a commit while no parameter slot is free (only if the loop stalls\n"
+"  mid-switch for 10 ms); 0B an unknown unit id. A request that gets an\n"
+"  exception changes nothing, except 04 with `commit_result` 5: that set\n"
+"  runs.\n"
 "- A multi-register write is validated whole, then applied together;\n"
 "  `commit`, `command` and `tick` act after the data registers of the same\n"
 "  request, in that order.\n"

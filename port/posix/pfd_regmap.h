@@ -33,13 +33,6 @@ enum pfd_access { PFD_R = 0, PFD_RW, PFD_W };
 #define PFD_HOLD_SIZE 66
 #define PFD_INPUT_SIZE 78
 
-/* Addresses the server and tests refer to by name. */
-#define PFD_H_E 0
-#define PFD_H_COMMIT 17
-#define PFD_H_COMMAND 18
-#define PFD_H_TICK 19
-#define PFD_H_STAGED 20 /* first staged parameter (config) */
-
 typedef struct pfd_reg {
     uint8_t space, type, access, flags;
     uint16_t addr;

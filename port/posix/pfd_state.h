@@ -36,7 +36,6 @@ typedef struct pfd_live {
 } pfd_live;
 
 /* pfd_snap.flags */
-#define PFD_SNAP_RUNNING 0x1u
 #define PFD_SNAP_TRIPPED 0x2u
 #define PFD_SNAP_MANUAL 0x4u
 #define PFD_SNAP_TRANSFER 0x8u
@@ -47,7 +46,7 @@ typedef struct pfd_snap {
     float e_used;
     uint16_t flags;
     uint32_t samples, overruns, jit_last_us, jit_max_us, wd_trips;
-    uint32_t applied;     /**< parameter sets the loop has switched in */
+    uint32_t gen;         /**< generation of the parameter set that ran */
 } pfd_snap;
 
 /* slot_state values */
@@ -89,8 +88,13 @@ typedef struct pfd_inst {
     /* Modbus side, under pfd_daemon.regs_mx */
     pfd_hold hold;
     pfd_iparams committed;
-    uint16_t commit_result, err_addr, err_param, commits;
-    uint32_t published;   /* parameter sets handed to the loop */
+    uint16_t commit_result, err_addr, err_param;
+    /* Generation of the last set handed to the loop; every accepted commit
+     * adds one, so it is also the commit count. The status compares it
+     * with the generation the loop last ran: a count of sets published
+     * and a count of sets switched in would disagree for ever once a
+     * commit replaced a pending one that the loop never took. */
+    uint32_t gen;
 } pfd_inst;
 
 /* commit_result values */
@@ -98,8 +102,10 @@ enum {
     PFD_COMMIT_OK = 0,
     PFD_COMMIT_INVALID = 1, /**< a parameter is invalid: err_addr/err_param */
     PFD_COMMIT_SCALE = 2,   /**< q15: a coefficient does not fit; change in_fs/out_fs */
-    PFD_COMMIT_BUSY = 3,    /**< no free slot (a commit is being switched in) */
-    PFD_COMMIT_FAILED = 4   /**< any other library error */
+    PFD_COMMIT_BUSY = 3,    /**< no free slot (the loop is mid-switch) */
+    PFD_COMMIT_FAILED = 4,  /**< any other library error */
+    PFD_COMMIT_UNSAVED = 5  /**< applied and running, but the config file
+                                 could not be written */
 };
 
 /** Daemon-wide settings (config file [daemon] section, then the CLI). */

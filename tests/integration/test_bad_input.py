@@ -143,12 +143,52 @@ def test_param_lock_register(lockstep):
     before = state(c)
     assert exception_code(raw.request(1, fc16(REG["q"][1], f32(0.5)))) == 1
     assert exception_code(raw.request(1, fc06(REG["commit"][1], 1))) == 1
+    # Discarding the staged set writes staged registers: refused alike.
+    assert exception_code(raw.request(1, fc06(REG["command"][1], 1))) == 1
     assert state(c) == before
     r.write("e", 0.25)  # live registers stay writable
     r.write("param_lock", 0)
     r.write("q", 0.5)
     r.write("commit", 1)
     assert abs(r.read("committed_q") - 0.5) < 1e-7
+
+
+def test_param_lock_keeps_staged_changes(lockstep):
+    """Staged, then locked: command 1 must not discard the staged set."""
+    _, c, raw = lockstep
+    r = Regs(c)
+    r.write("q", 0.5)
+    r.write("param_lock", 1)
+    assert exception_code(raw.request(1, fc06(REG["command"][1], 1))) == 1
+    assert abs(r.read("q") - 0.5) < 1e-7
+    assert r.read("status") & (1 << 7)  # staged still differs
+
+
+def fc23(raddr, rcount, waddr, values):
+    return struct.pack(">BHHHHB", 23, raddr, rcount, waddr, len(values),
+                       2 * len(values)) + b"".join(struct.pack(">H", v) for v in values)
+
+
+def test_fc23_reads_what_fc03_reads(lockstep):
+    """FC23 reads after its write, and what it reads is the register
+    image: action registers read 0 even in the range just written, and an
+    int16 mirror reads its rendered value."""
+    _, c, raw = lockstep
+    samples = Regs(c).read("samples")
+    rsp = raw.request(1, fc23(REG["command"][1], 2, REG["tick"][1], [7]))
+    assert exception_code(rsp) is None, rsp.hex()
+    assert struct.unpack(">BB2H", rsp) == (23, 4, 0, 0)
+    assert Regs(c).read("samples") == samples + 7
+    rsp = raw.request(1, fc03(REG["command"][1], 2))
+    assert struct.unpack(">BB2H", rsp) == (3, 4, 0, 0)
+    # The write (e_i16) inside the read range (e .. pv_i16): the answer
+    # must equal a following FC03, not echo the raw value.
+    rsp = raw.request(1, fc23(REG["e"][1], 8, REG["e_i16"][1], [12345]))
+    assert exception_code(rsp) is None
+    assert rsp[2:] == raw.request(1, fc03(REG["e"][1], 8))[2:]
+    # Write and read exactly the same register.
+    rsp = raw.request(1, fc23(REG["tick"][1], 1, REG["tick"][1], [3]))
+    assert struct.unpack(">BBH", rsp) == (23, 2, 0)
 
 
 def test_param_lock_flag_cannot_be_undone(daemon):

@@ -26,7 +26,9 @@ def test_commit_is_bumpless(daemon):
     # A different bellows order: q 0.9 -> 0.7 changes the settled output.
     r.write("q", 0.7)
     r.write("commit", 1)
-    after = run(r, 3000)
+    after = run(r, 1)
+    assert r.read("status") & (1 << 10)  # the transfer offset is running
+    after += run(r, 2999)
     first_step = abs(after[0] - before[-1])
     assert first_step <= normal, (first_step, normal)
     assert r.read("committed_q") == r.read("q")
@@ -35,8 +37,12 @@ def test_commit_is_bumpless(daemon):
     jump = abs(after[-1] - before[-1])
     steps = [abs(b - a) for a, b in zip(after, after[1:])]
     assert max(steps) < 0.05 * jump + normal, (max(steps), jump)
-    # After 3 time constants (bump_tau 1 s = 1000 samples) most is gone.
     assert not (r.read("status") & (1 << 8))  # switched in
+    # bump_tau 1 s = 1000 samples: 30 more time constants take the offset
+    # (e^-30 of the jump) below the daemon's cut-off of 1e-9 out_fs, so
+    # the transfer must be over (status bit 10).
+    r.tick(30000)
+    assert not (r.read("status") & (1 << 10))
 
 
 def test_commit_without_bleed_jumps(daemon):

@@ -78,3 +78,55 @@ def test_committed_configuration_matches_simulate(daemon, config, arith, out_fs)
              if arith == "q15" else ["--arith", "float"])
     ref = simulate("--config", config, "--fs", "2000", "--duration", "0.15", *sets, *extra)
     assert_matches_simulate(r, ref, arith)
+
+
+@pytest.mark.parametrize("arith", ["float", "q15"])
+def test_refused_commit_keeps_the_pending_one(daemon, arith):
+    """Commit A, then a refused commit B before the loop has taken A (no
+    tick between): A must still be switched in at the next sample, as
+    `committed_*` and the config file say."""
+    d = daemon("--clock", "external")
+    r = Regs(d.client())
+    resp = r.write_many([("config", 3), ("arith", 1 if arith == "q15" else 0),
+                         ("fs", 2000.0), ("in_fs", 1.0), ("out_fs", 16.0)])
+    assert not resp.isError(), resp
+    sets = []
+    for name, value in paper_defaults("pid").items():
+        as_f32 = struct.unpack(">f", struct.pack(">f", value))[0]
+        r.write(name, as_f32)
+        sets += ["--set", f"{name}={as_f32!r}"]
+    r.write("commit", 1)  # A: pending until the next tick
+    assert r.read("status") & (1 << 8)
+    # B: each value in range, the set is not (pmin > pmax).
+    assert not r.write_many([("pmin", 50.0), ("pmax", 2.0)]).isError()
+    resp = r.write_raw("commit", 1)
+    assert resp.isError() and resp.exception_code == 3, resp
+    assert r.read("commit_result") == 1
+    assert r.read("committed_config") == 3
+    r.tick(1)  # A switched in here, at rest
+    assert not r.read("status") & (1 << 8)
+    extra = (["--arith", "q15", "--in-fs", "1", "--out-fs", "16.0"]
+             if arith == "q15" else ["--arith", "float"])
+    ref = simulate("--config", "pid", "--fs", "2000", "--duration", "0.15", *sets, *extra)
+    assert_matches_simulate(r, ref, arith)
+
+
+def test_replaced_pending_commit_clears_bit8(daemon):
+    """Two commits without a sample between: the second replaces the first
+    before the loop takes it. Status bit 8 (commit not yet switched in)
+    must clear once the loop runs the second, and `commits` counts both."""
+    d = daemon("--clock", "external")
+    r = Regs(d.client())
+    r.write("e", 1.0)
+    r.tick(10)
+    r.write("k2", 0.2)
+    r.write("commit", 1)
+    r.write("k2", 0.3)
+    r.write("commit", 1)
+    assert r.read("status") & (1 << 8)
+    assert r.read("commits") == 2
+    r.tick(1)
+    assert not r.read("status") & (1 << 8)
+    r.tick(100)
+    assert not r.read("status") & (1 << 8)
+    assert r.read("committed_k2") == struct.unpack(">f", struct.pack(">f", 0.3))[0]
