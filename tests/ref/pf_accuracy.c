@@ -33,8 +33,8 @@ void pf_acc_ref_free(pf_acc_ref *r)
     r->y = NULL;
 }
 
-double pf_acc_error(const pf_acc_ref *r, const pf_design_opts *o,
-                    pf_acc_arith arith, double *t_worst)
+int pf_acc_run(const pf_params *p, const pf_design_opts *o, pf_acc_arith arith,
+               double out_fs, long n_last, pf_acc_sink fn, void *ctx)
 {
     /* static: a design is a few KB; the accuracy tools are single-threaded */
     static pf_ctrl_design d;
@@ -43,21 +43,19 @@ double pf_acc_error(const pf_acc_ref *r, const pf_design_opts *o,
     static pf_ctrl_f32 c32;
     static pf_ctrl_coeffs_q15 cq;
     static pf_ctrl_q15 cq15;
-    const double in_fs = 2.0, out_fs = 1.25 * r->peak;
-    double worst = 0.0;
     long n;
 
-    if (pf_ctrl_design_make(&d, &r->p, NULL, o) != PF_OK)
-        return -1.0;
+    if (pf_ctrl_design_make(&d, p, NULL, o) != PF_OK)
+        return -1;
     pf_ctrl_init_f64(&c64, &d.rt, NULL, 0);
     pf_ctrl_coeffs_f32_make(&cf, &d.rt);
     pf_ctrl_init_f32(&c32, &cf, NULL, 0);
     if (arith == PF_ACC_Q15) {
-        if (pf_ctrl_coeffs_q15_make(&cq, &d, in_fs, out_fs) != PF_OK)
-            return -1.0;
+        if (pf_ctrl_coeffs_q15_make(&cq, &d, 2.0, out_fs) != PF_OK)
+            return -1;
         pf_ctrl_init_q15(&cq15, &cq, NULL, 0);
     }
-    for (n = 0; n <= r->n1; n++) {
+    for (n = 0; n <= n_last; n++) {
         double y;
         if (arith == PF_ACC_F64)
             y = pf_ctrl_step_f64(&c64, 1.0);
@@ -65,11 +63,33 @@ double pf_acc_error(const pf_acc_ref *r, const pf_design_opts *o,
             y = pf_ctrl_step_f32(&c32, 1.0f);
         else /* a unit step is half of in_fs = 2: Q15 16384 exactly */
             y = pf_ctrl_step_q15(&cq15, 16384) * out_fs / 32768.0;
-        if (n >= r->n0 && fabs(y - r->y[n - r->n0]) > worst) {
-            worst = fabs(y - r->y[n - r->n0]);
-            if (t_worst != NULL)
-                *t_worst = n / r->fs;
-        }
+        fn(ctx, n, y);
     }
-    return worst / r->peak;
+    return 0;
+}
+
+typedef struct err_ctx {
+    const pf_acc_ref *r;
+    double worst, t_worst;
+} err_ctx;
+
+static void track_error(void *ctx, long n, double y)
+{
+    err_ctx *e = ctx;
+    if (n >= e->r->n0 && fabs(y - e->r->y[n - e->r->n0]) > e->worst) {
+        e->worst = fabs(y - e->r->y[n - e->r->n0]);
+        e->t_worst = n / e->r->fs;
+    }
+}
+
+double pf_acc_error(const pf_acc_ref *r, const pf_design_opts *o,
+                    pf_acc_arith arith, double *t_worst)
+{
+    err_ctx e = {NULL, 0.0, 0.0};
+    e.r = r;
+    if (pf_acc_run(&r->p, o, arith, 1.25 * r->peak, r->n1, track_error, &e) != 0)
+        return -1.0;
+    if (t_worst != NULL)
+        *t_worst = e.t_worst;
+    return e.worst / r->peak;
 }

@@ -26,6 +26,16 @@ int pf_acc_ref_make(pf_acc_ref *r, const pf_params *p, double fs, double t0,
                     double t1);
 void pf_acc_ref_free(pf_acc_ref *r);
 
+/** Receives every output sample of a run (physical units). */
+typedef void (*pf_acc_sink)(void *ctx, long n, double y);
+
+/** The unit-step response of @p p designed with @p o, samples 0..n_last,
+ *  in the given arithmetic, each passed to @p fn. Q15 runs a half-scale
+ *  step (in_fs = 2: Q15 16384) and converts back with @p out_fs.
+ *  @return 0, or -1 if the design or the Q15 coefficients are refused. */
+int pf_acc_run(const pf_params *p, const pf_design_opts *o, pf_acc_arith arith,
+               double out_fs, long n_last, pf_acc_sink fn, void *ctx);
+
 /** Max |y - exact| over the window relative to the peak, for the design
  *  options @p o (o->fs must equal r->fs) in the given arithmetic. Q15 runs
  *  a half-scale step (in_fs = 2) with out_fs = 1.25 x peak. Returns a

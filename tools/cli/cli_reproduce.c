@@ -18,6 +18,7 @@
 
 #include "pneufrac/pneufrac.h"
 #include "cli_args.h"
+#include "pf_accuracy.h"
 #include "pf_ref.h"
 
 #define T_END 10.0
@@ -77,59 +78,43 @@ static int time_grid(double fs, long *n)
     return m;
 }
 
+/* Records a run at the grid's samples. */
+typedef struct grid_ctx {
+    const long *n;
+    double *y;
+    int i;
+} grid_ctx;
+
+static void record_grid(void *ctx, long s, double v)
+{
+    grid_ctx *g = ctx;
+    if (s == g->n[g->i])
+        g->y[g->i++] = v;
+}
+
 /* One run in float or Q15 (q15 != 0), recorded at the grid's samples. */
 static int simulate(const pf_params *p, const pf_design_opts *o, int q15,
                     double out_fs, const long *n, int nt, double *y)
 {
-    static pf_ctrl_design d;
-    static pf_ctrl_coeffs_f32 cf;
-    static pf_ctrl_f32 c32;
-    static pf_ctrl_coeffs_q15 cq;
-    static pf_ctrl_q15 cq15;
-    long s;
-    int i = 0;
-    if (pf_ctrl_design_make(&d, p, NULL, o) != PF_OK)
-        return -1;
-    if (q15) {
-        if (pf_ctrl_coeffs_q15_make(&cq, &d, 2.0, out_fs) != PF_OK)
-            return -1;
-        pf_ctrl_init_q15(&cq15, &cq, NULL, 0);
-    } else {
-        pf_ctrl_coeffs_f32_make(&cf, &d.rt);
-        pf_ctrl_init_f32(&c32, &cf, NULL, 0);
-    }
-    for (s = 0; s <= n[nt - 1]; s++) {
-        /* a unit step is half of in_fs = 2: Q15 16384 */
-        double v = q15 ? pf_ctrl_step_q15(&cq15, 16384) * out_fs / 32768.0
-                       : pf_ctrl_step_f32(&c32, 1.0f);
-        if (s == n[i])
-            y[i++] = v;
-    }
-    return 0;
+    grid_ctx g = {NULL, NULL, 0};
+    g.n = n;
+    g.y = y;
+    return pf_acc_run(p, o, q15 ? PF_ACC_Q15 : PF_ACC_F32, out_fs, n[nt - 1], record_grid, &g);
 }
 
 /* The toolbox default the paper's Simulink blocks likely used, in double. */
 static int simulate_toolbox(const pf_params *p, double fs, const long *n, int nt,
                             double *y)
 {
-    static pf_ctrl_design d;
-    static pf_ctrl_f64 c;
+    grid_ctx g = {NULL, NULL, 0};
     pf_design_opts o;
-    long s;
-    int i = 0;
     pf_design_opts_default(&o, fs);
     o.wb = 1e-3;
     o.wh = 1e3;
     o.order = 5;
-    if (pf_ctrl_design_make(&d, p, NULL, &o) != PF_OK)
-        return -1;
-    pf_ctrl_init_f64(&c, &d.rt, NULL, 0);
-    for (s = 0; s <= n[nt - 1]; s++) {
-        double v = pf_ctrl_step_f64(&c, 1.0);
-        if (s == n[i])
-            y[i++] = v;
-    }
-    return 0;
+    g.n = n;
+    g.y = y;
+    return pf_acc_run(p, &o, PF_ACC_F64, 1.0, n[nt - 1], record_grid, &g);
 }
 
 static int write_steps(const char *dir, const char *file, const series *cs,
