@@ -62,7 +62,7 @@ def _parser():
                    help=f"worker processes, 1..{MAX_JOBS} (default 2)")
     d.add_argument("--oversample", type=int, default=2,
                    help="simulate at this multiple of the data rate (default 2)")
-    d.add_argument("--order", type=int, default=5, help="Oustaloup order N (default 5)")
+    d.add_argument("--order", type=int, default=8, help="Oustaloup order N (default 8)")
     d.add_argument("--seed", type=int, default=0, help="seed of the fresh starts")
     d.add_argument("--quiet", action="store_true", help="no progress on stderr")
     g = sub.add_parser("generate", help="synthetic bump test with a hidden effect")

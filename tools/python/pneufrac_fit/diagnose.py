@@ -323,7 +323,7 @@ def noise_estimate(y: np.ndarray, e: np.ndarray) -> float:
     return 1.4826 * mad / math.sqrt(6.0)
 
 
-def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 5,
+def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
              oversample: int = 2, jobs: int | None = None, progress: bool = True,
              seed: int = 0) -> Diagnosis:
     t0 = time.monotonic()

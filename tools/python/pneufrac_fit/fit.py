@@ -43,7 +43,7 @@ class Problem:
         return int(SPLIT * self.e.size)
 
     @classmethod
-    def from_record(cls, rec, config, fixed=None, order=5, oversample=1, progress=None):
+    def from_record(cls, rec, config, fixed=None, order=8, oversample=1, progress=None):
         e = rec.e - rec.e0
         y = rec.pc - rec.pc0
         setup = model.Setup(config, rec.fs, rec.n / rec.fs, order, oversample)

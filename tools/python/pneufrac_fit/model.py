@@ -144,7 +144,7 @@ class Setup:
     config: str
     fs: float
     duration: float
-    order: int = 5
+    order: int = 8
     oversample: int = 1
 
     def bounds(self, name: str) -> tuple[float, float]:
