@@ -22,6 +22,9 @@ apt_packages=(
 )
 # Each of these imports under its own PyPI name.
 python_packages=(numpy scipy matplotlib pymodbus pytest)
+# pip requirements: the README's pymodbus example and the integration tests
+# use the 3.x client API (device_id=, convert_to_registers), tested with 3.16.
+pip_specs=(numpy scipy matplotlib "pymodbus>=3.16,<4" pytest)
 
 # --- 1. Debian packages ------------------------------------------------------
 missing=()
@@ -59,12 +62,12 @@ if ! "$venv_python" -c 'import sys' >/dev/null 2>&1; then
   python3 -m venv .venv
 fi
 
-import_check="import $(IFS=,; echo "${python_packages[*]}")"
+import_check="import $(IFS=,; echo "${python_packages[*]}"); v = tuple(int(x) for x in pymodbus.__version__.split('.')[:2]); assert (3, 16) <= v < (4, 0)"
 if "$venv_python" -c "$import_check" >/dev/null 2>&1; then
   log "Python packages: all present"
 else
   log "installing Python packages: ${python_packages[*]}"
-  "$venv_python" -m pip install --quiet "${python_packages[@]}"
+  "$venv_python" -m pip install --quiet "${pip_specs[@]}"
 fi
 
 # The analysis package (tools/python), editable: it loads build/lib/libpneufrac.so.
