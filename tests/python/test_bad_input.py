@@ -253,3 +253,30 @@ def test_broken_pipe_is_quiet():
     pr.stderr.close()
     assert first.startswith(b"#")
     assert rc == 0 and err == "", err
+
+
+@pytest.mark.parametrize("cmd", ["generate", "diagnose"])
+@pytest.mark.parametrize("seed,msg", [("-1", "-1 is outside"), ("1.5", "not an integer"),
+                                      ("abc", "not an integer"),
+                                      (str(2**64), "is outside")])
+def test_bad_seed(tmp_path, capsys, monkeypatch, cmd, seed, msg):
+    """Issue 12, F5: --seed -1 ended in a traceback from numpy."""
+    _no_fit(monkeypatch)
+    if cmd == "generate":
+        argv = GEN + ["--seed", seed]
+    else:
+        t, e, pc = _good()
+        argv = ["diagnose", _write(tmp_path / "ok.csv", t, e, pc), "--config", "p",
+                "--seed", seed]
+    with pytest.raises(SystemExit) as ex:
+        cli.main(argv)
+    err = capsys.readouterr().err
+    assert ex.value.code == 2
+    _one_line(2, err, "argument --seed:")
+    assert msg in err, err
+
+
+def test_largest_seed_is_accepted(capsys):
+    rc = cli.main(GEN + ["--seed", str(cli.MAX_SEED)])
+    out = capsys.readouterr().out
+    assert rc == 0 and out.startswith("#")

@@ -30,6 +30,7 @@ MAX_FS = 1e6
 MAX_N = 10_000_000
 MAX_NOISE = 1.0
 LIB_FS_MAX = 1e7       # PF_FS_MAX of the library
+MAX_SEED = 2**63 - 1   # numpy's generators take any non-negative integer
 
 
 class UsageError(Exception):
@@ -40,6 +41,18 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message):
         print(f"pneufrac-fit: error: {message}", file=sys.stderr)
         sys.exit(EXIT_USAGE)
+
+
+def _seed(text: str) -> int:
+    """A seed for numpy's generators: a non-negative integer (a negative one
+    used to end in a traceback from numpy)."""
+    try:
+        v = int(text, 10)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not an integer") from None
+    if not 0 <= v <= MAX_SEED:
+        raise argparse.ArgumentTypeError(f"{v} is outside [0, {MAX_SEED}]")
+    return v
 
 
 def _parser():
@@ -63,7 +76,8 @@ def _parser():
     d.add_argument("--oversample", type=int, default=2,
                    help="simulate at this multiple of the data rate (default 2)")
     d.add_argument("--order", type=int, default=8, help="Oustaloup order N (default 8)")
-    d.add_argument("--seed", type=int, default=0, help="seed of the fresh starts")
+    d.add_argument("--seed", type=_seed, default=0,
+                   help="seed of the fresh starts (a non-negative integer)")
     d.add_argument("--quiet", action="store_true", help="no progress on stderr")
     g = sub.add_parser("generate", help="synthetic bump test with a hidden effect")
     g.add_argument("--config", required=True, choices=["p", "dd", "id", "pid"])
@@ -77,7 +91,8 @@ def _parser():
                    help="noise sd as a fraction of the output span, 0..1 (default 0.002)")
     g.add_argument("--oversample", type=int, default=4,
                    help="internal rate multiple (default 4)")
-    g.add_argument("--seed", type=int, default=1)
+    g.add_argument("--seed", type=_seed, default=1,
+                   help="seed of the input and the noise (a non-negative integer)")
     g.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="paper parameter of the simulated plant (e.g. tau=0.002)")
     g.add_argument("-o", "--output", help="CSV file (default stdout)")
