@@ -37,8 +37,14 @@ def _run(capsys, argv):
 def _case(tmp_path, name):
     t, e, pc = _good()
     header = "t,e,pc"
-    if name == "non-uniform":
-        t = t.copy(); t[500:] += 0.0004
+    if name == "non-uniform":           # the second half at 1.3x the period
+        t = t.copy(); t[500:] = t[500] + 1.3 * (t[500:] - t[500])
+    elif name == "short-step":          # a stamp a tenth of a period after the last
+        t = t.copy(); t[300] = t[299] + 0.0001
+    elif name == "gaps-everywhere":     # a gap every 150 samples: no stretch of 200
+        t = t.copy()
+        for k in range(150, t.size, 150):
+            t[k:] += 0.01
     elif name == "non-monotonic":
         t = t.copy(); t[300], t[301] = t[301], t[300]
     elif name == "repeated-time":
@@ -66,6 +72,8 @@ def _case(tmp_path, name):
 
 CASES = {
     "non-uniform": "non-uniform sampling",
+    "short-step": "under half the typical step",
+    "gaps-everywhere": "gaps in the record",
     "non-monotonic": "not strictly increasing",
     "repeated-time": "not strictly increasing",
     "nan": "NaN",

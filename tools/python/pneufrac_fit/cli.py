@@ -2,7 +2,7 @@
 """pneufrac-fit: diagnose measured data against the paper's model.
 
     pneufrac-fit diagnose DATA.csv --config {p,dd,id,pid} [--fix NAME=VALUE ...]
-                 [--e0 E --pc0 P] [--out DIR] [--json]
+                 [--columns t=NAME,e=NAME,pc=NAME] [--e0 E --pc0 P] [--out DIR] [--json]
     pneufrac-fit generate --config CFG [--effect NAME:K=V[,K=V]] [--n N] [--fs HZ]
                  [--noise F] [--seed S] [--set NAME=VALUE ...] [-o FILE.csv]
 
@@ -60,6 +60,9 @@ def _parser():
     sub = p.add_subparsers(dest="cmd", required=True, parser_class=_Parser)
     d = sub.add_parser("diagnose", help="fit, show what is wrong, name the cause, extend")
     d.add_argument("data", help="CSV with header t,e,pc (# comments allowed)")
+    d.add_argument("--columns", default=None, metavar="t=NAME,e=NAME,pc=NAME",
+                   help="header names of the time, input and output columns "
+                        "(case-insensitive; default t,e,pc)")
     d.add_argument("--config", required=True, choices=["p", "dd", "id", "pid"])
     d.add_argument("--fix", action="append", default=[], metavar="NAME=VALUE",
                    help="hold a group at a value (K, L, tau, rho, beta, q, RC, nu, w, "
@@ -68,13 +71,14 @@ def _parser():
     d.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     d.add_argument("--e0", type=float, default=None,
                    help="operating point of the input (with --pc0; default: the "
-                        "record's opening rest stretch)")
+                        "record's opening rest stretch, or estimated in the fit)")
     d.add_argument("--pc0", type=float, default=None,
                    help="operating point of the output (with --e0)")
     d.add_argument("--jobs", type=int, default=None,
                    help=f"worker processes, 1..{MAX_JOBS} (default 2)")
-    d.add_argument("--oversample", type=int, default=2,
-                   help="simulate at this multiple of the data rate (default 2)")
+    d.add_argument("--oversample", type=int, default=None,
+                   help="simulate at this multiple of the data rate (default: the "
+                        "smallest that reaches 2 kHz)")
     d.add_argument("--order", type=int, default=8, help="Oustaloup order N (default 8)")
     d.add_argument("--seed", type=_seed, default=0,
                    help="seed of the fresh starts (a non-negative integer)")
@@ -183,7 +187,7 @@ def _out_dir(path: str) -> Path:
 def cmd_diagnose(a) -> int:
     from . import data, diagnose, output
     fixes = parse_fixes(a.fix, a.config)
-    if a.oversample < 1 or a.oversample > 16:
+    if a.oversample is not None and not 1 <= a.oversample <= 16:
         raise UsageError("--oversample must be in [1, 16]")
     if not 1 <= a.order <= 8:
         raise UsageError("--order must be in [1, 8]")
@@ -194,7 +198,8 @@ def cmd_diagnose(a) -> int:
         if v is not None and not math.isfinite(v):
             raise UsageError(f"{name} must be finite")
     jobs = None if a.jobs is None else min(max(a.jobs, 1), MAX_JOBS)
-    rec = data.read_csv(a.data)
+    cols = data.parse_columns(a.columns) if a.columns is not None else None
+    rec = data.read_csv(a.data, cols)
     if a.e0 is not None:
         data.set_operating_point(rec, a.e0, a.pc0)
     out = _out_dir(a.out) if a.out else None      # before the (long) fit
@@ -211,7 +216,7 @@ def cmd_diagnose(a) -> int:
     if a.json:
         print(output.to_json(d))
     elif out is None:
-        print(f"cause: {d.cause}")
+        print("causes: " + (", ".join(d.causes) if d.causes else "none"))
         for s in d.why:
             print(f"  {s}")
     return 0
