@@ -29,8 +29,8 @@
 
 #include "pneufrac/pneufrac.h"
 /* soft checks: print the first few offending samples, then fail once */
-#define PF_SOFT_MAX_PRINT 8
-#include "pf_test_util.h"
+#define SOFT_MAX_PRINT 8
+#include "test_util.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846

@@ -45,7 +45,7 @@
 #include <string.h>
 
 #include "pneufrac/pneufrac.h"
-#include "pf_test_util.h"
+#include "test_util.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846

@@ -2,7 +2,7 @@
 /*
  * "pneufrac reproduce --out DIR": the paper's Figs. 8-10 (step responses of
  * Examples 4, 6 and 7) run in float and Q15 beside the exact response (the
- * tests' Talbot inverse Laplace, tests/ref/pf_ref.c, which knows nothing of
+ * host library's Talbot inverse Laplace, tools/host/pfh_ref.c, which knows nothing of
  * Oustaloup), and the frequency responses of the Oustaloup and refined
  * approximants of s^beta, s^q and s^nu against the ideal. CSV only; the
  * plots are drawn by tools/reproduce/plot.py (scripts/reproduce.sh runs
@@ -18,8 +18,8 @@
 
 #include "pneufrac/pneufrac.h"
 #include "cli_args.h"
-#include "pf_accuracy.h"
-#include "pf_ref.h"
+#include "pfh_accuracy.h"
+#include "pfh_ref.h"
 
 #define T_END 10.0
 #define MAX_T 1200
@@ -99,7 +99,7 @@ static int simulate(const pf_params *p, const pf_design_opts *o, int q15,
     grid_ctx g = {NULL, NULL, 0};
     g.n = n;
     g.y = y;
-    return pf_acc_run(p, o, q15 ? PF_ACC_Q15 : PF_ACC_F32, out_fs, n[nt - 1], record_grid, &g);
+    return pfh_acc_run(p, o, q15 ? PFH_ACC_Q15 : PFH_ACC_F32, out_fs, n[nt - 1], record_grid, &g);
 }
 
 /* The toolbox default the paper's Simulink blocks likely used, in double. */
@@ -114,7 +114,7 @@ static int simulate_toolbox(const pf_params *p, double fs, const long *n, int nt
     o.order = 5;
     g.n = n;
     g.y = y;
-    return pf_acc_run(p, &o, PF_ACC_F64, 1.0, n[nt - 1], record_grid, &g);
+    return pfh_acc_run(p, &o, PFH_ACC_F64, 1.0, n[nt - 1], record_grid, &g);
 }
 
 static int write_steps(const char *dir, const char *file, const series *cs,
@@ -133,7 +133,7 @@ static int write_steps(const char *dir, const char *file, const series *cs,
         double peak = 0.0;
         fprintf(stderr, "[reproduce] %s: %s\n", file, cs[c].name);
         for (i = 0; i < nt; i++) {
-            ex[c][i] = pf_ref_step(&cs[c].p, n[i] / fs);
+            ex[c][i] = pfh_ref_step(&cs[c].p, n[i] / fs);
             if (fabs(ex[c][i]) > peak)
                 peak = fabs(ex[c][i]);
         }
