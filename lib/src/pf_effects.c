@@ -5,6 +5,10 @@
 #include <math.h>
 #include <stddef.h>
 
+#define PF_T double
+#define PF_SFX f64
+#include "pf_effect_ops.h"
+
 #define PF_FX_MAX 1e9
 
 static int nonneg(double v) { return isfinite(v) && v >= 0.0 && v <= PF_FX_MAX; }
@@ -37,5 +41,14 @@ int pf_effects_any(const pf_effects *fx)
                           fx->saturate || fx->dead_time > 0.0 || fx->lag > 0.0);
 }
 
-/* pf_play() and pf_nozzle() are the double instances of the runtime
- * template (pf_ctrl_float.inc), so the curve exists once. */
+/* The double instances of the kernels the runtimes use (pf_effect_ops.h),
+ * so each curve exists once. */
+double pf_play(double prev, double x, double r)
+{
+    return play_f64(prev, x, r);
+}
+
+double pf_nozzle(double x, double xh)
+{
+    return nozzle_f64(x, xh, 1.0 / xh);
+}

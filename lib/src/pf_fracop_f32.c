@@ -10,6 +10,21 @@
 #include "pf_float_ops.h"
 #include "pf_fracop_float.inc"
 
+pf_status pf_fracop_init_f32(pf_fracop_f32 *in, const pf_fracop_coeffs_f32 *c)
+{
+    return fracop_init_f32(in, c);
+}
+
+void pf_fracop_reset_f32(pf_fracop_f32 *in)
+{
+    fracop_reset_f32(in);
+}
+
+float pf_fracop_step_f32(pf_fracop_f32 *in, float u)
+{
+    return fracop_step_f32(in, u);
+}
+
 void pf_fracop_coeffs_f32_make(pf_fracop_coeffs_f32 *cf, const pf_fracop_design *op)
 {
     int k;

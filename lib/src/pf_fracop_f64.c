@@ -9,3 +9,18 @@
 #define PF_BIG 1e300
 #include "pf_float_ops.h"
 #include "pf_fracop_float.inc"
+
+pf_status pf_fracop_init_f64(pf_fracop_f64 *in, const pf_fracop_design *c)
+{
+    return fracop_init_f64(in, c);
+}
+
+void pf_fracop_reset_f64(pf_fracop_f64 *in)
+{
+    fracop_reset_f64(in);
+}
+
+double pf_fracop_step_f64(pf_fracop_f64 *in, double u)
+{
+    return fracop_step_f64(in, u);
+}
