@@ -76,7 +76,7 @@ static int grid(const char *csv_path)
                     o.order = orders[n];
                     for (a = 0; a < 3; a++) {
                         pf_design_opts res;
-                        double e = pfh_acc_error(&ref, &o, (pfh_acc_arith)a, NULL);
+                        double e = pfh_acc_error(&ref, &o, (pf_arith)a, NULL);
                         err[r][b][n][a] = e;
                         if (pf_design_opts_resolve(&o, &res) != PF_OK)
                             res.wb = res.wh = 0.0;
@@ -130,7 +130,7 @@ static void toolbox_example(void)
     for (n = 0; n <= 10; n++) /* t = 1 ms is sample 10 */
         y = pf_ctrl_step_f64(&c, 1.0);
     ex = ref.y[0];
-    worst = pfh_acc_error(&ref, &o, PFH_ACC_F64, NULL);
+    worst = pfh_acc_error(&ref, &o, PF_ARITH_F64, NULL);
     printf("toolbox band [1e-3, 1e3] rad/s, N = 5, 10 kHz, Example 4 (beta 0.8, "
            "q 0.9), double: %.2f %% of the local value at t = 1 ms; worst %.2f %% "
            "of the peak over [1 ms, 2 s]\n", 100 * fabs(y - ex) / fabs(ex), 100 * worst);
@@ -165,7 +165,7 @@ int main(int argc, char **argv)
             pf_design_opts_default(&o, rates[r]);
             pf_design_opts_resolve(&o, &res);
             for (a = 0; a < 3; a++) {
-                e[a] = pfh_acc_error(&ref, &o, (pfh_acc_arith)a, NULL);
+                e[a] = pfh_acc_error(&ref, &o, (pf_arith)a, NULL);
                 if (e[a] > worst[r][a])
                     worst[r][a] = e[a];
             }

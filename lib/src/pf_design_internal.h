@@ -6,6 +6,7 @@
 
 #include <complex.h>
 #include "pneufrac/pf_fracop.h"
+#include "pneufrac/pf_param_info.h"
 
 /* Discrete response of an operator at omega rad/s; *frac (if not NULL)
  * receives the fractional part alone (before the integer stages). */

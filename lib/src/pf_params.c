@@ -6,13 +6,11 @@
 #include <stddef.h>
 #include <string.h>
 
-/* Positive parameters live in [PF_PARAM_MIN, PF_PARAM_MAX]: far wider than
- * any physical device in the paper's units, narrow enough that the products
- * formed in the design stay finite in double and in float. */
-#define PF_PARAM_MIN 1e-9
-#define PF_PARAM_MAX 1e9
+#include "pneufrac/pf_param_info.h"
+
 /* Bound on the bellows compliance A/ks, the one ratio of two free
- * parameters that becomes an operator gain. */
+ * parameters that becomes an operator gain (each on its own is bounded by
+ * the parameter table). */
 #define PF_KA_MAX 1e12
 
 void pf_params_default(pf_params *p, pf_config cfg)
@@ -95,23 +93,10 @@ double pf_params_get(const pf_params *p, pf_param_id id)
 
 int pf_param_used(pf_config cfg, pf_param_id id)
 {
-    switch (id) {
-    case PF_P_NU: return cfg == PF_CFG_DD || cfg == PF_CFG_PID;
-    case PF_P_W: return cfg == PF_CFG_ID || cfg == PF_CFG_PID;
-    case PF_P_RC: return cfg == PF_CFG_DD || cfg == PF_CFG_ID;
-    case PF_P_RCD:
-    case PF_P_RCI: return cfg == PF_CFG_PID;
-    default: return id <= PF_P_RCI;
-    }
-}
-
-static int in_range(double v, double lo, int lo_open, double hi)
-{
-    if (!isfinite(v))
+    const pf_param_spec *s = pf_param_info(id);
+    if (s == NULL || (unsigned)cfg >= (unsigned)PF_CFG_COUNT)
         return 0;
-    if (lo_open ? !(v > lo) : !(v >= lo))
-        return 0;
-    return v <= hi;
+    return (s->topologies >> cfg) & 1u;
 }
 
 pf_status pf_params_validate(const pf_params *p)
@@ -119,22 +104,12 @@ pf_status pf_params_validate(const pf_params *p)
     int i;
     if (p == NULL)
         return PF_E_NULL;
-    if ((unsigned)p->config >= (unsigned)PF_CFG_COUNT)
+    if (pf_param_check(PF_P_CONFIG, (double)p->config) != PF_OK)
         return PF_E_PARAM(PF_P_CONFIG);
     for (i = 0; i <= (int)PF_P_RCI; i++) {
         pf_param_id id = (pf_param_id)i;
-        double v = pf_params_get(p, id);
-        int ok;
-        if (!pf_param_used(p->config, id))
-            continue;
-        switch (id) {
-        case PF_P_BETA:
-        case PF_P_NU:
-        case PF_P_W: ok = in_range(v, 0.0, 1, 1.0); break;
-        case PF_P_Q: ok = in_range(v, 0.0, 0, 1.0); break;
-        default: ok = in_range(v, PF_PARAM_MIN, 0, PF_PARAM_MAX); break;
-        }
-        if (!ok)
+        if (pf_param_used(p->config, id) &&
+            pf_param_check(id, pf_params_get(p, id)) != PF_OK)
             return PF_E_PARAM(id);
     }
     /* Psi_max and Psi_min are the maximum and minimum stiffness (eq. 11). */

@@ -42,8 +42,8 @@ static void test_reference_cases_20khz(void **state)
         double e64, e32;
         assert_int_equal(pfh_acc_ref_make(&r, &cases.p[i], FS, 1e-3, 2.0), 0);
         pf_design_opts_default(&o, FS);
-        e64 = pfh_acc_error(&r, &o, PFH_ACC_F64, NULL);
-        e32 = pfh_acc_error(&r, &o, PFH_ACC_F32, NULL);
+        e64 = pfh_acc_error(&r, &o, PF_ARITH_F64, NULL);
+        e32 = pfh_acc_error(&r, &o, PF_ARITH_F32, NULL);
         printf("%-12s  %.4f %%  %.4f %%\n", cases.name[i], 100 * e64, 100 * e32);
         assert_true(e64 >= 0 && e64 <= AIM);
         assert_true(e32 >= 0 && e32 <= AIM);
@@ -68,7 +68,7 @@ static void test_toolbox_band_is_off(void **state)
     o.wb = 1e-3;
     o.wh = 1e3;
     o.order = 5;
-    e = pfh_acc_error(&r, &o, PFH_ACC_F64, NULL);
+    e = pfh_acc_error(&r, &o, PF_ARITH_F64, NULL);
     printf("toolbox band [1e-3, 1e3], N = 5, 10 kHz: %.2f %%\n", 100 * e);
     assert_true(e > 5e-3);
     pfh_acc_ref_free(&r);

@@ -477,6 +477,82 @@ static void test_param_names_roundtrip(void **state)
     END_SOFT();
 }
 
+/* The parameter table (pf_param_info.h): a row per id, the limits the
+ * headers document, and pf_param_check against each row's own bounds. */
+static void test_param_table(void **state)
+{
+    int id;
+    (void)state;
+    EXPECT(pf_param_count() == (int)PF_P_COUNT, "count %d", pf_param_count());
+    EXPECT(pf_param_info(PF_P_COUNT) == NULL, "info(COUNT)");
+    EXPECT(pf_param_info((pf_param_id)-1) == NULL, "info(-1)");
+    EXPECT(pf_param_check(PF_P_COUNT, 1.0) == PF_E_PARAM(PF_P_COUNT), "check(COUNT)");
+    for (id = 0; id < PF_P_COUNT; id++) {
+        const pf_param_spec *s = pf_param_info((pf_param_id)id);
+        double in_lo, in_hi;
+        EXPECT(s != NULL, "id %d has no row", id);
+        if (s == NULL)
+            continue;
+        EXPECT(strcmp(s->name, pname((pf_param_id)id)) == 0, "%s: name", s->name);
+        EXPECT(s->desc[0] != '\0' && s->unit != NULL, "%s: desc/unit", s->name);
+        EXPECT(s->lo < s->hi, "%s: [%g, %g]", s->name, s->lo, s->hi);
+        EXPECT(id <= PF_P_RCI ? s->topologies != 0 : s->topologies == 0,
+               "%s: topologies %#x", s->name, s->topologies);
+        /* the ends: in exactly when closed (a finite one) */
+        EXPECT((pf_param_check((pf_param_id)id, s->lo) == PF_OK) ==
+                   !(s->flags & PF_PARAM_LO_OPEN),
+               "%s: lo %g", s->name, s->lo);
+        if (isfinite(s->hi))
+            EXPECT((pf_param_check((pf_param_id)id, s->hi) == PF_OK) ==
+                       !(s->flags & PF_PARAM_HI_OPEN),
+                   "%s: hi %g", s->name, s->hi);
+        /* just outside: out, with the status naming the parameter */
+        expect_names(pf_param_check((pf_param_id)id, nextafter(s->lo, -INFINITY)),
+                     (pf_param_id)id, "below lo");
+        if (isfinite(s->hi))
+            expect_names(pf_param_check((pf_param_id)id, nextafter(s->hi, INFINITY)),
+                         (pf_param_id)id, "above hi");
+        expect_names(pf_param_check((pf_param_id)id, NAN), (pf_param_id)id, "NaN");
+        expect_names(pf_param_check((pf_param_id)id, INFINITY), (pf_param_id)id, "inf");
+        /* inside: a whole number for integers, not 0 where 0 is out */
+        in_lo = (s->flags & PF_PARAM_INTEGER) ? ceil(s->lo + 0.5)
+                : nextafter(s->lo, INFINITY);
+        if (in_lo == 0.0 && (s->flags & PF_PARAM_NONZERO))
+            in_lo = nextafter(0.0, INFINITY);
+        EXPECT(pf_param_check((pf_param_id)id, in_lo) == PF_OK, "%s: %g", s->name, in_lo);
+        in_hi = isfinite(s->hi) ? s->hi : 1e300;
+        if (s->flags & PF_PARAM_INTEGER) {
+            EXPECT(pf_param_check((pf_param_id)id, s->lo + 0.5) != PF_OK,
+                   "%s: %g is not whole", s->name, s->lo + 0.5);
+        } else if (s->flags & PF_PARAM_HI_OPEN) {
+            in_hi = nextafter(s->hi, -INFINITY);
+        }
+        EXPECT(pf_param_check((pf_param_id)id, in_hi) == PF_OK, "%s: %g", s->name, in_hi);
+        if (s->flags & PF_PARAM_NONZERO)
+            expect_names(pf_param_check((pf_param_id)id, 0.0), (pf_param_id)id, "0");
+    }
+    /* the limits the headers document (pf_params.h, pf_fracop.h,
+     * pf_controller.h) */
+    for (id = PF_P_A; id <= PF_P_RCI; id++) {
+        const pf_param_spec *s = pf_param_info((pf_param_id)id);
+        if (!is_positive_param((pf_param_id)id))
+            continue;
+        EXPECT(s->lo == PARAM_MIN && s->hi == PARAM_MAX && s->flags == 0,
+               "%s: [%g, %g] flags %#x", s->name, s->lo, s->hi, s->flags);
+    }
+    EXPECT(pf_param_info(PF_P_Q)->lo == 0.0 && pf_param_info(PF_P_Q)->flags == 0, "q");
+    EXPECT(pf_param_info(PF_P_BETA)->flags == PF_PARAM_LO_OPEN &&
+               pf_param_info(PF_P_BETA)->hi == 1.0, "beta");
+    EXPECT(pf_param_info(PF_P_GAIN)->hi == GAIN_MAX, "gain");
+    EXPECT(pf_param_info(PF_P_IN_FS)->hi == FULL_SCALE_MAX &&
+               pf_param_info(PF_P_OUT_FS)->hi == FULL_SCALE_MAX, "full scales");
+    EXPECT(pf_param_info(PF_P_ORDER)->hi == PF_MAX_ORDER, "order");
+    EXPECT(pf_param_info(PF_P_CONFIG)->hi == PF_CFG_COUNT - 1, "config");
+    EXPECT(strcmp(pf_param_info(PF_P_FS)->unit, "Hz") == 0 &&
+               strcmp(pf_param_info(PF_P_TAU)->unit, "s") == 0, "units");
+    END_SOFT();
+}
+
 static void test_config_names(void **state)
 {
     static const char *const names[] = {"p", "dd", "id", "pid"};
@@ -1147,6 +1223,7 @@ int main(void)
         cmocka_unit_test_setup(test_validate_config_and_null, setup_soft),
         cmocka_unit_test_setup(test_params_set_get, setup_soft),
         cmocka_unit_test_setup(test_param_names_roundtrip, setup_soft),
+        cmocka_unit_test_setup(test_param_table, setup_soft),
         cmocka_unit_test_setup(test_config_names, setup_soft),
         cmocka_unit_test_setup(test_opts_defaults, setup_soft),
         cmocka_unit_test_setup(test_opts_fs, setup_soft),

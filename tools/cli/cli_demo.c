@@ -159,7 +159,7 @@ int cli_demo_main(int argc, char **argv)
     memset(&run, 0, sizeof run);
     pf_params_default(&run.p, PF_CFG_DD);
     run.opt.fs = DEMO_FS;
-    run.arith = CLI_ARITH_DOUBLE;
+    run.arith = PF_ARITH_F64;
     run.duration = DEMO_DURATION;
     rc = cli_run_design(&run, &d);
     if (rc != CLI_EXIT_OK)

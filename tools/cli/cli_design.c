@@ -117,14 +117,14 @@ static int write_cmsis(const cli_run *run, pf_ctrl_design *d, const char *name,
     double scale = 1.0;
     pf_status st;
     int rc;
-    if (run->arith != CLI_ARITH_DOUBLE &&
-        run->arith != (q15 ? CLI_ARITH_Q15 : CLI_ARITH_FLOAT)) {
+    if (run->arith != PF_ARITH_F64 &&
+        run->arith != (q15 ? PF_ARITH_Q15 : PF_ARITH_F32)) {
         cli_error("--format cmsis-%s takes no --arith %s (the format sets "
                   "the arithmetic)", q15 ? "q15" : "f32",
-                  run->arith == CLI_ARITH_Q15 ? "q15" : "float");
+                  run->arith == PF_ARITH_Q15 ? "q15" : "float");
         return CLI_EXIT_USAGE;
     }
-    if (run->arith == CLI_ARITH_Q15)
+    if (run->arith == PF_ARITH_Q15)
         scale = run->in_fs / run->out_fs;
     if (cli_run_design(run, d) != CLI_EXIT_OK)
         return CLI_EXIT_USAGE;
@@ -170,7 +170,7 @@ int cli_design_main(int argc, char **argv)
         write_json(stdout, &d);
     } else if (strcmp(a.format, "c") == 0) {
         char note[160];
-        if (run.arith == CLI_ARITH_DOUBLE) {
+        if (run.arith == PF_ARITH_F64) {
             cli_error("--format c needs --arith float or q15 (firmware runs "
                       "float or Q15, not double)");
             return CLI_EXIT_USAGE;
@@ -179,7 +179,7 @@ int cli_design_main(int argc, char **argv)
             return CLI_EXIT_USAGE;
         snprintf(note, sizeof note, "config %s, fs = %g Hz, band [%g, %g] rad/s, N = %d",
                  pf_config_name(d.p.config), d.opt.fs, d.opt.wb, d.opt.wh, d.opt.order);
-        if (run.arith == CLI_ARITH_Q15) {
+        if (run.arith == PF_ARITH_Q15) {
             static pf_ctrl_coeffs_q15 cq;
             pf_status st = pf_ctrl_coeffs_q15_make(&cq, &d, run.in_fs, run.out_fs);
             if (st != PF_OK) {

@@ -98,13 +98,8 @@ int cli_opts_parse(int argc, char **argv, const cli_command *cmd, cli_opts *a)
                 return -1;
             break;
         case CLI_OPT_ARITH:
-            if (strcmp(val, "double") == 0) {
-                a->arith = CLI_ARITH_DOUBLE;
-            } else if (strcmp(val, "float") == 0) {
-                a->arith = CLI_ARITH_FLOAT;
-            } else if (strcmp(val, "q15") == 0) {
-                a->arith = CLI_ARITH_Q15;
-            } else {
+            a->arith = pf_arith_lookup(val);
+            if (a->arith == PF_ARITH_COUNT) {
                 cli_error("--arith: unknown arithmetic '%s' (valid: double, "
                           "float, q15)", cli_quote(q, sizeof q, val));
                 return -1;
@@ -212,7 +207,7 @@ int cli_opts_build(const cli_opts *a, const cli_command *cmd, cli_run *run)
                   CLI_MAX_SAMPLES);
         return -1;
     }
-    if (a->arith == CLI_ARITH_Q15) {
+    if (a->arith == PF_ARITH_Q15) {
         if (!(a->seen & CLI_OPT_IN_FS) || !(a->seen & CLI_OPT_OUT_FS)) {
             cli_error("--arith q15 needs --in-fs and --out-fs (the physical "
                       "full scales of e and p_c)");

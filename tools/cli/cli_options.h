@@ -51,7 +51,7 @@ typedef struct cli_opts {
     int order;
     pf_approx approx;
     pf_input_model input_model;
-    cli_arith arith;
+    pf_arith arith;
     const char *input, *format, *name;
     unsigned set_mask;
     double set_val[PF_P_CONFIG];

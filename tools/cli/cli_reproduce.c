@@ -99,7 +99,7 @@ static int simulate(const pf_params *p, const pf_design_opts *o, int q15,
     grid_ctx g = {NULL, NULL, 0};
     g.n = n;
     g.y = y;
-    return pfh_acc_run(p, o, q15 ? PFH_ACC_Q15 : PFH_ACC_F32, out_fs, n[nt - 1], record_grid, &g);
+    return pfh_acc_run(p, o, q15 ? PF_ARITH_Q15 : PF_ARITH_F32, out_fs, n[nt - 1], record_grid, &g);
 }
 
 /* The toolbox default the paper's Simulink blocks likely used, in double. */
@@ -114,7 +114,7 @@ static int simulate_toolbox(const pf_params *p, double fs, const long *n, int nt
     o.order = 5;
     g.n = n;
     g.y = y;
-    return pfh_acc_run(p, &o, PFH_ACC_F64, 1.0, n[nt - 1], record_grid, &g);
+    return pfh_acc_run(p, &o, PF_ARITH_F64, 1.0, n[nt - 1], record_grid, &g);
 }
 
 static int write_steps(const char *dir, const char *file, const series *cs,

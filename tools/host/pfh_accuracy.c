@@ -33,38 +33,21 @@ void pfh_acc_ref_free(pfh_acc_ref *r)
     r->y = NULL;
 }
 
-int pfh_acc_run(const pf_params *p, const pf_design_opts *o, pfh_acc_arith arith,
+int pfh_acc_run(const pf_params *p, const pf_design_opts *o, pf_arith arith,
                double out_fs, long n_last, pfh_acc_sink fn, void *ctx)
 {
     /* static: a design is a few KB; the accuracy tools are single-threaded */
     static pf_ctrl_design d;
-    static pf_ctrl_f64 c64;
-    static pf_ctrl_coeffs_f32 cf;
-    static pf_ctrl_f32 c32;
-    static pf_ctrl_coeffs_q15 cq;
-    static pf_ctrl_q15 cq15;
+    static pf_runtime rt;
     long n;
 
     if (pf_ctrl_design_make(&d, p, NULL, o) != PF_OK)
         return -1;
-    pf_ctrl_init_f64(&c64, &d.rt, NULL, 0);
-    pf_ctrl_coeffs_f32_make(&cf, &d.rt);
-    pf_ctrl_init_f32(&c32, &cf, NULL, 0);
-    if (arith == PFH_ACC_Q15) {
-        if (pf_ctrl_coeffs_q15_make(&cq, &d, 2.0, out_fs) != PF_OK)
-            return -1;
-        pf_ctrl_init_q15(&cq15, &cq, NULL, 0);
-    }
-    for (n = 0; n <= n_last; n++) {
-        double y;
-        if (arith == PFH_ACC_F64)
-            y = pf_ctrl_step_f64(&c64, 1.0);
-        else if (arith == PFH_ACC_F32)
-            y = pf_ctrl_step_f32(&c32, 1.0f);
-        else /* a unit step is half of in_fs = 2: Q15 16384 exactly */
-            y = pf_ctrl_step_q15(&cq15, 16384) * out_fs / 32768.0;
-        fn(ctx, n, y);
-    }
+    /* Q15: a unit step is half of in_fs = 2, Q15 16384 exactly. */
+    if (pf_runtime_init(&rt, &d, arith, 2.0, out_fs, NULL, 0) != PF_OK)
+        return -1;
+    for (n = 0; n <= n_last; n++)
+        fn(ctx, n, pf_runtime_step(&rt, 1.0));
     return 0;
 }
 
@@ -83,7 +66,7 @@ static void track_error(void *ctx, long n, double y)
 }
 
 double pfh_acc_error(const pfh_acc_ref *r, const pf_design_opts *o,
-                    pfh_acc_arith arith, double *t_worst)
+                    pf_arith arith, double *t_worst)
 {
     err_ctx e = {NULL, 0.0, 0.0};
     e.r = r;

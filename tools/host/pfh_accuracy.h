@@ -10,8 +10,6 @@
 
 #include "pneufrac/pneufrac.h"
 
-typedef enum pfh_acc_arith { PFH_ACC_F64, PFH_ACC_F32, PFH_ACC_Q15 } pfh_acc_arith;
-
 /** The exact unit-step response at t = n/fs for n0 <= n <= n1. */
 typedef struct pfh_acc_ref {
     pf_params p;
@@ -34,7 +32,7 @@ typedef void (*pfh_acc_sink)(void *ctx, long n, double y);
  *  in the given arithmetic, each passed to @p fn. Q15 runs a half-scale
  *  step (in_fs = 2: Q15 16384) and converts back with @p out_fs.
  *  @return 0, or -1 if the design or the Q15 coefficients are refused. */
-int pfh_acc_run(const pf_params *p, const pf_design_opts *o, pfh_acc_arith arith,
+int pfh_acc_run(const pf_params *p, const pf_design_opts *o, pf_arith arith,
                double out_fs, long n_last, pfh_acc_sink fn, void *ctx);
 
 /** Max |y - exact| over the window relative to the peak, for the design
@@ -43,6 +41,6 @@ int pfh_acc_run(const pf_params *p, const pf_design_opts *o, pfh_acc_arith arith
  *  negative value if the design or the Q15 coefficients are refused;
  *  *t_worst (if not NULL) receives where the error peaks. */
 double pfh_acc_error(const pfh_acc_ref *r, const pf_design_opts *o,
-                    pfh_acc_arith arith, double *t_worst);
+                    pf_arith arith, double *t_worst);
 
 #endif

@@ -211,7 +211,7 @@ typedef struct pf_ctrl_q15 {
 } pf_ctrl_q15;
 
 /** Derive the Q15 coefficient set. e = in_fs maps to Q15 +1.0 at the input,
- *  p_c = out_fs to +1.0 at the output (both finite, in (0, 1e12]).
+ *  p_c = out_fs to +1.0 at the output (ranges: pf_param_info).
  *  Supports saturation, lag and dead time; backlash, the nozzle curve and
  *  the refined approximation are float/double only (PF_E_UNSUPPORTED).
  *  @return PF_OK, PF_E_PARAM(PF_P_IN_FS | PF_P_OUT_FS), PF_E_UNSUPPORTED,

@@ -24,25 +24,23 @@ typedef enum pf_config {
 } pf_config;
 
 /** Physical parameters. Units are the paper's (consistent, unspecified);
- *  times in seconds. Every positive parameter must lie in [1e-9, 1e9]:
- *  far wider than any device in the paper, narrow enough that the
- *  products the design forms stay finite in float. */
+ *  times in seconds. Ranges, units and descriptions: pf_param_info(). */
 typedef struct pf_params {
     pf_config config;
-    double a, b;      /**< flapper lever arms (eq. 15), > 0 */
-    double k1;        /**< nozzle gain p_b = k1 x (eq. 9), > 0 */
-    double k2;        /**< relay gain p_c = k2 z (eq. 13), > 0 */
-    double A;         /**< bellows effective area (eq. 16), > 0 */
-    double ks;        /**< bellows pseudo-spring constant (eq. 16), > 0 */
-    double tau;       /**< relay time constant tau_new, s, > 0 (eq. 11) */
-    double pmin, pmax;/**< Psi_min <= Psi_max, > 0 (eq. 11) */
-    double beta;      /**< relay diaphragm order, (0, 1] */
-    double q;         /**< bellows order, [0, 1]; 0 is a linear spring */
-    double nu;        /**< derivative restrictor order, (0, 1] (dd, pid) */
-    double w;         /**< reset restrictor order, (0, 1] (id, pid); pid: >= nu */
-    double RC;        /**< restrictor time constant, s, > 0 (dd, id) */
-    double RCd;       /**< pid derivative restrictor, s, > 0, < RCi */
-    double RCi;       /**< pid reset restrictor, s, > RCd */
+    double a, b;      /**< flapper lever arms (eq. 15) */
+    double k1;        /**< nozzle gain p_b = k1 x (eq. 9) */
+    double k2;        /**< relay gain p_c = k2 z (eq. 13) */
+    double A;         /**< bellows effective area (eq. 16) */
+    double ks;        /**< bellows pseudo-spring constant (eq. 16) */
+    double tau;       /**< relay time constant tau_new, s (eq. 11) */
+    double pmin, pmax;/**< Psi_min <= Psi_max (eq. 11) */
+    double beta;      /**< relay diaphragm order */
+    double q;         /**< bellows order; 0 is a linear spring */
+    double nu;        /**< derivative restrictor order (dd, pid) */
+    double w;         /**< reset restrictor order (id, pid); pid: >= nu */
+    double RC;        /**< restrictor time constant, s (dd, id) */
+    double RCd;       /**< pid derivative restrictor, s, < RCi */
+    double RCi;       /**< pid reset restrictor, s */
 } pf_params;
 
 /** Defaults: Example 4 (p, q = 0.9), Example 6 (dd, q = 0.9), Example 7
@@ -50,10 +48,9 @@ typedef struct pf_params {
  *  RCi = 0.1 s (the paper gives none; see docs/pid.md). */
 void pf_params_default(pf_params *p, pf_config cfg);
 
-/** Check every parameter the configuration uses (others are ignored):
- *  finite; positive ones in [1e-9, 1e9]; beta, nu, w in (0, 1]; q in
- *  [0, 1]; pmin <= pmax (else names pmax); A/ks in [1e-12, 1e12] (else
- *  names ks); for pid, nu <= w (else names w: with nu > w the reset
+/** Check the configuration and every parameter it uses (others are
+ *  ignored): each within its range (pf_param_info); then pmin <= pmax
+ *  (else names pmax); A/ks in [1e-12, 1e12] (else names ks); for pid, nu <= w (else names w: with nu > w the reset
  *  restrictor's bellows wins at high frequency and the net feedback turns
  *  positive) and RCd < RCi (else names RCd). See docs/pid.md.
  *  @return PF_OK or PF_E_PARAM(id) naming the first offending parameter. */
@@ -64,7 +61,8 @@ pf_status pf_params_validate(const pf_params *p);
 pf_status pf_params_set(pf_params *p, pf_param_id id, double v);
 double pf_params_get(const pf_params *p, pf_param_id id);
 
-/** @return non-zero if configuration @p cfg uses parameter @p id. */
+/** @return non-zero if configuration @p cfg uses parameter @p id (the
+ *  table's pf_param_spec.topologies); 0 for an unknown cfg or id. */
 int pf_param_used(pf_config cfg, pf_param_id id);
 
 /** @return "p", "dd", "id", "pid", or "?". */

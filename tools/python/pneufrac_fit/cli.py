@@ -109,7 +109,7 @@ def parse_fixes(items, config) -> dict:
                         "k1, k2, a, b, A, ks, pmin enter through K and L, pmax through rho)")
             raise UsageError(f"--fix {k}: not a group of config {config}{hint}; "
                              f"groups: {', '.join(groups)}")
-        tr, lo, hi, _ = model.GROUPS[k]
+        lo, hi = model.group_bounds(k)
         if lo is not None and not lo <= v <= hi:
             raise UsageError(f"--fix {k}={v:g}: outside [{lo:g}, {hi:g}]")
         if lo is None and not v > 0:

@@ -19,9 +19,13 @@ PF_MAX_ORDER = 8
 PF_MAX_SEC = 2 * PF_MAX_ORDER + 3
 PF_MAX_INT = 2
 
-CONFIGS = {"p": 0, "dd": 1, "id": 2, "pid": 3}
-PF_P_COUNT = 35
-PF_E_PARAM_BASE = 100
+
+
+class ParamSpec(C.Structure):
+    """pf_param_spec: one row of the library's parameter table."""
+    _fields_ = [("name", C.c_char_p), ("unit", C.c_char_p), ("desc", C.c_char_p),
+                ("lo", C.c_double), ("hi", C.c_double), ("flags", C.c_uint),
+                ("topologies", C.c_uint)]
 
 
 class Params(C.Structure):
@@ -142,6 +146,18 @@ def load():
     lib.pf_nozzle.restype = C.c_double
     lib.pf_play.argtypes = [C.c_double, C.c_double, C.c_double]
     lib.pf_play.restype = C.c_double
+    lib.pf_param_info.argtypes = [C.c_int]
+    lib.pf_param_info.restype = C.POINTER(ParamSpec)
+    lib.pf_param_count.argtypes = []
+    lib.pf_param_count.restype = C.c_int
+    lib.pf_param_lookup.argtypes = [C.c_char_p]
+    lib.pf_param_lookup.restype = C.c_int
+    lib.pf_param_used.argtypes = [C.c_int, C.c_int]
+    lib.pf_param_used.restype = C.c_int
+    lib.pf_config_name.argtypes = [C.c_int]
+    lib.pf_config_name.restype = C.c_char_p
+    lib.pf_config_lookup.argtypes = [C.c_char_p]
+    lib.pf_config_lookup.restype = C.c_int
     check_layout(lib)
     _lib = lib          # cached only once the mirror is known to match
     return lib
@@ -151,7 +167,7 @@ def _layout_request(lib):
     """A valid design request with a distinct value in every mirrored field,
     so that a field read back from the wrong offset shows."""
     p = Params()
-    lib.pf_params_default(C.byref(p), CONFIGS["dd"])
+    lib.pf_params_default(C.byref(p), lib.pf_config_lookup(b"dd"))
     names = [n for n, _ in Params._fields_[1:]]
     for i, n in enumerate(names):      # shrink each a little, differently
         setattr(p, n, getattr(p, n) * (1.0 - 0.001 * (i + 1)))
@@ -204,15 +220,61 @@ def check_layout(lib) -> None:
 
 def status_message(lib, st: int) -> tuple[str | None, str]:
     pid = lib.pf_status_param(st)
-    name = lib.pf_param_name(pid).decode() if pid < PF_P_COUNT else None
+    name = lib.pf_param_name(pid).decode() if pid < lib.pf_param_count() else None
     text = lib.pf_status_str(st).decode()
     return name, (f"invalid parameter '{name}'" if name else text)
+
+
+class ParamRange:
+    """A parameter's row of the library's table (pf_param_info.h)."""
+
+    def __init__(self, spec: ParamSpec):
+        self.name = spec.name.decode()
+        self.unit = spec.unit.decode()
+        self.desc = spec.desc.decode()
+        self.lo, self.hi = spec.lo, spec.hi
+        self.lo_open = bool(spec.flags & PF_PARAM_LO_OPEN)
+        self.hi_open = bool(spec.flags & PF_PARAM_HI_OPEN)
+
+    def __contains__(self, v: float) -> bool:
+        above = v > self.lo if self.lo_open else v >= self.lo
+        below = v < self.hi if self.hi_open else v <= self.hi
+        return above and below
+
+
+# pf_param_spec.flags (pf_param_info.h)
+PF_PARAM_LO_OPEN = 0x1
+PF_PARAM_HI_OPEN = 0x2
+
+
+def param_range(name: str) -> ParamRange:
+    """The range, unit and description of a library parameter by name."""
+    lib = load()
+    pid = lib.pf_param_lookup(name.encode())
+    if pid >= lib.pf_param_count():
+        raise KeyError(f"the library has no parameter '{name}'")
+    return ParamRange(lib.pf_param_info(pid).contents)
+
+
+def config_id(config: str) -> int:
+    """The library's number of a configuration name ("p", "dd", ...)."""
+    lib = load()
+    cid = lib.pf_config_lookup(config.encode())
+    if lib.pf_config_name(cid) != config.encode():
+        raise KeyError(f"the library has no configuration '{config}'")
+    return cid
+
+
+def param_used(config: str, name: str) -> bool:
+    """Whether configuration @config uses model parameter @name."""
+    lib = load()
+    return bool(lib.pf_param_used(config_id(config), lib.pf_param_lookup(name.encode())))
 
 
 def default_params(config: str) -> dict:
     lib = load()
     p = Params()
-    lib.pf_params_default(C.byref(p), CONFIGS[config])
+    lib.pf_params_default(C.byref(p), config_id(config))
     return {n: getattr(p, n) for n, _ in Params._fields_[1:]}
 
 
@@ -224,7 +286,7 @@ class Controller:
         lib = load()
         self._lib = lib
         p = Params()
-        lib.pf_params_default(C.byref(p), CONFIGS[config])
+        lib.pf_params_default(C.byref(p), config_id(config))
         for k, v in params.items():
             setattr(p, k, float(v))
         fx = Effects()
