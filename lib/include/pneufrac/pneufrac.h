@@ -21,5 +21,6 @@
 #include "pf_controller.h"
 #include "pf_q15.h"
 #include "pf_runtime.h"
+#include "pf_layout.h"
 
 #endif /* PNEUFRAC_H */
