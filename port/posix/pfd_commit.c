@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 #include "pfd_commit.h"
 
+#include <modbus/modbus.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -157,13 +158,6 @@ unsigned pfd_settle_samples(double fs)
     return (unsigned)n;
 }
 
-/* Modbus exception codes pfd_commit() answers with (libmodbus's
- * MODBUS_EXCEPTION_*; this file does not otherwise need modbus.h). */
-#define EXC_ILLEGAL_FUNCTION 1
-#define EXC_ILLEGAL_VALUE 3
-#define EXC_DEVICE_FAILURE 4
-#define EXC_BUSY 6
-
 static int refuse(pfd_daemon *d, pfd_inst *in, uint16_t result, int param)
 {
     pthread_mutex_lock(&d->regs_mx);
@@ -171,9 +165,9 @@ static int refuse(pfd_daemon *d, pfd_inst *in, uint16_t result, int param)
     in->err_param = param == PF_P_COUNT ? 0xFFFFu : (uint16_t)param;
     in->err_addr = param == PF_P_COUNT ? 0xFFFFu : pfd_regmap_staged_addr(param);
     pthread_mutex_unlock(&d->regs_mx);
-    return result == PFD_COMMIT_BUSY     ? EXC_BUSY
-           : result == PFD_COMMIT_FAILED ? EXC_DEVICE_FAILURE
-                                         : EXC_ILLEGAL_VALUE;
+    return result == PFD_COMMIT_BUSY     ? MODBUS_EXCEPTION_SLAVE_OR_SERVER_BUSY
+           : result == PFD_COMMIT_FAILED ? MODBUS_EXCEPTION_SLAVE_OR_SERVER_FAILURE
+                                         : MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
 }
 
 /* Under commit_mx: a slot to build into, neither the loop's active one nor
@@ -249,7 +243,7 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
     if (in->hold.param_lock) {
         pthread_mutex_unlock(&d->regs_mx);
         pthread_mutex_unlock(&d->commit_mx);
-        return EXC_ILLEGAL_FUNCTION;
+        return MODBUS_EXCEPTION_ILLEGAL_FUNCTION;
     }
     pfd_regmap_apply(&in->hold, &in->committed, wl);
     if (wl->live)
@@ -279,7 +273,7 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
         in->commit_result = PFD_COMMIT_UNSAVED;
         pthread_mutex_unlock(&d->regs_mx);
         pthread_mutex_unlock(&d->commit_mx);
-        return EXC_DEVICE_FAILURE;
+        return MODBUS_EXCEPTION_SLAVE_OR_SERVER_FAILURE;
     }
     pthread_mutex_unlock(&d->commit_mx);
     return 0;

@@ -81,7 +81,7 @@ static void fill(reqctx *r, pfd_inst *in, int space)
 }
 
 /* Validated writes: state checks, then data, commit, command, tick.
- * @return 0 done, > 0 exception code, -1 drop the connection. */
+ * @return 0 done, > 0 MODBUS_EXCEPTION_* code, -1 drop the connection. */
 static int execute(reqctx *r, pfd_inst *in, const pfd_wlist *wl)
 {
     pfd_daemon *d = r->d;
@@ -125,14 +125,33 @@ static int execute(reqctx *r, pfd_inst *in, const pfd_wlist *wl)
     return 0;
 }
 
+/* Decode and apply a write of @p cnt registers from @p addr, whose values
+ * start at @p payload. @return 0, > 0 MODBUS_EXCEPTION_* (already
+ * answered) or -1 (drop the connection). */
+static int write_regs(reqctx *r, pfd_inst *in, unsigned addr, unsigned cnt,
+                      const uint8_t *payload)
+{
+    uint16_t vals[MODBUS_MAX_WRITE_REGISTERS];
+    pfd_wlist wl;
+    unsigned i;
+    int rc;
+
+    for (i = 0; i < cnt; i++)
+        vals[i] = (uint16_t)be16(payload + 2 * i);
+    rc = pfd_regmap_decode(addr, cnt, vals, &wl);
+    if (rc == 0)
+        rc = execute(r, in, &wl);
+    if (rc > 0 && reply_exc(r, rc) != 0)
+        return -1;
+    return rc;
+}
+
 static int handle(reqctx *r)
 {
     pfd_daemon *d = r->d;
     const uint8_t *req = r->req, *pdu;
     unsigned fc, pdu_len, addr, cnt;
     pfd_inst *in;
-    pfd_wlist wl;
-    uint16_t vals[128];
     uint8_t patched[MODBUS_TCP_MAX_ADU_LENGTH]; /* FC23's answer, see there */
     unsigned i;
     int rc;
@@ -170,13 +189,9 @@ static int handle(reqctx *r)
             return -1;
         if (d->set.read_only)
             return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_FUNCTION);
-        addr = be16(pdu + 1);
-        vals[0] = (uint16_t)be16(pdu + 3);
-        rc = pfd_regmap_decode(addr, 1, vals, &wl);
-        if (rc == 0)
-            rc = execute(r, in, &wl);
+        rc = write_regs(r, in, be16(pdu + 1), 1, pdu + 3);
         if (rc != 0)
-            return rc < 0 ? -1 : reply_exc(r, rc);
+            return rc < 0 ? -1 : 0;
         break;
     case MODBUS_FC_WRITE_MULTIPLE_REGISTERS:
         if (pdu_len < 6)
@@ -188,13 +203,9 @@ static int handle(reqctx *r)
         if (cnt < 1 || cnt > MODBUS_MAX_WRITE_REGISTERS || pdu[5] != cnt * 2 ||
             pdu_len != 6 + cnt * 2)
             return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
-        for (i = 0; i < cnt; i++)
-            vals[i] = (uint16_t)be16(pdu + 6 + 2 * i);
-        rc = pfd_regmap_decode(addr, cnt, vals, &wl);
-        if (rc == 0)
-            rc = execute(r, in, &wl);
+        rc = write_regs(r, in, addr, cnt, pdu + 6);
         if (rc != 0)
-            return rc < 0 ? -1 : reply_exc(r, rc);
+            return rc < 0 ? -1 : 0;
         break;
     case MODBUS_FC_WRITE_AND_READ_REGISTERS: {
         unsigned waddr, wcnt;
@@ -212,13 +223,9 @@ static int handle(reqctx *r)
             return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
         if (addr + cnt > PFD_HOLD_SIZE)
             return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS);
-        for (i = 0; i < wcnt; i++)
-            vals[i] = (uint16_t)be16(pdu + 10 + 2 * i);
-        rc = pfd_regmap_decode(waddr, wcnt, vals, &wl);
-        if (rc == 0)
-            rc = execute(r, in, &wl);
+        rc = write_regs(r, in, waddr, wcnt, pdu + 10);
         if (rc != 0)
-            return rc < 0 ? -1 : reply_exc(r, rc);
+            return rc < 0 ? -1 : 0;
         /* Read after the write, as the function code specifies. But
          * libmodbus 3.1.6 copies the written values into the mapping
          * before it reads, so registers the two ranges share would echo

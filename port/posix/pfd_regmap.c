@@ -2,6 +2,7 @@
 #include "pfd_regmap.h"
 
 #include <math.h>
+#include <modbus/modbus.h>
 #include <string.h>
 
 #ifndef PFD_VERSION_MAJOR
@@ -341,10 +342,10 @@ int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
         const pfd_reg *r = pfd_reg_at(PFD_HOLD, a);
         unsigned nw;
         if (r == NULL || r->access == PFD_R || r->addr != a)
-            return 2; /* MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS */
+            return MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS;
         nw = pfd_type_words(r->type);
         if (a + nw > addr + count)
-            return 2; /* half of a 32-bit field */
+            return MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS; /* half of a 32-bit field */
         a += nw;
     }
     for (a = addr; a < addr + count;) {
@@ -371,7 +372,7 @@ int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
             break;
         }
         if (!ok)
-            return 3; /* MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE */
+            return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
         if (r->flags & PFD_F_ACTION) {
             if (r->field == F_COMMIT)
                 out->commit = (uint16_t)v;
