@@ -263,8 +263,7 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
     pthread_mutex_unlock(&d->regs_mx);
 
     pfd_log(PFD_LOG_INFO, "commit", "unit=%d config=%s arith=%s fs=%.9g",
-            in->unit, pf_config_name(ip.p.config),
-            ip.arith == PFD_ARITH_Q15 ? "q15" : "float", ip.fs);
+            in->unit, pf_config_name(ip.p.config), pfd_arith_name(ip.arith), ip.fs);
     /* Answered only once the file is on disk; if it cannot be written the
      * set still runs (it was switched in above), and the client learns
      * that it would not survive a restart. */
@@ -289,7 +288,7 @@ static int persist_locked(pfd_daemon *d)
     if (d->config_path == NULL)
         return 0;
     pthread_mutex_lock(&d->regs_mx);
-    c = *(const pfd_config *)d->config_file;
+    c = *d->config_file;
     c.n = d->n;
     for (i = 0; i < d->n; i++) {
         const pfd_inst *in = d->inst[i];

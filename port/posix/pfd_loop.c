@@ -356,7 +356,7 @@ int pfd_loop_start(pfd_daemon *d)
     }
     loop_running = 1;
     pfd_log(PFD_LOG_INFO, "loop-start", "clock=%s instances=%d",
-            d->set.external_clock ? "external" : "internal", d->n);
+            pfd_clock_name(d->set.external_clock), d->n);
     return 0;
 }
 

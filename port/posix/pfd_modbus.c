@@ -14,7 +14,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "pfd_allow.h"
+#include "pfd_addr.h"
 #include "pfd_commit.h"
 #include "pfd_log.h"
 #include "pfd_loop.h"
@@ -467,7 +467,7 @@ int pfd_server_start(pfd_daemon *d)
     int one = 1;
 
     if (pfd_allow_parse(d->set.allow, &allow, err, sizeof err) != 0) {
-        pfd_fatal("%s", err);
+        pfd_fatal("allow: %s", err);
         return -1;
     }
     n_clients_max = d->set.max_clients;
@@ -478,9 +478,9 @@ int pfd_server_start(pfd_daemon *d)
     }
     memset(&sa, 0, sizeof sa);
     sa.sin_family = AF_INET;
-    sa.sin_port = htons((uint16_t)d->set.listen_port);
-    if (inet_pton(AF_INET, d->set.listen_addr, &sa.sin_addr) != 1) {
-        pfd_fatal("--listen: '%s' is not an IPv4 address", d->set.listen_addr);
+    sa.sin_port = htons((uint16_t)d->set.listen.port);
+    if (inet_pton(AF_INET, d->set.listen.addr, &sa.sin_addr) != 1) {
+        pfd_fatal("--listen: '%s' is not an IPv4 address", d->set.listen.addr);
         return -1;
     }
     listen_fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
@@ -491,8 +491,8 @@ int pfd_server_start(pfd_daemon *d)
     setsockopt(listen_fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
     if (bind(listen_fd, (struct sockaddr *)&sa, sizeof sa) != 0 ||
         listen(listen_fd, 32) != 0) {
-        pfd_fatal("cannot listen on %s:%d: %s", d->set.listen_addr,
-                  d->set.listen_port, strerror(errno));
+        pfd_fatal("cannot listen on %s:%d: %s", d->set.listen.addr,
+                  d->set.listen.port, strerror(errno));
         close(listen_fd);
         listen_fd = -1;
         return -1;
@@ -505,8 +505,8 @@ int pfd_server_start(pfd_daemon *d)
     accept_running = 1;
     pfd_log(PFD_LOG_INFO, "listening",
             "addr=%s port=%u max_clients=%d allow=\"%s\" read_only=%d",
-            d->set.listen_addr, (unsigned)ntohs(sa.sin_port), d->set.max_clients,
-            d->set.allow[0] ? d->set.allow : "127.0.0.0/8", d->set.read_only);
+            d->set.listen.addr, (unsigned)ntohs(sa.sin_port), d->set.max_clients,
+            d->set.allow[0] ? d->set.allow : PFD_ALLOW_DEFAULT, d->set.read_only);
     return 0;
 }
 

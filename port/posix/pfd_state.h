@@ -20,6 +20,7 @@
 #include <stdint.h>
 
 #include "pfd_instance.h"
+#include "pfd_settings.h"
 #include "pfd_tbuf.h"
 
 #define PFD_MAX_INSTANCES 64
@@ -108,21 +109,6 @@ enum {
                                  could not be written */
 };
 
-/** Daemon-wide settings (config file [daemon] section, then the CLI). */
-typedef struct pfd_settings {
-    char listen_addr[64];
-    int listen_port;
-    int external_clock;
-    int max_clients;
-    int read_only;
-    int param_lock;      /**< locked at start, and the lock register is fixed */
-    char allow[512];     /**< comma-separated CIDR list; "" = loopback only */
-    int rt_priority;     /**< SCHED_FIFO priority; 0 = do not try */
-    int mlock;
-    int byte_timeout_ms;
-    int idle_timeout_s;
-} pfd_settings;
-
 typedef struct pfd_daemon {
     pfd_settings set;
     int n;
@@ -136,8 +122,8 @@ typedef struct pfd_daemon {
     pthread_mutex_t tick_mx;
     pthread_cond_t work_cv, done_cv;
     /* persistence */
-    const char *config_path; /* NULL: persistence off */
-    void *config_file;       /* pfd_config_file *, what was read (for [daemon]) */
+    const char *config_path;         /* NULL: persistence off */
+    const struct pfd_config *config_file; /* as read: its [daemon] is written back */
 } pfd_daemon;
 
 #endif
