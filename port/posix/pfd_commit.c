@@ -8,18 +8,21 @@
 
 #include "pfd_log.h"
 
-static int persist_failed;
-
 int pfd_daemon_init(pfd_daemon *d, const pfd_settings *set)
 {
     pthread_condattr_t ca;
 
     memset(d, 0, sizeof *d);
     d->set = *set;
+    d->server.listen_fd = -1;
     d->scratch = malloc(sizeof *d->scratch);
-    if (d->scratch == NULL)
+    d->persist_buf = malloc(sizeof *d->persist_buf);
+    if (d->scratch == NULL || d->persist_buf == NULL) {
+        pfd_daemon_free(d);
         return -1;
+    }
     pthread_mutex_init(&d->regs_mx, NULL);
+    pthread_mutex_init(&d->server.clients_mx, NULL);
     pthread_mutex_init(&d->commit_mx, NULL);
     pthread_mutex_init(&d->tick_mx, NULL);
     /* Timed waits use CLOCK_MONOTONIC, immune to clock steps. */
@@ -96,6 +99,8 @@ void pfd_daemon_free(pfd_daemon *d)
     d->n = 0;
     free(d->scratch);
     d->scratch = NULL;
+    free(d->persist_buf);
+    d->persist_buf = NULL;
 }
 
 void pfd_publish_live(pfd_inst *in)
@@ -144,7 +149,7 @@ uint16_t pfd_status_bits(const pfd_daemon *d, const pfd_inst *in,
         b |= 1u << 9;
     if (s->flags & PFD_SNAP_TRANSFER)
         b |= 1u << 10;
-    if (__atomic_load_n(&persist_failed, __ATOMIC_RELAXED))
+    if (__atomic_load_n(&d->persist_failed, __ATOMIC_RELAXED))
         b |= 1u << 11;
     return b;
 }
@@ -281,29 +286,29 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
 /* Under commit_mx. */
 static int persist_locked(pfd_daemon *d)
 {
-    static pfd_config c;
+    pfd_config *c = d->persist_buf;
     char err[512];
     int i, rc;
 
     if (d->config_path == NULL)
         return 0;
     pthread_mutex_lock(&d->regs_mx);
-    c = *d->config_file;
-    c.n = d->n;
+    *c = *d->config_file;
+    c->n = d->n;
     for (i = 0; i < d->n; i++) {
         const pfd_inst *in = d->inst[i];
-        pfd_config_inst_default(&c.inst[i], in->unit);
-        c.inst[i].ip = in->committed;
-        c.inst[i].live = in->hold.live;
+        pfd_config_inst_default(&c->inst[i], in->unit);
+        c->inst[i].ip = in->committed;
+        c->inst[i].live = in->hold.live;
     }
     pthread_mutex_unlock(&d->regs_mx);
-    rc = pfd_config_write(d->config_path, &c, err, sizeof err);
+    rc = pfd_config_write(d->config_path, c, err, sizeof err);
     if (rc != 0) {
-        __atomic_store_n(&persist_failed, 1, __ATOMIC_RELAXED);
+        __atomic_store_n(&d->persist_failed, 1, __ATOMIC_RELAXED);
         pfd_log(PFD_LOG_ERROR, "persist-failed", "error=\"%s\"", err);
         return -1;
     }
-    __atomic_store_n(&persist_failed, 0, __ATOMIC_RELAXED);
+    __atomic_store_n(&d->persist_failed, 0, __ATOMIC_RELAXED);
     pfd_log(PFD_LOG_DEBUG, "persisted", "file=%s", d->config_path);
     return 0;
 }

@@ -12,17 +12,6 @@
 
 #include "pfd_log.h"
 
-/* Period-jitter histogram over every sample of every instance, 1 us bins;
- * the last bin collects everything from HIST_N us up. Written by the loop
- * only, read after it stopped. */
-#define HIST_N 10000
-static uint32_t hist[HIST_N + 1];
-static uint64_t hist_total, hist_overruns;
-static int64_t hist_max_ns;
-
-static pthread_t loop_thread;
-static int loop_running;
-
 static int64_t mono_ns(void)
 {
     struct timespec ts;
@@ -43,7 +32,7 @@ static uint32_t ns_to_us(int64_t ns)
 
 /* One sample of one instance. missed: periods skipped before it (they
  * count for the watchdog); jitter_ns < 0: none to record. */
-static void run_sample(pfd_inst *in, uint32_t missed, int64_t jitter_ns)
+static void run_sample(pfd_inst *in, pfd_jitter *jit, uint32_t missed, int64_t jitter_ns)
 {
     const pfd_live *l = (const pfd_live *)pfd_tbuf_latest(&in->in_tb);
     pfd_slot *p;
@@ -145,12 +134,12 @@ static void run_sample(pfd_inst *in, uint32_t missed, int64_t jitter_ns)
         in->rt.s.jit_last_us = us;
         if (us > in->rt.s.jit_max_us)
             in->rt.s.jit_max_us = us;
-        hist[us < HIST_N ? us : HIST_N]++;
-        hist_total++;
-        if (jitter_ns > hist_max_ns)
-            hist_max_ns = jitter_ns;
+        jit->bin[us < PFD_JITTER_BINS ? us : PFD_JITTER_BINS]++;
+        jit->total++;
+        if (jitter_ns > jit->max_ns)
+            jit->max_ns = jitter_ns;
     }
-    hist_overruns += missed;
+    jit->overruns += missed;
     in->rt.s.sig = sig;
     in->rt.s.gen = in->rt.active->gen;
     in->rt.s.e_used = e;
@@ -209,7 +198,7 @@ static void freerun(pfd_daemon *d)
                     jitter = -jitter;
             }
             in->rt.last_ns = t;
-            run_sample(in, missed, jitter);
+            run_sample(in, &d->loop.jitter, missed, jitter);
             if (in->rt.active != before &&
                 in->rt.active->period_ns != before->period_ns) {
                 /* New sample rate: restart the schedule from now. */
@@ -254,7 +243,7 @@ static void lockstep(pfd_daemon *d)
             uint64_t target = __atomic_load_n(&in->tick_target, __ATOMIC_ACQUIRE);
             uint64_t done = __atomic_load_n(&in->tick_done, __ATOMIC_ACQUIRE);
             while (done < target && !stopping(d)) {
-                run_sample(in, 0, -1);
+                run_sample(in, &d->loop.jitter, 0, -1);
                 done++;
             }
             __atomic_store_n(&in->tick_done, done, __ATOMIC_RELEASE);
@@ -335,7 +324,7 @@ int pfd_loop_start(pfd_daemon *d)
         pthread_attr_setinheritsched(&attr, PTHREAD_EXPLICIT_SCHED);
         pthread_attr_setschedpolicy(&attr, SCHED_FIFO);
         pthread_attr_setschedparam(&attr, &sp);
-        rc = pthread_create(&loop_thread, &attr, loop_main, d);
+        rc = pthread_create(&d->loop.th, &attr, loop_main, d);
         pthread_attr_destroy(&attr);
         if (rc == 0)
             pfd_log(PFD_LOG_INFO, "loop-thread", "sched=fifo priority=%d",
@@ -346,7 +335,7 @@ int pfd_loop_start(pfd_daemon *d)
                     d->set.rt_priority, strerror(rc));
     }
     if (rc != 0) {
-        rc = pthread_create(&loop_thread, NULL, loop_main, d);
+        rc = pthread_create(&d->loop.th, NULL, loop_main, d);
         if (rc != 0) {
             pfd_log(PFD_LOG_ERROR, "loop-thread", "error=\"%s\"", strerror(rc));
             return -1;
@@ -354,7 +343,7 @@ int pfd_loop_start(pfd_daemon *d)
         if (d->set.rt_priority <= 0)
             pfd_log(PFD_LOG_INFO, "loop-thread", "sched=other reason=--rt-priority-0");
     }
-    loop_running = 1;
+    d->loop.running = 1;
     pfd_log(PFD_LOG_INFO, "loop-start", "clock=%s instances=%d",
             pfd_clock_name(d->set.external_clock), d->n);
     return 0;
@@ -367,28 +356,29 @@ void pfd_loop_stop(pfd_daemon *d)
     pthread_cond_broadcast(&d->work_cv);
     pthread_cond_broadcast(&d->done_cv);
     pthread_mutex_unlock(&d->tick_mx);
-    if (loop_running) {
-        pthread_join(loop_thread, NULL);
-        loop_running = 0;
+    if (d->loop.running) {
+        pthread_join(d->loop.th, NULL);
+        d->loop.running = 0;
     }
 }
 
-static uint32_t percentile(double q)
+static uint32_t percentile(const pfd_jitter *jit, double q)
 {
-    uint64_t want = (uint64_t)(q * (double)hist_total), acc = 0;
+    uint64_t want = (uint64_t)(q * (double)jit->total), acc = 0;
     uint32_t i;
-    if (want >= hist_total && hist_total > 0)
-        want = hist_total - 1;
-    for (i = 0; i <= HIST_N; i++) {
-        acc += hist[i];
+    if (want >= jit->total && jit->total > 0)
+        want = jit->total - 1;
+    for (i = 0; i <= PFD_JITTER_BINS; i++) {
+        acc += jit->bin[i];
         if (acc > want)
             return i;
     }
-    return HIST_N;
+    return PFD_JITTER_BINS;
 }
 
 void pfd_loop_log_stats(const pfd_daemon *d)
 {
+    const pfd_jitter *jit = &d->loop.jitter;
     uint64_t samples = 0;
     int i;
     for (i = 0; i < d->n; i++)
@@ -396,9 +386,9 @@ void pfd_loop_log_stats(const pfd_daemon *d)
     pfd_log(PFD_LOG_INFO, "loop-stats",
             "instances=%d samples=%llu jitter_samples=%llu jitter_p50_us=%u "
             "jitter_p99_us=%u jitter_max_us=%.1f overruns=%llu",
-            d->n, (unsigned long long)samples, (unsigned long long)hist_total,
-            hist_total ? percentile(0.50) : 0, hist_total ? percentile(0.99) : 0,
-            (double)hist_max_ns / 1000.0, (unsigned long long)hist_overruns);
+            d->n, (unsigned long long)samples, (unsigned long long)jit->total,
+            jit->total ? percentile(jit, 0.50) : 0, jit->total ? percentile(jit, 0.99) : 0,
+            (double)jit->max_ns / 1000.0, (unsigned long long)jit->overruns);
 }
 
 int pfd_loop_tick(pfd_daemon *d, pfd_inst *in, unsigned n)

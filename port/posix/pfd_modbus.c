@@ -23,22 +23,15 @@
 #define MBAP_LEN 7
 #define CLIENT_STACK (256 * 1024)
 
-typedef struct client {
+/* One slot of pfd_daemon.server.clients. */
+typedef struct pfd_client {
     pfd_daemon *d;
     pthread_t th;
     int fd;
     int in_use; /* slot taken (under clients_mx) */
     int done;   /* thread finished, join pending (atomic) */
     char peer[48];
-} client;
-
-static int listen_fd = -1;
-static pthread_t accept_th;
-static int accept_running;
-static pthread_mutex_t clients_mx = PTHREAD_MUTEX_INITIALIZER;
-static client *clients;
-static int n_clients_max;
-static pfd_allow allow;
+} pfd_client;
 
 static int stopping(const pfd_daemon *d)
 {
@@ -283,7 +276,7 @@ static int read_rest(int fd, uint8_t *req, int have, int timeout_ms)
 
 static void *client_main(void *arg)
 {
-    client *c = (client *)arg;
+    pfd_client *c = (pfd_client *)arg;
     pfd_daemon *d = c->d;
     uint8_t req[MODBUS_TCP_MAX_ADU_LENGTH];
     modbus_t *ctx = modbus_new_tcp("127.0.0.1", 502);
@@ -367,11 +360,12 @@ out:
 
 /* ---- accept thread ----------------------------------------------------- */
 
-static void reap(int all)
+/* Under clients_mx. */
+static void reap(pfd_daemon *d, int all)
 {
     int i;
-    for (i = 0; i < n_clients_max; i++) {
-        client *c = &clients[i];
+    for (i = 0; i < d->set.max_clients; i++) {
+        pfd_client *c = &d->server.clients[i];
         if (c->in_use && (all || __atomic_load_n(&c->done, __ATOMIC_ACQUIRE))) {
             pthread_join(c->th, NULL);
             close(c->fd);
@@ -397,19 +391,19 @@ static void *accept_main(void *arg)
         char peer[48], ip[INET_ADDRSTRLEN];
         pthread_attr_t attr;
         int fd, i, one = 1;
-        client *c = NULL;
+        pfd_client *c = NULL;
         struct timeval tv;
 
-        pthread_mutex_lock(&clients_mx);
-        reap(0);
-        pthread_mutex_unlock(&clients_mx);
+        pthread_mutex_lock(&d->server.clients_mx);
+        reap(d, 0);
+        pthread_mutex_unlock(&d->server.clients_mx);
 
-        pfd.fd = listen_fd;
+        pfd.fd = d->server.listen_fd;
         pfd.events = POLLIN;
         pfd.revents = 0;
         if (poll(&pfd, 1, 200) <= 0)
             continue;
-        fd = accept(listen_fd, (struct sockaddr *)&sa, &sl);
+        fd = accept(d->server.listen_fd, (struct sockaddr *)&sa, &sl);
         if (fd < 0)
             continue;
         if (sa.sin_family != AF_INET || inet_ntop(AF_INET, &sa.sin_addr, ip, sizeof ip) == NULL)
@@ -419,17 +413,17 @@ static void *accept_main(void *arg)
             refuse(fd, peer, "fd-above-FD_SETSIZE");
             continue;
         }
-        if (sa.sin_family != AF_INET || !pfd_allow_match(&allow, ntohl(sa.sin_addr.s_addr))) {
+        if (sa.sin_family != AF_INET || !pfd_allow_match(&d->server.allow, ntohl(sa.sin_addr.s_addr))) {
             refuse(fd, peer, "not-in-allow-list");
             continue;
         }
-        pthread_mutex_lock(&clients_mx);
-        reap(0);
-        for (i = 0; i < n_clients_max && c == NULL; i++)
-            if (!clients[i].in_use)
-                c = &clients[i];
+        pthread_mutex_lock(&d->server.clients_mx);
+        reap(d, 0);
+        for (i = 0; i < d->set.max_clients && c == NULL; i++)
+            if (!d->server.clients[i].in_use)
+                c = &d->server.clients[i];
         if (c == NULL) {
-            pthread_mutex_unlock(&clients_mx);
+            pthread_mutex_unlock(&d->server.clients_mx);
             refuse(fd, peer, "max-clients");
             continue;
         }
@@ -447,16 +441,24 @@ static void *accept_main(void *arg)
         pthread_attr_setstacksize(&attr, CLIENT_STACK);
         if (pthread_create(&c->th, &attr, client_main, c) != 0) {
             pthread_attr_destroy(&attr);
-            pthread_mutex_unlock(&clients_mx);
+            pthread_mutex_unlock(&d->server.clients_mx);
             refuse(fd, peer, "thread-create-failed");
             continue;
         }
         pthread_attr_destroy(&attr);
         c->in_use = 1;
-        pthread_mutex_unlock(&clients_mx);
+        pthread_mutex_unlock(&d->server.clients_mx);
         pfd_log(PFD_LOG_DEBUG, "client-connected", "peer=%s", peer);
     }
     return NULL;
+}
+
+static void close_listener(pfd_daemon *d)
+{
+    if (d->server.listen_fd >= 0) {
+        close(d->server.listen_fd);
+        d->server.listen_fd = -1;
+    }
 }
 
 int pfd_server_start(pfd_daemon *d)
@@ -464,16 +466,10 @@ int pfd_server_start(pfd_daemon *d)
     struct sockaddr_in sa;
     socklen_t sl = sizeof sa;
     char err[200];
-    int one = 1;
+    int one = 1, fd;
 
-    if (pfd_allow_parse(d->set.allow, &allow, err, sizeof err) != 0) {
+    if (pfd_allow_parse(d->set.allow, &d->server.allow, err, sizeof err) != 0) {
         pfd_fatal("allow: %s", err);
-        return -1;
-    }
-    n_clients_max = d->set.max_clients;
-    clients = calloc((size_t)n_clients_max, sizeof *clients);
-    if (clients == NULL) {
-        pfd_fatal("out of memory");
         return -1;
     }
     memset(&sa, 0, sizeof sa);
@@ -483,26 +479,34 @@ int pfd_server_start(pfd_daemon *d)
         pfd_fatal("--listen: '%s' is not an IPv4 address", d->set.listen.addr);
         return -1;
     }
-    listen_fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    if (listen_fd < 0) {
+    fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    if (fd < 0) {
         pfd_fatal("socket: %s", strerror(errno));
         return -1;
     }
-    setsockopt(listen_fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-    if (bind(listen_fd, (struct sockaddr *)&sa, sizeof sa) != 0 ||
-        listen(listen_fd, 32) != 0) {
+    d->server.listen_fd = fd;
+    setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+    if (bind(fd, (struct sockaddr *)&sa, sizeof sa) != 0 || listen(fd, 32) != 0) {
         pfd_fatal("cannot listen on %s:%d: %s", d->set.listen.addr,
                   d->set.listen.port, strerror(errno));
-        close(listen_fd);
-        listen_fd = -1;
+        close_listener(d);
         return -1;
     }
-    getsockname(listen_fd, (struct sockaddr *)&sa, &sl);
-    if (pthread_create(&accept_th, NULL, accept_main, d) != 0) {
+    getsockname(fd, (struct sockaddr *)&sa, &sl);
+    d->server.clients = calloc((size_t)d->set.max_clients, sizeof *d->server.clients);
+    if (d->server.clients == NULL) {
+        pfd_fatal("out of memory");
+        close_listener(d);
+        return -1;
+    }
+    if (pthread_create(&d->server.accept_th, NULL, accept_main, d) != 0) {
         pfd_fatal("cannot start the accept thread");
+        free(d->server.clients);
+        d->server.clients = NULL;
+        close_listener(d);
         return -1;
     }
-    accept_running = 1;
+    d->server.accept_running = 1;
     pfd_log(PFD_LOG_INFO, "listening",
             "addr=%s port=%u max_clients=%d allow=\"%s\" read_only=%d",
             d->set.listen.addr, (unsigned)ntohs(sa.sin_port), d->set.max_clients,
@@ -514,20 +518,19 @@ void pfd_server_stop(pfd_daemon *d)
 {
     int i;
     __atomic_store_n(&d->stop, 1, __ATOMIC_RELEASE);
-    if (accept_running) {
-        pthread_join(accept_th, NULL);
-        accept_running = 0;
+    if (d->server.accept_running) {
+        pthread_join(d->server.accept_th, NULL);
+        d->server.accept_running = 0;
     }
-    if (listen_fd >= 0) {
-        close(listen_fd);
-        listen_fd = -1;
-    }
-    pthread_mutex_lock(&clients_mx);
-    for (i = 0; i < n_clients_max; i++)
-        if (clients[i].in_use)
-            shutdown(clients[i].fd, SHUT_RDWR);
-    reap(1);
-    pthread_mutex_unlock(&clients_mx);
-    free(clients);
-    clients = NULL;
+    close_listener(d);
+    if (d->server.clients == NULL)
+        return;
+    pthread_mutex_lock(&d->server.clients_mx);
+    for (i = 0; i < d->set.max_clients; i++)
+        if (d->server.clients[i].in_use)
+            shutdown(d->server.clients[i].fd, SHUT_RDWR);
+    reap(d, 1);
+    pthread_mutex_unlock(&d->server.clients_mx);
+    free(d->server.clients);
+    d->server.clients = NULL;
 }

@@ -109,6 +109,18 @@ enum {
                                  could not be written */
 };
 
+/** Period jitter over every sample of every instance, in 1 us bins; the
+ *  last bin collects everything from PFD_JITTER_BINS us up. */
+#define PFD_JITTER_BINS 10000
+typedef struct pfd_jitter {
+    uint32_t bin[PFD_JITTER_BINS + 1];
+    uint64_t total, overruns;
+    int64_t max_ns;
+} pfd_jitter;
+
+struct pfd_client;  /* pfd_modbus.c */
+struct pfd_config;  /* pfd_config.h */
+
 typedef struct pfd_daemon {
     pfd_settings set;
     int n;
@@ -121,9 +133,29 @@ typedef struct pfd_daemon {
     /* lockstep hand-shake */
     pthread_mutex_t tick_mx;
     pthread_cond_t work_cv, done_cv;
-    /* persistence */
-    const char *config_path;         /* NULL: persistence off */
+
+    /* the loop thread (pfd_loop.c) */
+    struct {
+        pthread_t th;
+        int running;
+        pfd_jitter jitter; /* written by the loop only, read after it stopped */
+    } loop;
+
+    /* the Modbus server (pfd_modbus.c) */
+    struct {
+        int listen_fd; /* -1: none */
+        pthread_t accept_th;
+        int accept_running;
+        pfd_allow allow;
+        pthread_mutex_t clients_mx;
+        struct pfd_client *clients; /* set.max_clients slots, under clients_mx */
+    } server;
+
+    /* persistence (pfd_commit.c) */
+    const char *config_path;              /* NULL: persistence off */
     const struct pfd_config *config_file; /* as read: its [daemon] is written back */
+    struct pfd_config *persist_buf;       /* what is written, under commit_mx */
+    int persist_failed;                   /* atomic: the last write failed */
 } pfd_daemon;
 
 #endif
