@@ -126,7 +126,7 @@ uint16_t pfd_status_bits(const pfd_daemon *d, const pfd_inst *in,
                          const pfd_snap *s)
 {
     uint16_t b = 0;
-    if (!__atomic_load_n(&d->stop, __ATOMIC_ACQUIRE))
+    if (!pfd_stopping(d))
         b |= 1u << 0;
     if (s->flags & PFD_SNAP_TRIPPED)
         b |= 1u << 1;

@@ -20,11 +20,6 @@ static int64_t mono_ns(void)
     return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
 }
 
-static int stopping(const pfd_daemon *d)
-{
-    return __atomic_load_n(&d->stop, __ATOMIC_ACQUIRE);
-}
-
 static void sleep_until(int64_t t)
 {
     struct timespec ts;
@@ -43,7 +38,7 @@ static void freerun(pfd_daemon *d)
         d->inst[i]->rt.next_ns = now + (int64_t)d->inst[i]->rt.active->period_ns;
         d->inst[i]->rt.last_ns = -1;
     }
-    while (!stopping(d)) {
+    while (!pfd_stopping(d)) {
         /* Wake at least every 100 ms so a stop request is seen. */
         int64_t t_next = mono_ns() + 100000000;
         for (i = 0; i < d->n; i++)
@@ -103,7 +98,7 @@ static void lockstep(pfd_daemon *d)
     int i;
 
     pthread_mutex_lock(&d->tick_mx);
-    while (!stopping(d)) {
+    while (!pfd_stopping(d)) {
         int work = 0;
         for (i = 0; i < d->n; i++)
             if (__atomic_load_n(&d->inst[i]->tick_target, __ATOMIC_ACQUIRE) >
@@ -118,7 +113,7 @@ static void lockstep(pfd_daemon *d)
             pfd_inst *in = d->inst[i];
             uint64_t target = __atomic_load_n(&in->tick_target, __ATOMIC_ACQUIRE);
             uint64_t done = __atomic_load_n(&in->tick_done, __ATOMIC_ACQUIRE);
-            while (done < target && !stopping(d)) {
+            while (done < target && !pfd_stopping(d)) {
                 pfd_sample_run(in, &d->loop.jitter, 0, -1);
                 done++;
             }
@@ -227,7 +222,7 @@ int pfd_loop_start(pfd_daemon *d)
 
 void pfd_loop_stop(pfd_daemon *d)
 {
-    __atomic_store_n(&d->stop, 1, __ATOMIC_RELEASE);
+    pfd_request_stop(d);
     pthread_mutex_lock(&d->tick_mx);
     pthread_cond_broadcast(&d->work_cv);
     pthread_cond_broadcast(&d->done_cv);
@@ -261,8 +256,8 @@ int pfd_loop_tick(pfd_daemon *d, pfd_inst *in, unsigned n)
     pthread_mutex_lock(&d->tick_mx);
     pthread_cond_signal(&d->work_cv);
     while (__atomic_load_n(&in->tick_done, __ATOMIC_ACQUIRE) < target &&
-           !stopping(d))
+           !pfd_stopping(d))
         timed_wait(&d->done_cv, &d->tick_mx, 200);
     pthread_mutex_unlock(&d->tick_mx);
-    return stopping(d) ? -1 : 0;
+    return pfd_stopping(d) ? -1 : 0;
 }

@@ -33,11 +33,6 @@ typedef struct pfd_client {
     char peer[48];
 } pfd_client;
 
-static int stopping(const pfd_daemon *d)
-{
-    return __atomic_load_n(&d->stop, __ATOMIC_ACQUIRE);
-}
-
 static unsigned be16(const uint8_t *p) { return ((unsigned)p[0] << 8) | p[1]; }
 
 /* ---- one request ------------------------------------------------------- */
@@ -298,7 +293,7 @@ static void *client_main(void *arg)
     modbus_set_indication_timeout(ctx, bt_s, bt_us);
     modbus_set_response_timeout(ctx, bt_s, bt_us);
 
-    while (!stopping(d)) {
+    while (!pfd_stopping(d)) {
         struct pollfd pfd;
         reqctx r;
         int rc;
@@ -340,11 +335,11 @@ static void *client_main(void *arg)
         r.req = req;
         r.len = rc;
         if (handle(&r) != 0) {
-            why = stopping(d) ? "shutdown" : "bad-frame-or-send-error";
+            why = pfd_stopping(d) ? "shutdown" : "bad-frame-or-send-error";
             break;
         }
     }
-    if (stopping(d))
+    if (pfd_stopping(d))
         why = "shutdown";
 out:
     pfd_log(PFD_LOG_DEBUG, "client-closed", "peer=%s reason=%s", c->peer, why);
@@ -384,7 +379,7 @@ static void *accept_main(void *arg)
 {
     pfd_daemon *d = (pfd_daemon *)arg;
 
-    while (!stopping(d)) {
+    while (!pfd_stopping(d)) {
         struct pollfd pfd;
         struct sockaddr_in sa;
         socklen_t sl = sizeof sa;
@@ -517,7 +512,7 @@ int pfd_server_start(pfd_daemon *d)
 void pfd_server_stop(pfd_daemon *d)
 {
     int i;
-    __atomic_store_n(&d->stop, 1, __ATOMIC_RELEASE);
+    pfd_request_stop(d);
     if (d->server.accept_running) {
         pthread_join(d->server.accept_th, NULL);
         d->server.accept_running = 0;

@@ -158,4 +158,16 @@ typedef struct pfd_daemon {
     int persist_failed;                   /* atomic: the last write failed */
 } pfd_daemon;
 
+/** Whether the daemon is stopping (pfd_loop_stop, pfd_server_stop). */
+static inline int pfd_stopping(const pfd_daemon *d)
+{
+    return __atomic_load_n(&d->stop, __ATOMIC_ACQUIRE);
+}
+
+/** Ask every thread to stop. */
+static inline void pfd_request_stop(pfd_daemon *d)
+{
+    __atomic_store_n(&d->stop, 1, __ATOMIC_RELEASE);
+}
+
 #endif
