@@ -148,3 +148,13 @@ const char *pfd_param_name(int id)
         return "arith";
     return pf_param_name((pf_param_id)id);
 }
+
+const char *pfd_arith_name(int arith)
+{
+    return arith == PFD_ARITH_Q15 ? "q15" : arith == PFD_ARITH_FLOAT ? "float" : "?";
+}
+
+const char *pfd_topology_name(int config)
+{
+    return pf_config_name((pf_config)config);
+}

@@ -19,7 +19,14 @@
 #define PFD_FULLSCALE_MIN 1e-9
 #define PFD_FULLSCALE_MAX 1e9
 
-enum pfd_arith { PFD_ARITH_FLOAT = 0, PFD_ARITH_Q15 = 1 };
+enum pfd_arith { PFD_ARITH_FLOAT = 0, PFD_ARITH_Q15 = 1, PFD_ARITH_COUNT };
+
+/** "float" or "q15" (the config file's and the command line's words). */
+const char *pfd_arith_name(int arith);
+
+/** "p", "dd", "id" or "pid": pf_config_name() for an int, to go with
+ *  pfd_arith_name() wherever a name is looked up (pfd_parse_name). */
+const char *pfd_topology_name(int config);
 
 /** Everything a commit sets: configuration, the paper's parameters,
  *  arithmetic, sample rate, Q15 full scales and the bumpless time constant. */

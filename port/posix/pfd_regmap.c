@@ -2,6 +2,7 @@
 #include "pfd_regmap.h"
 
 #include <math.h>
+#include <modbus/modbus.h>
 #include <string.h>
 
 #ifndef PFD_VERSION_MAJOR
@@ -187,6 +188,28 @@ const pfd_reg *pfd_reg_at(int space, unsigned addr)
     return NULL;
 }
 
+const pfd_reg *pfd_reg_named(int space, const char *name)
+{
+    unsigned i;
+    for (i = 0; i < pfd_nregs; i++)
+        if (pfd_regs[i].space == space && !strcmp(pfd_regs[i].name, name))
+            return &pfd_regs[i];
+    return NULL;
+}
+
+int pfd_reg_in_range(const pfd_reg *r, double v)
+{
+    if (!isfinite(v) || v > r->max)
+        return 0;
+    return (r->flags & PFD_F_MIN_EXCL) ? v > r->min : v >= r->min;
+}
+
+void pfd_reg_format_range(const pfd_reg *r, char *buf, size_t n)
+{
+    snprintf(buf, n, "%s%.9g .. %.9g]", (r->flags & PFD_F_MIN_EXCL) ? "(" : "[", r->min,
+             r->max);
+}
+
 void pfd_f32_pack(float v, uint16_t *w)
 {
     uint32_t u;
@@ -245,17 +268,14 @@ uint16_t pfd_regmap_staged_addr(int param)
     }
 }
 
-static double field_value(const pfd_reg *r, const pfd_view *v)
+double pfd_regmap_hold_value(const pfd_reg *r, const pfd_hold *h,
+                             const pfd_iparams *committed)
 {
-    const pfd_inst *in = v->inst;
-    const pfd_live *l = &in->hold.live;
-    const pfd_snap *s = v->snap;
-    const double inv_in = 1.0 / in->committed.in_fs;
+    const pfd_live *l = &h->live;
+    const double inv_in = 1.0 / committed->in_fs;
 
-    if (r->field >= F_COMMITTED)
-        return ip_get(&in->committed, r->field - F_COMMITTED);
-    if (r->field >= F_STAGED)
-        return ip_get(&in->hold.staged, r->field - F_STAGED);
+    if (r->field >= F_STAGED && r->field < F_COMMITTED)
+        return ip_get(&h->staged, r->field - F_STAGED);
     switch (r->field) {
     case F_E: return l->e;
     case F_SP: return l->sp;
@@ -268,8 +288,22 @@ static double field_value(const pfd_reg *r, const pfd_view *v)
     case F_MANUAL: return l->manual_out;
     case F_FAILSAFE: return l->failsafe_out;
     case F_WATCHDOG: return l->watchdog_ms;
-    case F_LOCK: return in->hold.param_lock;
-    case F_COMMIT: case F_COMMAND: case F_TICK: return 0;
+    case F_LOCK: return h->param_lock;
+    default: return 0; /* the actions read 0 */
+    }
+}
+
+static double field_value(const pfd_reg *r, const pfd_view *v)
+{
+    const pfd_inst *in = v->inst;
+    const pfd_snap *s = v->snap;
+    const double inv_in = 1.0 / in->committed.in_fs;
+
+    if (r->field >= F_COMMITTED)
+        return ip_get(&in->committed, r->field - F_COMMITTED);
+    if (r->space == PFD_HOLD && r->access != PFD_R)
+        return pfd_regmap_hold_value(r, &in->hold, &in->committed);
+    switch (r->field) {
     case F_PC: return s->sig.pc;
     case F_X: return s->sig.x;
     case F_PB: return s->sig.pb;
@@ -341,10 +375,10 @@ int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
         const pfd_reg *r = pfd_reg_at(PFD_HOLD, a);
         unsigned nw;
         if (r == NULL || r->access == PFD_R || r->addr != a)
-            return 2; /* MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS */
+            return MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS;
         nw = pfd_type_words(r->type);
         if (a + nw > addr + count)
-            return 2; /* half of a 32-bit field */
+            return MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS; /* half of a 32-bit field */
         a += nw;
     }
     for (a = addr; a < addr + count;) {
@@ -354,24 +388,21 @@ int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
         int ok;
 
         switch (r->type) {
-        case PFD_T_F32: {
-            float f = pfd_f32_unpack(w);
-            v = (double)f;
-            ok = isfinite(v) && v <= r->max &&
-                 ((r->flags & PFD_F_MIN_EXCL) ? v > r->min : v >= r->min);
+        case PFD_T_F32:
+            v = (double)pfd_f32_unpack(w);
+            ok = pfd_reg_in_range(r, v);
             break;
-        }
         case PFD_T_I16:
             v = (double)(int16_t)w[0];
             ok = 1;
             break;
         default:
             v = (double)w[0];
-            ok = v >= r->min && v <= r->max;
+            ok = pfd_reg_in_range(r, v);
             break;
         }
         if (!ok)
-            return 3; /* MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE */
+            return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
         if (r->flags & PFD_F_ACTION) {
             if (r->field == F_COMMIT)
                 out->commit = (uint16_t)v;
@@ -441,11 +472,13 @@ static void print_range(FILE *f, const pfd_reg *r)
 {
     if (r->access == PFD_R)
         return;
-    if (r->type == PFD_T_I16)
+    if (r->type == PFD_T_I16) {
         fputs("any", f);
-    else
-        fprintf(f, "%s%.9g .. %.9g]", (r->flags & PFD_F_MIN_EXCL) ? "(" : "[",
-                r->min, r->max);
+    } else {
+        char range[64];
+        pfd_reg_format_range(r, range, sizeof range);
+        fputs(range, f);
+    }
 }
 
 static void print_space(FILE *f, int space)

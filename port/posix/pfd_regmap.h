@@ -11,6 +11,7 @@
 #ifndef PFD_REGMAP_H
 #define PFD_REGMAP_H
 
+#include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 
@@ -50,6 +51,16 @@ unsigned pfd_type_words(int type);
 /** The entry whose registers contain @p addr, or NULL. */
 const pfd_reg *pfd_reg_at(int space, unsigned addr);
 
+/** The entry of @p space named @p name, or NULL. */
+const pfd_reg *pfd_reg_named(int space, const char *name);
+
+/** Whether a write of @p v is in @p r's range: finite, and within
+ *  [min, max], or (min, max] with PFD_F_MIN_EXCL. */
+int pfd_reg_in_range(const pfd_reg *r, double v);
+
+/** That range as text, "[min .. max]" or "(min .. max]". */
+void pfd_reg_format_range(const pfd_reg *r, char *buf, size_t n);
+
 /** Everything a read can show. */
 typedef struct pfd_view {
     const pfd_inst *inst;   /* hold, committed, commit status */
@@ -86,6 +97,11 @@ int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
  *  mirrors convert with @p committed's in_fs. */
 void pfd_regmap_apply(pfd_hold *h, const pfd_iparams *committed,
                       const pfd_wlist *wl);
+
+/** What holding data register @p r (not an action) reads from @p h; the
+ *  int16 mirrors convert with @p committed's in_fs. */
+double pfd_regmap_hold_value(const pfd_reg *r, const pfd_hold *h,
+                             const pfd_iparams *committed);
 
 /** Holding address of the staged register for a pfd_fail parameter id,
  *  or 0xFFFF. */
