@@ -13,23 +13,23 @@
 #include "pf_float_ops.h"
 #include "pf_ctrl_float.inc"
 
-pf_status pf_ctrl_init_f32(pf_ctrl_f32 *in, const pf_ctrl_coeffs_f32 *c,
+pf_status pf_ctrl_init_f32(pf_ctrl_f32 *S, const pf_ctrl_coeffs_f32 *c,
                            float *dbuf, size_t dlen)
 {
-    return ctrl_init_f32(in, c, dbuf, dlen);
+    return ctrl_init_f32(S, c, dbuf, dlen);
 }
 
-void pf_ctrl_reset_f32(pf_ctrl_f32 *in)
+void pf_ctrl_reset_f32(pf_ctrl_f32 *S)
 {
-    ctrl_reset_f32(in);
+    ctrl_reset_f32(S);
 }
 
-float pf_ctrl_step_f32(pf_ctrl_f32 *in, float e)
+float pf_ctrl_step_f32(pf_ctrl_f32 *S, float e)
 {
-    return ctrl_step_f32(in, e);
+    return ctrl_step_f32(S, e);
 }
 
-void pf_ctrl_run_f32(pf_ctrl_f32 *in, const float *e, float *pc, size_t n)
+void pf_ctrl_run_f32(pf_ctrl_f32 *S, const float *e, float *pc, size_t n)
 {
-    ctrl_run_f32(in, e, pc, n);
+    ctrl_run_f32(S, e, pc, n);
 }

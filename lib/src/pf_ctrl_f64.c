@@ -13,23 +13,23 @@
 #include "pf_float_ops.h"
 #include "pf_ctrl_float.inc"
 
-pf_status pf_ctrl_init_f64(pf_ctrl_f64 *in, const pf_ctrl_coeffs_f64 *c,
+pf_status pf_ctrl_init_f64(pf_ctrl_f64 *S, const pf_ctrl_coeffs_f64 *c,
                            double *dbuf, size_t dlen)
 {
-    return ctrl_init_f64(in, c, dbuf, dlen);
+    return ctrl_init_f64(S, c, dbuf, dlen);
 }
 
-void pf_ctrl_reset_f64(pf_ctrl_f64 *in)
+void pf_ctrl_reset_f64(pf_ctrl_f64 *S)
 {
-    ctrl_reset_f64(in);
+    ctrl_reset_f64(S);
 }
 
-double pf_ctrl_step_f64(pf_ctrl_f64 *in, double e)
+double pf_ctrl_step_f64(pf_ctrl_f64 *S, double e)
 {
-    return ctrl_step_f64(in, e);
+    return ctrl_step_f64(S, e);
 }
 
-void pf_ctrl_run_f64(pf_ctrl_f64 *in, const double *e, double *pc, size_t n)
+void pf_ctrl_run_f64(pf_ctrl_f64 *S, const double *e, double *pc, size_t n)
 {
-    ctrl_run_f64(in, e, pc, n);
+    ctrl_run_f64(S, e, pc, n);
 }

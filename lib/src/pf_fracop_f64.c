@@ -10,17 +10,17 @@
 #include "pf_float_ops.h"
 #include "pf_fracop_float.inc"
 
-pf_status pf_fracop_init_f64(pf_fracop_f64 *in, const pf_fracop_design *c)
+pf_status pf_fracop_init_f64(pf_fracop_f64 *S, const pf_fracop_design *c)
 {
-    return fracop_init_f64(in, c);
+    return fracop_init_f64(S, c);
 }
 
-void pf_fracop_reset_f64(pf_fracop_f64 *in)
+void pf_fracop_reset_f64(pf_fracop_f64 *S)
 {
-    fracop_reset_f64(in);
+    fracop_reset_f64(S);
 }
 
-double pf_fracop_step_f64(pf_fracop_f64 *in, double u)
+double pf_fracop_step_f64(pf_fracop_f64 *S, double u)
 {
-    return fracop_step_f64(in, u);
+    return fracop_step_f64(S, u);
 }

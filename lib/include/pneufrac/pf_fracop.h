@@ -171,14 +171,14 @@ typedef struct pf_fracop_f32 {
 void pf_fracop_coeffs_f32_make(pf_fracop_coeffs_f32 *cf, const pf_fracop_design *op);
 
 /** Bind coefficients and clear the state. @return PF_OK or PF_E_NULL. */
-pf_status pf_fracop_init_f64(pf_fracop_f64 *in, const pf_fracop_design *c);
-pf_status pf_fracop_init_f32(pf_fracop_f32 *in, const pf_fracop_coeffs_f32 *c);
+pf_status pf_fracop_init_f64(pf_fracop_f64 *S, const pf_fracop_design *c);
+pf_status pf_fracop_init_f32(pf_fracop_f32 *S, const pf_fracop_coeffs_f32 *c);
 /** Clear the state (zero initial conditions). */
-void pf_fracop_reset_f64(pf_fracop_f64 *in);
-void pf_fracop_reset_f32(pf_fracop_f32 *in);
+void pf_fracop_reset_f64(pf_fracop_f64 *S);
+void pf_fracop_reset_f32(pf_fracop_f32 *S);
 /** One sample: y = op(u). Total: no error return. */
-double pf_fracop_step_f64(pf_fracop_f64 *in, double u);
-float pf_fracop_step_f32(pf_fracop_f32 *in, float u);
+double pf_fracop_step_f64(pf_fracop_f64 *S, double u);
+float pf_fracop_step_f32(pf_fracop_f32 *S, float u);
 
 /* ---------------- Q15 ---------------- */
 
@@ -222,10 +222,10 @@ typedef struct pf_fracop_q15 {
 pf_status pf_fracop_coeffs_q15_make(pf_fracop_coeffs_q15 *cq,
                                     const pf_fracop_design *op, double in_fs,
                                     double out_fs);
-pf_status pf_fracop_init_q15(pf_fracop_q15 *in, const pf_fracop_coeffs_q15 *c);
-void pf_fracop_reset_q15(pf_fracop_q15 *in);
+pf_status pf_fracop_init_q15(pf_fracop_q15 *S, const pf_fracop_coeffs_q15 *c);
+void pf_fracop_reset_q15(pf_fracop_q15 *S);
 /** One sample. Input and output in Q15 (-32768..32767); saturates. */
-int16_t pf_fracop_step_q15(pf_fracop_q15 *in, int16_t u);
+int16_t pf_fracop_step_q15(pf_fracop_q15 *S, int16_t u);
 
 #ifdef __cplusplus
 }
