@@ -118,7 +118,7 @@ static void toolbox_example(void)
     pfh_acc_ref ref;
     long n;
     double y = 0.0, ex, worst;
-    pf_params_default(&p, PF_CFG_P);
+    pf_params_default(&p, PF_TOPO_P);
     pf_design_opts_default(&o, 10000.0);
     o.wb = 1e-3;
     o.wh = 1e3;

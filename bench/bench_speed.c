@@ -68,7 +68,7 @@ static double peak_f64(const pf_ctrl_design *d)
     return peak;
 }
 
-static int ctrl_setup(pf_config cfg, int order)
+static int ctrl_setup(pf_topology cfg, int order)
 {
     pf_params p;
     pf_design_opts o;
@@ -283,7 +283,7 @@ static void table_configs(void)
     printf("| config | sections | MACs/sample | float ns/sample | Q15 ns/sample |\n");
     printf("|---|---|---|---|---|\n");
     for (c = 0; c < 4; c++) {
-        if (ctrl_setup((pf_config)c, 0) != 0) {
+        if (ctrl_setup((pf_topology)c, 0) != 0) {
             printf("| %s | design refused | | | |\n", cfg_names[c]);
             continue;
         }
@@ -349,7 +349,7 @@ static void table_scale(void)
     printf("| N | sections | MACs/sample | float ns/sample | Q15 ns/sample |\n");
     printf("|---|---|---|---|---|\n");
     for (n = 1; n <= PF_MAX_ORDER; n++) {
-        if (ctrl_setup(PF_CFG_DD, n) != 0)
+        if (ctrl_setup(PF_TOPO_DD, n) != 0)
             continue;
         fprintf(stderr, "[bench] scale: N = %d\n", n);
         printf("| %d | %d | %d | %.1f | %.1f |\n", n, ctrl_sections(&cw.d.rt),
@@ -358,7 +358,7 @@ static void table_scale(void)
     printf("\n### Cost against the number of instances (dd, default N)\n\n");
     printf("| instances | float ns/sample/instance | Q15 ns/sample/instance |\n");
     printf("|---|---|---|\n");
-    if (ctrl_setup(PF_CFG_DD, 0) != 0)
+    if (ctrl_setup(PF_TOPO_DD, 0) != 0)
         return;
     for (i = 0; i < 5; i++) {
         fprintf(stderr, "[bench] scale: %d instances\n", insts[i]);
@@ -377,7 +377,7 @@ static int run_one(const char *what, int order, long len)
     if (sscanf(what, "ctrl-%15[a-z]-%7s", name, ar) == 2) {
         for (c = 0; c < 4 && strcmp(cfg_names[c], name) != 0; c++)
             ;
-        if (c == 4 || ctrl_setup((pf_config)c, order) != 0)
+        if (c == 4 || ctrl_setup((pf_topology)c, order) != 0)
             return 2;
         ctrl_run(strcmp(ar, "q15") == 0, 1, len);
         printf("macs=%d poles=%d\n", ctrl_macs(&cw.d.rt), ctrl_sections(&cw.d.rt));

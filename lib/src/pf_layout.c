@@ -54,7 +54,10 @@ typedef struct member {
 #define PART(S, m, t) {PF_P_COUNT, #m, offsetof(S, m), SIZE_OF(S, m), PF_FIELD_STRUCT, t}
 
 static const member params_members[] = {
-    I(pf_params, PF_P_CONFIG, config),  D(pf_params, PF_P_A, a),
+    /* the topology: the parameter "config", under its C name */
+    {PF_P_COUNT, "topology", offsetof(pf_params, topology),
+     SIZE_OF(pf_params, topology), PF_FIELD_INT, PF_TYPE_COUNT},
+    D(pf_params, PF_P_A, a),
     D(pf_params, PF_P_B, b),            D(pf_params, PF_P_K1, k1),
     D(pf_params, PF_P_K2, k2),          D(pf_params, PF_P_AREA, A),
     D(pf_params, PF_P_KS, ks),          D(pf_params, PF_P_TAU, tau),

@@ -28,7 +28,7 @@
 
 #define OPEN_LO PF_PARAM_LO_OPEN
 #define WHOLE PF_PARAM_INTEGER
-#define ALL_TOPOLOGIES ((1u << PF_CFG_COUNT) - 1u)
+#define ALL_TOPOLOGIES ((1u << PF_TOPO_COUNT) - 1u)
 #define T(cfg) (1u << (cfg))
 
 static const pf_param_spec table[PF_P_COUNT] = {
@@ -56,21 +56,21 @@ static const pf_param_spec table[PF_P_COUNT] = {
     [PF_P_Q] = {"q", "", "bellows order; 0 is a linear spring",
                 0.0, 1.0, 0, ALL_TOPOLOGIES},
     [PF_P_NU] = {"nu", "", "derivative restrictor order (dd, pid)",
-                 0.0, 1.0, OPEN_LO, T(PF_CFG_DD) | T(PF_CFG_PID)},
+                 0.0, 1.0, OPEN_LO, T(PF_TOPO_DD) | T(PF_TOPO_PID)},
     [PF_P_W] = {"w", "", "reset restrictor order (id, pid; pid: >= nu)",
-                0.0, 1.0, OPEN_LO, T(PF_CFG_ID) | T(PF_CFG_PID)},
+                0.0, 1.0, OPEN_LO, T(PF_TOPO_ID) | T(PF_TOPO_PID)},
     [PF_P_RC] = {"RC", "s", "restrictor time constant (dd, id)",
-                 MODEL_MIN, MODEL_MAX, 0, T(PF_CFG_DD) | T(PF_CFG_ID)},
+                 MODEL_MIN, MODEL_MAX, 0, T(PF_TOPO_DD) | T(PF_TOPO_ID)},
     [PF_P_RCD] = {"RCd", "s", "pid derivative restrictor, < RCi",
-                  MODEL_MIN, MODEL_MAX, 0, T(PF_CFG_PID)},
+                  MODEL_MIN, MODEL_MAX, 0, T(PF_TOPO_PID)},
     [PF_P_RCI] = {"RCi", "s", "pid reset restrictor",
-                  MODEL_MIN, MODEL_MAX, 0, T(PF_CFG_PID)},
+                  MODEL_MIN, MODEL_MAX, 0, T(PF_TOPO_PID)},
 
-    /* design options (pf_params.config, pf_design_opts, the operator) */
+    /* design options (pf_params.topology, pf_design_opts, the operator) */
     [PF_P_CONFIG] = {"config", "",
                      "configuration: 0 p (eq. 17), 1 dd (FrDD, eq. 18), "
                      "2 id (FrID, eq. 20), 3 pid (Remark 3)",
-                     0.0, PF_CFG_COUNT - 1, WHOLE, 0},
+                     0.0, PF_TOPO_COUNT - 1, WHOLE, 0},
     [PF_P_FS] = {"fs", "Hz", "sample rate",
                  0.0, 1e7, OPEN_LO, 0},
     [PF_P_WB] = {"wb", "rad/s",

@@ -13,12 +13,12 @@
  * the parameter table). */
 #define PF_KA_MAX 1e12
 
-void pf_params_default(pf_params *p, pf_config cfg)
+void pf_params_default(pf_params *p, pf_topology topo)
 {
     if (p == NULL)
         return;
     memset(p, 0, sizeof *p);
-    p->config = cfg;
+    p->topology = topo;
     /* Example 4 (shared by Examples 6 and 7 unless overridden). */
     p->b = 9.0;
     p->a = 1.0;
@@ -39,7 +39,7 @@ void pf_params_default(pf_params *p, pf_config cfg)
      * faster than the reset one, as in a commercial pneumatic PID. */
     p->RCd = 0.01;
     p->RCi = 0.1;
-    if (cfg == PF_CFG_ID || cfg == PF_CFG_PID) {
+    if (topo == PF_TOPO_ID || topo == PF_TOPO_PID) {
         /* Example 7 */
         p->k1 = 2.0;
         p->k2 = 5.0;
@@ -91,12 +91,12 @@ double pf_params_get(const pf_params *p, pf_param_id id)
     return f ? *f : NAN;
 }
 
-int pf_param_used(pf_config cfg, pf_param_id id)
+int pf_param_used(pf_topology topo, pf_param_id id)
 {
     const pf_param_spec *s = pf_param_info(id);
-    if (s == NULL || (unsigned)cfg >= (unsigned)PF_CFG_COUNT)
+    if (s == NULL || (unsigned)topo >= (unsigned)PF_TOPO_COUNT)
         return 0;
-    return (s->topologies >> cfg) & 1u;
+    return (s->topologies >> topo) & 1u;
 }
 
 pf_status pf_params_validate(const pf_params *p)
@@ -104,11 +104,11 @@ pf_status pf_params_validate(const pf_params *p)
     int i;
     if (p == NULL)
         return PF_E_NULL;
-    if (pf_param_check(PF_P_CONFIG, (double)p->config) != PF_OK)
+    if (pf_param_check(PF_P_CONFIG, (double)p->topology) != PF_OK)
         return PF_E_PARAM(PF_P_CONFIG);
     for (i = 0; i <= (int)PF_P_RCI; i++) {
         pf_param_id id = (pf_param_id)i;
-        if (pf_param_used(p->config, id) &&
+        if (pf_param_used(p->topology, id) &&
             pf_param_check(id, pf_params_get(p, id)) != PF_OK)
             return PF_E_PARAM(id);
     }
@@ -120,7 +120,7 @@ pf_status pf_params_validate(const pf_params *p)
     /* The pid's bellows feedback R_d - R_i must stay negative (docs/pid.md):
      * at high frequency that needs nu <= w (else R_i decays slower and the
      * net feedback turns positive), and then RCd < RCi. */
-    if (p->config == PF_CFG_PID) {
+    if (p->topology == PF_TOPO_PID) {
         if (!(p->nu <= p->w))
             return PF_E_PARAM(PF_P_W);
         if (!(p->RCd < p->RCi))
@@ -129,21 +129,21 @@ pf_status pf_params_validate(const pf_params *p)
     return PF_OK;
 }
 
-const char *pf_config_name(pf_config cfg)
+const char *pf_topology_name(pf_topology topo)
 {
-    static const char *const names[PF_CFG_COUNT] = {"p", "dd", "id", "pid"};
-    if ((unsigned)cfg >= (unsigned)PF_CFG_COUNT)
+    static const char *const names[PF_TOPO_COUNT] = {"p", "dd", "id", "pid"};
+    if ((unsigned)topo >= (unsigned)PF_TOPO_COUNT)
         return "?";
-    return names[cfg];
+    return names[topo];
 }
 
-pf_config pf_config_lookup(const char *name)
+pf_topology pf_topology_lookup(const char *name)
 {
     int i;
     if (name == NULL)
-        return PF_CFG_COUNT;
-    for (i = 0; i < (int)PF_CFG_COUNT; i++)
-        if (strcmp(name, pf_config_name((pf_config)i)) == 0)
-            return (pf_config)i;
-    return PF_CFG_COUNT;
+        return PF_TOPO_COUNT;
+    for (i = 0; i < (int)PF_TOPO_COUNT; i++)
+        if (strcmp(name, pf_topology_name((pf_topology)i)) == 0)
+            return (pf_topology)i;
+    return PF_TOPO_COUNT;
 }

@@ -7,7 +7,7 @@
 void pfd_iparams_default(pfd_iparams *ip)
 {
     memset(ip, 0, sizeof *ip);
-    pf_params_default(&ip->p, PF_CFG_DD);
+    pf_params_default(&ip->p, PF_TOPO_DD);
     ip->arith = PFD_ARITH_FLOAT;
     ip->fs = 1000.0;
     ip->in_fs = 1.0;
@@ -41,7 +41,7 @@ int pfd_slot_build(pfd_slot *s, const pfd_iparams *ip, pf_ctrl_design *scratch,
         return fail(why, PFD_E_DAEMON, PFD_P_BUMP_TAU);
     if (ip->arith != PFD_ARITH_FLOAT && ip->arith != PFD_ARITH_Q15)
         return fail(why, PFD_E_DAEMON, PFD_P_ARITH);
-    if (pf_param_check(PF_P_CONFIG, (double)ip->p.config) != PF_OK)
+    if (pf_param_check(PF_P_CONFIG, (double)ip->p.topology) != PF_OK)
         return fail(why, PF_E_PARAM(PF_P_CONFIG), PF_P_CONFIG);
 
     /* Zero fields ask the library for the same defaults as
@@ -119,5 +119,5 @@ const char *pfd_arith_name(int arith)
 
 const char *pfd_topology_name(int config)
 {
-    return pf_config_name((pf_config)config);
+    return pf_topology_name((pf_topology)config);
 }

@@ -27,7 +27,7 @@ const char *pfd_arith_name(int arith);
 /** The library's arithmetic of an enum pfd_arith value. */
 pf_arith pfd_arith_lib(int arith);
 
-/** "p", "dd", "id" or "pid": pf_config_name() for an int, to go with
+/** "p", "dd", "id" or "pid": pf_topology_name() for an int, to go with
  *  pfd_arith_name() wherever a name is looked up (pfd_parse_name). */
 const char *pfd_topology_name(int config);
 

@@ -274,7 +274,7 @@ float pfd_f32_unpack(const uint16_t *w)
 static double ip_get(const pfd_iparams *ip, int k)
 {
     switch (k) {
-    case K_CONFIG: return (double)ip->p.config;
+    case K_CONFIG: return (double)ip->p.topology;
     case K_ARITH: return (double)ip->arith;
     case K_FS: return ip->fs;
     case K_IN_FS: return ip->in_fs;
@@ -287,7 +287,7 @@ static double ip_get(const pfd_iparams *ip, int k)
 static void ip_set(pfd_iparams *ip, int k, double v)
 {
     switch (k) {
-    case K_CONFIG: ip->p.config = (pf_config)(int)v; break;
+    case K_CONFIG: ip->p.topology = (pf_topology)(int)v; break;
     case K_ARITH: ip->arith = (int)v; break;
     case K_FS: ip->fs = v; break;
     case K_IN_FS: ip->in_fs = v; break;

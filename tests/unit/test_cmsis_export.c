@@ -64,7 +64,7 @@ static int setup(void **state)
     pf_params p;
     pf_design_opts o;
     (void)state;
-    pf_params_default(&p, PF_CFG_PID);
+    pf_params_default(&p, PF_TOPO_PID);
     p.q = 0.9; /* as exported (tests/CMakeLists.txt): all four operators */
     pf_design_opts_default(&o, FS);
     return pf_ctrl_design_make(&design, &p, NULL, &o) == PF_OK ? 0 : -1;

@@ -74,7 +74,7 @@ static void expect_fields(pf_type t, const want_field *w, int n)
 static void test_members(void **state)
 {
     static const want_field params[] = {
-        F(pf_params, config, PF_FIELD_INT), F(pf_params, a, PF_FIELD_DOUBLE),
+        F(pf_params, topology, PF_FIELD_INT), F(pf_params, a, PF_FIELD_DOUBLE),
         F(pf_params, b, PF_FIELD_DOUBLE),   F(pf_params, k1, PF_FIELD_DOUBLE),
         F(pf_params, k2, PF_FIELD_DOUBLE),  F(pf_params, A, PF_FIELD_DOUBLE),
         F(pf_params, ks, PF_FIELD_DOUBLE),  F(pf_params, tau, PF_FIELD_DOUBLE),
@@ -126,7 +126,7 @@ static void test_delay_len(void **state)
     pf_effects fx;
     pf_design_opts o;
     (void)state;
-    pf_params_default(&p, PF_CFG_DD);
+    pf_params_default(&p, PF_TOPO_DD);
     memset(&fx, 0, sizeof fx);
     fx.dead_time = 0.0125;
     pf_design_opts_default(&o, 1000.0);

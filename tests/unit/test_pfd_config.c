@@ -276,7 +276,7 @@ static void write_read_back(void **state)
                  pfd_setting_bit(pfd_setting_by_key("allow"));
     c.n = 2;
     pfd_config_inst_default(&c.inst[0], 3);
-    pf_params_default(&c.inst[0].ip.p, PF_CFG_PID);
+    pf_params_default(&c.inst[0].ip.p, PF_TOPO_PID);
     c.inst[0].ip.arith = PFD_ARITH_Q15;
     c.inst[0].ip.fs = 2000.0 / 3.0;
     c.inst[0].ip.p.q = 0.1;

@@ -98,7 +98,7 @@ static void test_cases_reader_refuses_bad_text(void **state)
     assert_int_equal(pfh_ref_cases_parse(
         "{\"x\": {\"config\": \"dd\", \"params\": {\"RC\": 0.5}}}", &c), 0);
     assert_int_equal(c.n, 1);
-    assert_int_equal(c.p[0].config, PF_CFG_DD);
+    assert_int_equal(c.p[0].topology, PF_TOPO_DD);
     assert_true(c.p[0].RC == 0.5 && c.p[0].a == 0.0);
 }
 
@@ -262,7 +262,7 @@ static pf_params pid_params(double RCd)
 {
     pf_params p = *case_params("ex7");
 
-    p.config = PF_CFG_PID;
+    p.topology = PF_TOPO_PID;
     p.nu = 0.7;
     p.w = 0.94;
     p.RCd = RCd;
@@ -283,10 +283,10 @@ static void test_pid_is_dd_plus_id(void **state)
     int k;
 
     (void)state;
-    pp.config = PF_CFG_P;
-    dd.config = PF_CFG_DD;
+    pp.topology = PF_TOPO_P;
+    dd.topology = PF_TOPO_DD;
     dd.RC = pid.RCd;
-    id.config = PF_CFG_ID;
+    id.topology = PF_TOPO_ID;
     id.RC = pid.RCi;
     for (k = 0; k < NPTS; ++k) {
         const double complex s = pts[k];
@@ -314,7 +314,7 @@ static void test_pid_rcd_to_zero_is_id(void **state)
     int k;
 
     (void)state;
-    id.config = PF_CFG_ID;
+    id.topology = PF_TOPO_ID;
     id.RC = id.RCi;
     for (k = 0; k < NPTS; ++k) {
         const pf_params p1 = pid_params(1e-6), p2 = pid_params(1e-9);

@@ -184,7 +184,7 @@ static void compare(pf_arith arith, double in_fs, double out_fs)
     compare_run(arith, in_fs, out_fs, 200);
 }
 
-static void setup_typed(pf_config cfg, const pf_effects *fx, double in_fs,
+static void setup_typed(pf_topology cfg, const pf_effects *fx, double in_fs,
                         double out_fs)
 {
     pf_params p;
@@ -202,7 +202,7 @@ static void setup_typed(pf_config cfg, const pf_effects *fx, double in_fs,
 static void test_matches_typed_runtimes(void **state)
 {
     /* out_fs per configuration: roughly 1.5 x the peak for this input. */
-    static const double out_fs[PF_CFG_COUNT] = {0.03, 0.03, 16.0, 16.0};
+    static const double out_fs[PF_TOPO_COUNT] = {0.03, 0.03, 16.0, 16.0};
     pf_effects fx;
     int c, a;
     (void)state;
@@ -212,9 +212,9 @@ static void test_matches_typed_runtimes(void **state)
     fx.sat_hi = 1.0;
     fx.lag = 0.002;
     fx.dead_time = 0.005;
-    for (c = 0; c < PF_CFG_COUNT; c++)
+    for (c = 0; c < PF_TOPO_COUNT; c++)
         for (a = 0; a < PF_ARITH_COUNT; a++) {
-            setup_typed((pf_config)c, &fx, 1.25, out_fs[c]);
+            setup_typed((pf_topology)c, &fx, 1.25, out_fs[c]);
             compare((pf_arith)a, 1.25, out_fs[c]);
         }
 }
@@ -225,7 +225,7 @@ static void test_run_is_steps(void **state)
     pf_runtime one;
     long n;
     (void)state;
-    setup_typed(PF_CFG_DD, NULL, 1.0, 0.01);
+    setup_typed(PF_TOPO_DD, NULL, 1.0, 0.01);
     for (n = 0; n < N; n++)
         e[n] = input(n);
     assert_int_equal(pf_runtime_init(&rt, &design, PF_ARITH_Q15, 1.0, 0.01, NULL, 0),
@@ -250,7 +250,7 @@ static void test_refusals(void **state)
     pf_design_opts o;
     pf_effects fx;
     (void)state;
-    pf_params_default(&p, PF_CFG_DD);
+    pf_params_default(&p, PF_TOPO_DD);
     pf_design_opts_default(&o, FS);
     memset(&fx, 0, sizeof fx);
     fx.dead_time = 0.01; /* 20 samples */

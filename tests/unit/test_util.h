@@ -75,14 +75,14 @@ static inline void expect_names_one_of(pf_status st, pf_param_id a, pf_param_id 
  * representable range (pf_fracop.h), naming beta, q, nu or w, and a pid
  * whose restrictors make the in-sample loop equation (nearly) singular at
  * an extreme rate or band, naming RCd (pf_ctrl_design_make). */
-static inline int design_may_name(pf_config c, double fs, pf_param_id id)
+static inline int design_may_name(pf_topology c, double fs, pf_param_id id)
 {
     switch (id) {
     case PF_P_BETA: case PF_P_Q: case PF_P_NU: case PF_P_W:
         return pf_param_used(c, id);
     case PF_P_RCD: /* documented: a pid whose in-sample loop is singular */
         (void)fs;
-        return c == PF_CFG_PID;
+        return c == PF_TOPO_PID;
     default:
         return 0;
     }

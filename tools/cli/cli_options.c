@@ -82,8 +82,8 @@ int cli_opts_parse(int argc, char **argv, const cli_command *cmd, cli_opts *a)
 
         switch (o->seen) {
         case CLI_OPT_CONFIG:
-            a->config = pf_config_lookup(val);
-            if (a->config == PF_CFG_COUNT) {
+            a->topology = pf_topology_lookup(val);
+            if (a->topology == PF_TOPO_COUNT) {
                 cli_error("--config: unknown configuration '%s' (valid: p, "
                           "dd, id, pid)", cli_quote(q, sizeof q, val));
                 return -1;
@@ -220,16 +220,16 @@ int cli_opts_build(const cli_opts *a, const cli_command *cmd, cli_run *run)
     }
 
     memset(run, 0, sizeof *run);
-    pf_params_default(&run->p, a->config);
+    pf_params_default(&run->p, a->topology);
     for (id = 0; id < (int)PF_P_CONFIG; id++) {
         if (!(a->set_mask & (1u << id)))
             continue;
         /* A parameter the configuration ignores would silently change
          * nothing; that is almost always a mistaken name or config. */
-        if (!pf_param_used(a->config, (pf_param_id)id)) {
+        if (!pf_param_used(a->topology, (pf_param_id)id)) {
             cli_error("--set %s: configuration %s does not use '%s'",
                       pf_param_name((pf_param_id)id),
-                      pf_config_name(a->config),
+                      pf_topology_name(a->topology),
                       pf_param_name((pf_param_id)id));
             return -1;
         }

@@ -46,7 +46,7 @@ typedef struct cli_command {
 /** Parsed command line, before the defaults of the configuration apply. */
 typedef struct cli_opts {
     unsigned seen;
-    pf_config config;
+    pf_topology topology;
     double fs, duration, in_fs, out_fs, wb, wh, t_slow;
     int order;
     pf_approx approx;
@@ -59,7 +59,7 @@ typedef struct cli_opts {
 } cli_opts;
 
 /** Parse argv[1..] (argv[0] is the command) into @p a, zeroed by the
- *  caller with a->config = PF_CFG_COUNT. Prints every error.
+ *  caller with a->topology = PF_TOPO_COUNT. Prints every error.
  *  @return 1 if help was printed, 0 if parsed, -1 after an error. */
 int cli_opts_parse(int argc, char **argv, const cli_command *cmd, cli_opts *a);
 

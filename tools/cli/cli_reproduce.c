@@ -267,7 +267,7 @@ int cli_reproduce_main(int argc, char **argv)
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++) {
             series *s = &cs[3 * i + j];
-            pf_params_default(&s->p, PF_CFG_P);
+            pf_params_default(&s->p, PF_TOPO_P);
             s->p.beta = ex4_beta[i];
             s->p.q = qs[j];
             snprintf(s->name, sizeof s->name, "ex4_b%g_q%g", ex4_beta[i], qs[j]);
@@ -276,14 +276,14 @@ int cli_reproduce_main(int argc, char **argv)
     if (rc != CLI_EXIT_OK)
         return rc;
     for (j = 0; j < 3; j++) {
-        pf_params_default(&cs[j].p, PF_CFG_DD);
+        pf_params_default(&cs[j].p, PF_TOPO_DD);
         cs[j].p.q = qs[j];
         snprintf(cs[j].name, sizeof cs[j].name, "ex6_q%g", qs[j]);
     }
     rc = write_steps(dir, "fig9_ex6.csv", cs, 3, 0, fs);
     if (rc != CLI_EXIT_OK)
         return rc;
-    pf_params_default(&cs[0].p, PF_CFG_ID);
+    pf_params_default(&cs[0].p, PF_TOPO_ID);
     snprintf(cs[0].name, sizeof cs[0].name, "ex7");
     rc = write_steps(dir, "fig10_ex7.csv", cs, 1, 0, fs);
     if (rc != CLI_EXIT_OK)

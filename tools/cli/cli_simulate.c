@@ -74,7 +74,7 @@ static void describe_param(const cli_run *run, pf_param_id id, char *buf,
 
     if (id < PF_P_CONFIG) {
         snprintf(buf, n, "value %.10g for config %s; change it with --set %s=VALUE",
-                 pf_params_get(&run->p, id), pf_config_name(run->p.config),
+                 pf_params_get(&run->p, id), pf_topology_name(run->p.topology),
                  pf_param_name(id));
         return;
     }
@@ -236,7 +236,7 @@ int cli_simulate_main(int argc, char **argv)
     int rc;
 
     memset(&a, 0, sizeof a);
-    a.config = PF_CFG_COUNT;
+    a.topology = PF_TOPO_COUNT;
     rc = cli_opts_parse(argc, argv, &simulate_cmd, &a);
     if (rc != 0)
         return rc > 0 ? CLI_EXIT_OK : CLI_EXIT_USAGE;

@@ -75,20 +75,20 @@ double complex pfh_ref_tf(const pf_params *p, double complex s)
     /* 1 - 1/(x+1) and Rv - Rw are written over a common denominator so that
      * no digits cancel when |RC s^x| is small (large t); it is the same
      * function. */
-    switch (p->config) {
-    case PF_CFG_DD:
+    switch (p->topology) {
+    case PF_TOPO_DD:
         M = 1.0 / (p->RC * ppow(s, p->nu) + 1.0);
         break;
-    case PF_CFG_ID:
+    case PF_TOPO_ID:
         xi = p->RC * ppow(s, p->w);
         M = xi / (xi + 1.0);
         break;
-    case PF_CFG_PID:
+    case PF_TOPO_PID:
         xd = p->RCd * ppow(s, p->nu);
         xi = p->RCi * ppow(s, p->w);
         M = (xi - xd) / ((xd + 1.0) * (xi + 1.0));
         break;
-    default: /* PF_CFG_P */
+    default: /* PF_TOPO_P */
         break;
     }
     return g * R / (1.0 + c * R * B * M);

@@ -18,7 +18,7 @@
 /** Quadrature nodes used by pfh_ref_step (see pfh_ref.c for the choice). */
 #define PFH_REF_TALBOT_N 32
 
-/** Exact P_c(s)/E(s) for p->config, principal branch of all powers.
+/** Exact P_c(s)/E(s) for p->topology, principal branch of all powers.
  *  s must not lie on the closed negative real axis (branch cut). */
 double complex pfh_ref_tf(const pf_params *p, double complex s);
 

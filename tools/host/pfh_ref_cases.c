@@ -127,7 +127,7 @@ static int case_member(reader *r, const char *key, void *ctx)
         return -1;
     for (i = 0; i < sizeof configs / sizeof configs[0]; i++)
         if (strcmp(cfg, configs[i]) == 0) {
-            p->config = (pf_config)i;
+            p->topology = (pf_topology)i;
             return 0;
         }
     return -1;
@@ -142,8 +142,8 @@ static int top_member(reader *r, const char *key, void *ctx)
         return -1;
     p = &c->p[c->n];
     memset(p, 0, sizeof *p);
-    p->config = PF_CFG_COUNT; /* "config" is required */
-    if (object(r, case_member, p) != 0 || p->config == PF_CFG_COUNT)
+    p->topology = PF_TOPO_COUNT; /* "config" is required */
+    if (object(r, case_member, p) != 0 || p->topology == PF_TOPO_COUNT)
         return -1;
     strcpy(c->name[c->n], key); /* fits: string() bounded it */
     c->n++;

@@ -39,7 +39,7 @@ typedef struct pf_param_spec {
                            (hi = HUGE_VAL: no bound of its own) */
     unsigned flags;   /**< PF_PARAM_* */
     unsigned topologies; /**< model parameters: bit (1 << t) is set when
-                              topology t (pf_config) uses it; 0 otherwise */
+                              topology t (pf_topology) uses it; 0 otherwise */
 } pf_param_spec;
 
 /** @return the row of parameter @p id, or NULL for an unknown id. */

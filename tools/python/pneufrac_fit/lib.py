@@ -104,8 +104,8 @@ def _declare(lib) -> None:
         ("pf_param_count", [], i),
         ("pf_param_lookup", [cp], i),
         ("pf_param_used", [i, i], i),
-        ("pf_config_name", [i], cp),
-        ("pf_config_lookup", [cp], i),
+        ("pf_topology_name", [i], cp),
+        ("pf_topology_lookup", [cp], i),
         ("pf_nozzle", [d, d], d),
         ("pf_play", [d, d, d], d),
         ("pf_type_name", [i], cp),
@@ -211,7 +211,7 @@ def _layout_request(lib):
     so that a field read back from the wrong offset shows."""
     m = _layout
     p = m.Params()
-    lib.pf_params_default(C.byref(p), lib.pf_config_lookup(b"dd"))
+    lib.pf_params_default(C.byref(p), lib.pf_topology_lookup(b"dd"))
     names = [n for n, _ in m.Params._fields_[1:]]
     for i, n in enumerate(names):      # shrink each a little, differently
         setattr(p, n, getattr(p, n) * (1.0 - 0.001 * (i + 1)))
@@ -301,8 +301,8 @@ def param_range(name: str) -> ParamRange:
 def config_id(config: str) -> int:
     """The library's number of a configuration name ("p", "dd", ...)."""
     lib = load()
-    cid = lib.pf_config_lookup(config.encode())
-    if lib.pf_config_name(cid) != config.encode():
+    cid = lib.pf_topology_lookup(config.encode())
+    if lib.pf_topology_name(cid) != config.encode():
         raise KeyError(f"the library has no configuration '{config}'")
     return cid
 
