@@ -15,8 +15,7 @@
 #include <math.h>
 #include <stddef.h>
 
-#include "pneufrac/pf_fracop.h"
-#include "pneufrac/pf_param_info.h"
+#include "pf_design_internal.h"
 
 #define PF_PI 3.14159265358979323846
 #define REF_B 10.0
@@ -44,19 +43,15 @@ pf_status pf_design_opts_resolve(const pf_design_opts *in, pf_design_opts *out)
     if (in == NULL || out == NULL)
         return PF_E_NULL;
     o = *in;
-    if (pf_param_check(PF_P_FS, o.fs) != PF_OK)
-        return PF_E_PARAM(PF_P_FS);
+    PF_RETURN_IF_OUT(PF_P_FS, o.fs);
     nyq = PF_PI * o.fs;
-    if (pf_param_check(PF_P_TSLOW, o.t_slow) != PF_OK)
-        return PF_E_PARAM(PF_P_TSLOW);
+    PF_RETURN_IF_OUT(PF_P_TSLOW, o.t_slow);
     if (o.t_slow == 0.0)
         o.t_slow = PF_DEFAULT_TSLOW;
     /* Default band: up to the Nyquist frequency (analog; Tustin compresses it to 0.64 of
      * Nyquist, so the approximant stays fractional across the usable band). */
-    if (pf_param_check(PF_P_WB, o.wb) != PF_OK)
-        return PF_E_PARAM(PF_P_WB);
-    if (pf_param_check(PF_P_WH, o.wh) != PF_OK)
-        return PF_E_PARAM(PF_P_WH);
+    PF_RETURN_IF_OUT(PF_P_WB, o.wb);
+    PF_RETURN_IF_OUT(PF_P_WH, o.wh);
     /* Two decades below 1/t_slow: the approximant's flattening at wb then
      * costs under 0.1 % at t = t_slow/5 even for |f| = 1/2 (measured in
      * docs/accuracy.md); kept above the lowest band the runtime resolves. */
@@ -70,10 +65,8 @@ pf_status pf_design_opts_resolve(const pf_design_opts *in, pf_design_opts *out)
         return PF_E_PARAM(PF_P_WB);
     if (!(o.wb < o.wh))
         return PF_E_PARAM(PF_P_WB);
-    if (pf_param_check(PF_P_INPUT, (double)o.input) != PF_OK)
-        return PF_E_PARAM(PF_P_INPUT);
-    if (pf_param_check(PF_P_APPROX, (double)o.approx) != PF_OK)
-        return PF_E_PARAM(PF_P_APPROX);
+    PF_RETURN_IF_OUT(PF_P_INPUT, (double)o.input);
+    PF_RETURN_IF_OUT(PF_P_APPROX, (double)o.approx);
     if (o.order == 0) {
         /* Two zero/pole pairs per decade keep Oustaloup's phase ripple
          * small; measured in docs/accuracy.md. */
@@ -85,10 +78,9 @@ pf_status pf_design_opts_resolve(const pf_design_opts *in, pf_design_opts *out)
             n = PF_MAX_ORDER;
         o.order = n;
     }
-    if (pf_param_check(PF_P_ORDER, (double)o.order) != PF_OK)
-        return PF_E_PARAM(PF_P_ORDER);
-    if (pf_param_check(PF_P_PREWARP, o.prewarp) != PF_OK ||
-        o.prewarp >= 0.99 * nyq)
+    PF_RETURN_IF_OUT(PF_P_ORDER, (double)o.order);
+    PF_RETURN_IF_OUT(PF_P_PREWARP, o.prewarp);
+    if (o.prewarp >= 0.99 * nyq)
         return PF_E_PARAM(PF_P_PREWARP);
     if (o.approx == PF_APPROX_REFINED) {
         /* The correction factor's poles must be real: (b wh/(d(1-r)))^2 >
@@ -129,8 +121,7 @@ pf_status pf_fracop_zpk(double alpha, const pf_design_opts *opt, int *m,
     if (opt == NULL || m == NULL || k == NULL || zeros == NULL || nz == NULL ||
         poles == NULL || np == NULL)
         return PF_E_NULL;
-    if (pf_param_check(PF_P_ALPHA, alpha) != PF_OK)
-        return PF_E_PARAM(PF_P_ALPHA);
+    PF_RETURN_IF_OUT(PF_P_ALPHA, alpha);
     st = pf_design_opts_resolve(opt, &o);
     if (st != PF_OK)
         return st;

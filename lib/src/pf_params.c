@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "pneufrac/pf_param_info.h"
+#include "pf_names.h"
 
 /* Bound on the bellows compliance A/ks, the one ratio of two free
  * parameters that becomes an operator gain (each on its own is bounded by
@@ -129,21 +130,14 @@ pf_status pf_params_validate(const pf_params *p)
     return PF_OK;
 }
 
+static const char *const topology_names[PF_TOPO_COUNT] = {"p", "dd", "id", "pid"};
+
 const char *pf_topology_name(pf_topology topo)
 {
-    static const char *const names[PF_TOPO_COUNT] = {"p", "dd", "id", "pid"};
-    if ((unsigned)topo >= (unsigned)PF_TOPO_COUNT)
-        return "?";
-    return names[topo];
+    return pf_name_of(topology_names, PF_TOPO_COUNT, (int)topo);
 }
 
 pf_topology pf_topology_lookup(const char *name)
 {
-    int i;
-    if (name == NULL)
-        return PF_TOPO_COUNT;
-    for (i = 0; i < (int)PF_TOPO_COUNT; i++)
-        if (strcmp(name, pf_topology_name((pf_topology)i)) == 0)
-            return (pf_topology)i;
-    return PF_TOPO_COUNT;
+    return (pf_topology)pf_name_find(topology_names, PF_TOPO_COUNT, name);
 }

@@ -6,26 +6,19 @@
 #include <string.h>
 
 #include "pneufrac/pf_q15.h"
+#include "pf_names.h"
 
 static const char *const arith_names[PF_ARITH_COUNT] = {"double", "float",
                                                          "q15"};
 
 const char *pf_arith_name(pf_arith arith)
 {
-    if ((unsigned)arith >= (unsigned)PF_ARITH_COUNT)
-        return "?";
-    return arith_names[arith];
+    return pf_name_of(arith_names, PF_ARITH_COUNT, (int)arith);
 }
 
 pf_arith pf_arith_lookup(const char *name)
 {
-    int i;
-    if (name == NULL)
-        return PF_ARITH_COUNT;
-    for (i = 0; i < (int)PF_ARITH_COUNT; i++)
-        if (strcmp(name, arith_names[i]) == 0)
-            return (pf_arith)i;
-    return PF_ARITH_COUNT;
+    return (pf_arith)pf_name_find(arith_names, PF_ARITH_COUNT, name);
 }
 
 size_t pf_arith_sample_size(pf_arith arith)

@@ -184,12 +184,12 @@ static void compare(pf_arith arith, double in_fs, double out_fs)
     compare_run(arith, in_fs, out_fs, 200);
 }
 
-static void setup_typed(pf_topology cfg, const pf_effects *fx, double in_fs,
+static void setup_typed(pf_topology topo, const pf_effects *fx, double in_fs,
                         double out_fs)
 {
     pf_params p;
     pf_design_opts o;
-    pf_params_default(&p, cfg);
+    pf_params_default(&p, topo);
     pf_design_opts_default(&o, FS);
     assert_int_equal(pf_ctrl_design_make(&design, &p, fx, &o), PF_OK);
     assert_int_equal(pf_ctrl_init_f64(&ty.f64, &design.rt, ty.d64, DLEN), PF_OK);

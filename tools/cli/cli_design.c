@@ -148,13 +148,9 @@ int cli_design_main(int argc, char **argv)
     const char *name;
     int rc;
 
-    memset(&a, 0, sizeof a);
-    a.topology = PF_TOPO_COUNT;
-    rc = cli_opts_parse(argc, argv, &design_cmd, &a);
+    rc = cli_opts_read(argc, argv, &design_cmd, &a, &run);
     if (rc != 0)
         return rc > 0 ? CLI_EXIT_OK : CLI_EXIT_USAGE;
-    if (cli_opts_build(&a, &design_cmd, &run) != 0)
-        return CLI_EXIT_USAGE;
     if (a.format == NULL) {
         cli_error("design: missing --format (c, cmsis-f32, cmsis-q15 or json)");
         return CLI_EXIT_USAGE;

@@ -28,7 +28,7 @@ static const opt_desc options[] = {
 };
 #define N_OPTIONS (sizeof options / sizeof options[0])
 
-int cli_opts_parse(int argc, char **argv, const cli_command *cmd, cli_opts *a)
+static int opts_parse(int argc, char **argv, const cli_command *cmd, cli_opts *a)
 {
     char q[48];
     int i;
@@ -185,7 +185,7 @@ int cli_opts_parse(int argc, char **argv, const cli_command *cmd, cli_opts *a)
     return 0;
 }
 
-int cli_opts_build(const cli_opts *a, const cli_command *cmd, cli_run *run)
+static int opts_build(const cli_opts *a, const cli_command *cmd, cli_run *run)
 {
     int id;
 
@@ -256,3 +256,14 @@ int cli_opts_build(const cli_opts *a, const cli_command *cmd, cli_run *run)
     return 0;
 }
 
+int cli_opts_read(int argc, char **argv, const cli_command *cmd, cli_opts *a,
+                  cli_run *run)
+{
+    int rc;
+    memset(a, 0, sizeof *a);
+    a->topology = PF_TOPO_COUNT; /* --config is required */
+    rc = opts_parse(argc, argv, cmd, a);
+    if (rc != 0)
+        return rc;
+    return opts_build(a, cmd, run);
+}

@@ -58,13 +58,11 @@ typedef struct cli_opts {
     cli_effects fx;
 } cli_opts;
 
-/** Parse argv[1..] (argv[0] is the command) into @p a, zeroed by the
- *  caller with a->topology = PF_TOPO_COUNT. Prints every error.
- *  @return 1 if help was printed, 0 if parsed, -1 after an error. */
-int cli_opts_parse(int argc, char **argv, const cli_command *cmd, cli_opts *a);
-
-/** Cross-option checks, then the run description (duration is required
- *  only if the command takes it). @return 0, or -1 after an error. */
-int cli_opts_build(const cli_opts *a, const cli_command *cmd, cli_run *run);
+/** Parse argv[1..] (argv[0] is the command) into @p a, check the options
+ *  against each other, and describe the run in @p run (duration is
+ *  required only if the command takes it). Prints every error.
+ *  @return 1 if help was printed, 0 if @p run is ready, -1 after an error. */
+int cli_opts_read(int argc, char **argv, const cli_command *cmd, cli_opts *a,
+                  cli_run *run);
 
 #endif

@@ -235,13 +235,9 @@ int cli_simulate_main(int argc, char **argv)
     double *input = NULL;
     int rc;
 
-    memset(&a, 0, sizeof a);
-    a.topology = PF_TOPO_COUNT;
-    rc = cli_opts_parse(argc, argv, &simulate_cmd, &a);
+    rc = cli_opts_read(argc, argv, &simulate_cmd, &a, &run);
     if (rc != 0)
         return rc > 0 ? CLI_EXIT_OK : CLI_EXIT_USAGE;
-    if (cli_opts_build(&a, &simulate_cmd, &run) != 0)
-        return CLI_EXIT_USAGE;
     rc = cli_run_design(&run, &d);
     if (rc != CLI_EXIT_OK)
         return rc;
