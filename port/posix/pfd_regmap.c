@@ -37,8 +37,7 @@ enum {
 #define K_COUNT (K_P0 + 16)
 
 /* The live signals' write range (e, sp, pv, manual and fail-safe output):
- * the largest magnitude a model parameter may have, so that any value a
- * parameter set can produce can also be written. */
+ * the daemon's own bound, far beyond any process value and finite in f32. */
 #define BIG 1e9
 
 /* Staged parameters from holding 20, their committed mirrors from input
