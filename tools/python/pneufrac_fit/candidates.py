@@ -32,8 +32,10 @@ def effect_inits(pb, effect: str) -> list[dict]:
                 {"sat_lo": pb.y_lo + 5 * m, "sat_hi": pb.y_hi - 5 * m}]
     if effect == "backlash":
         return [{"deadband": 0.01 * pb.span_e}, {"deadband": 0.04 * pb.span_e}]
-    if effect == "nozzle":
-        return [{"nozzle_k": 0.1 / pb.amp_e}, {"nozzle_k": 0.4 / pb.amp_e}]
+    if effect == "nozzle":   # at the inflection, and on either side of it
+        return [{"nozzle_k": 0.3 / pb.amp_e, "nozzle_bias": 0.0},
+                {"nozzle_k": 0.3 / pb.amp_e, "nozzle_bias": 0.6},
+                {"nozzle_k": 0.3 / pb.amp_e, "nozzle_bias": -0.3}]
     return [{}]
 
 

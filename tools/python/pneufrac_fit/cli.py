@@ -86,7 +86,8 @@ def _parser():
     g.add_argument("--config", required=True, choices=["p", "dd", "id", "pid"])
     g.add_argument("--effect", default="none",
                    help="none | deadtime:t=S | lag:tau=S | backlash:width=W | "
-                        "nozzle:xh=X | saturation:lo=L,hi=H (W, X in input units)")
+                        "nozzle:xh=X[,bias=B] | saturation:lo=L,hi=H (W, X in input units; "
+                        "B the nozzle's bias point above the inflection, units of x_1/2)")
     g.add_argument("--n", type=int, default=6000, help="samples (default 6000)")
     g.add_argument("--fs", type=float, default=1000.0,
                    help=f"output rate, Hz, {MIN_FS:.4g}..{MAX_FS:g} (default 1000)")
@@ -152,9 +153,11 @@ def parse_effect(text: str, fs: float) -> tuple[str, dict]:
     kv = dict(_kv(x, "--effect") for x in rest.split(",") if x) if rest else {}
     need = {"none": [], "dead_time": ["t"], "lag": ["tau"], "backlash": ["width"],
             "nozzle": ["xh"], "saturation": ["lo", "hi"]}[eff]
-    if sorted(kv) != sorted(need):
+    optional = ["bias"] if eff == "nozzle" else []
+    if not set(need) <= set(kv) <= set(need) | set(optional):
         raise UsageError(f"--effect {text}: {name} takes "
-                         + (",".join(f"{k}=..." for k in need) or "no values"))
+                         + (",".join(f"{k}=..." for k in need) or "no values")
+                         + "".join(f"[,{k}=...]" for k in optional))
     if eff == "dead_time":
         return eff, {"dead_time": kv["t"]}
     if eff == "lag":
@@ -162,7 +165,7 @@ def parse_effect(text: str, fs: float) -> tuple[str, dict]:
     if eff == "backlash":
         return eff, {"deadband": kv["width"]}
     if eff == "nozzle":
-        return eff, {"nozzle_xh": kv["xh"]}
+        return eff, {"nozzle_xh": kv["xh"], "nozzle_bias": kv.get("bias", 0.0)}
     if eff == "saturation":
         if not kv["lo"] < kv["hi"]:
             raise UsageError("--effect saturation: lo must be below hi")

@@ -24,6 +24,7 @@ from scipy.optimize import least_squares
 from . import lib, model, noise
 
 SPLIT = 0.7          # fit on the first 70 %, validate on the rest
+NOZZLE_BIAS = (-0.5, 3.0)   # the fitted range of the nozzle's bias point
 BURN = 0.02          # without an opening rest: the first 2 % of the fit part is not counted
 DIFF_STEP = 1e-4     # relative finite-difference step (transformed parameters)
 
@@ -162,6 +163,9 @@ def _effect_specs(effects, pb: Problem):
             out.append(("deadband", "lin", 0.0, pb.span_e))
         elif eff == "nozzle":   # curvature 1/x_1/2 in 1/input units; 0 = linear nozzle
             out.append(("nozzle_k", "lin", 0.0, 20.0 / max(pb.amp_e, 1e-300)))
+            # the bias point: the equilibrium's gap above the curve's
+            # inflection, units of x_1/2 (the library's range, to 3)
+            out.append(("nozzle_bias", "lin", NOZZLE_BIAS[0], NOZZLE_BIAS[1]))
     return out
 
 
@@ -252,6 +256,7 @@ def effect_report(effects, vals: dict, fs_int: float, m: int, dead: int = 0) -> 
         elif eff == "nozzle":
             k = vals["nozzle_k"]
             out["nozzle_xh"] = 1.0 / k if k > 0 else math.inf
+            out["nozzle_bias"] = vals.get("nozzle_bias", 0.0)
     return out
 
 

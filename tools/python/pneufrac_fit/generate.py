@@ -9,7 +9,8 @@ given in the units the diagnosis reports:
 
     dead_time  s                      lag        s
     backlash   dead-band full width, input units (the library gets x units)
-    nozzle     x_1/2, input units
+    nozzle     x_1/2, input units; nozzle_bias (gap above the inflection,
+               units of x_1/2; 0 = at the inflection)
     saturation sat_lo, sat_hi, output units
 """
 from __future__ import annotations
@@ -115,7 +116,7 @@ def plant_effects(effect: str, ev: dict, p: dict) -> dict:
     if effect == "backlash":
         return {"backlash": ev["deadband"] * ce}
     if effect == "nozzle":
-        return {"nozzle_xh": ev["nozzle_xh"] * ce}
+        return {"nozzle_xh": ev["nozzle_xh"] * ce, "nozzle_bias": ev.get("nozzle_bias", 0.0)}
     return {}
 
 
@@ -163,7 +164,10 @@ def draw_effect(effect: str, config: str, rng: np.random.Generator, fs: float,
         return {"deadband": (0.01 + 0.04 * u) * span_e}       # 1..5 % of span
     if effect == "nozzle":
         amp = float(np.max(np.abs(e)))
-        return {"nozzle_xh": (1.5 + 2.5 * u) * amp}           # 5..25 % compression
+        # 5..25 % compression at the inflection; biased at the equilibrium
+        # anywhere from before the inflection to well beyond it
+        return {"nozzle_xh": (1.5 + 2.5 * u) * amp,
+                "nozzle_bias": float(rng.uniform(-0.3, 1.0))}
     if effect == "saturation":
         # Limits inside the range that both the fit part (first 70 %) and the
         # validation part reach, so that both see the clipping.

@@ -64,7 +64,7 @@ EFFECT_PARAMS = {
     "lag": ["lag"],                      # s
     "saturation": ["sat_lo", "sat_hi"],  # output units
     "backlash": ["deadband"],            # full width, input units
-    "nozzle": ["nozzle_xh"],             # x_1/2, input units
+    "nozzle": ["nozzle_xh", "nozzle_bias"],  # x_1/2, input units; bias point
     "none": [],
 }
 CAUSES = ["dead_time", "lag", "saturation", "backlash", "nozzle"]
@@ -156,6 +156,7 @@ def library_effects(effects, ev: dict, fs_int: float) -> dict:
             fx["backlash"] = ev["deadband"] * CE
         elif eff == "nozzle" and ev.get("nozzle_k", 0) > 0:
             fx["nozzle_xh"] = CE / ev["nozzle_k"]
+            fx["nozzle_bias"] = ev.get("nozzle_bias", 0.0)
     return fx
 
 

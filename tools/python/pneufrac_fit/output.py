@@ -87,7 +87,8 @@ def _cause(d, name) -> dict:
         "name": name,
         "place": model.PLACE[name],
         "params": {k: p[k] for k in keys if k in p},
-        "ci95": {k: ci[k] for k in ("lag", "deadband", "nozzle_xh", "sat_lo", "sat_hi")
+        "ci95": {k: ci[k] for k in ("lag", "deadband", "nozzle_xh", "nozzle_bias", "sat_lo",
+                                    "sat_hi")
                  if k in ci and k in keys},
     }
     if t is not None:

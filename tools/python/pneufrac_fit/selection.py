@@ -91,7 +91,7 @@ def _hint(t) -> dict:
     if t is None:
         return {}
     names = {"lag": ["lag"], "saturation": ["sat_lo", "sat_hi"], "backlash": ["deadband"],
-             "nozzle": ["nozzle_k"], "dead_time": []}[t.effect]
+             "nozzle": ["nozzle_k", "nozzle_bias"], "dead_time": []}[t.effect]
     h = {k: t.model.values[k] for k in names if k in t.model.values}
     if t.effect == "dead_time":
         h["dead"] = t.model.dead
