@@ -15,6 +15,8 @@ sweep:  the hidden-effect matrix (every configuration x every effect, and
         records and acceptance rules: right / total and false effects.
 limits: shrink an effect until it disappears, under white and coloured
         (AR(1)) noise: where detection stops.
+example: the worked example of docs/analysis.md, its figures copied to
+        docs/figures/analysis-*.png.
 
 A benchmark measures, it never fails on the figures. Each mode rewrites its
 own section of the output file (between markers) and keeps the others.
@@ -213,10 +215,65 @@ def run_limits(a) -> None:
     section("limits", L)
 
 
+# ---------------------------------------------------------------- example
+EXAMPLE_GEN = ["generate", "--config", "dd", "--effect", "lag:tau=0.015",
+               "--effect", "backlash:width=0.04", "--noise", "0.004", "--noise-kind", "ar1",
+               "--n", "8000", "--seed", "3", "--order", "5", "--oversample", "10"]
+FIGURES = {"overview.png": "analysis-overview.png",
+           "residuals-baseline.png": "analysis-residuals-baseline.png",
+           "candidates.png": "analysis-candidates.png",
+           "residuals-extended.png": "analysis-residuals-extended.png"}
+
+
+def run_example(a) -> None:
+    """The worked example of docs/analysis.md: its record, its report, and
+    the figures copied to docs/figures/analysis-*.png."""
+    import json
+    import shutil
+    import tempfile
+    from pneufrac_fit import cli
+    with tempfile.TemporaryDirectory() as tmp:
+        csv = Path(tmp) / "example.csv"
+        rep = Path(tmp) / "report"
+        if cli.main(EXAMPLE_GEN + ["-o", str(csv)]) != 0:
+            raise SystemExit("example: generate failed")
+        if cli.main(["diagnose", str(csv), "--config", "dd", "--out", str(rep), "--quiet"]) != 0:
+            raise SystemExit("example: diagnose failed")
+        for src, dst in FIGURES.items():
+            shutil.copyfile(rep / src, ROOT / "docs" / "figures" / dst)
+        j = json.loads((rep / "diagnosis.json").read_text())
+    cmd = "pneufrac-fit " + " ".join(EXAMPLE_GEN) + " -o example.csv"
+    L = ["## The worked example of docs/analysis.md", ""] + stamp("bench/bench_fit.py example") + [
+        f"Record: `{cmd}`; diagnosis: `pneufrac-fit diagnose example.csv --config dd "
+        "--out report`. Figures: docs/figures/analysis-*.png.", "",
+        f"- verdict: {', '.join(c['name'] for c in j['causes']) or 'none'}"]
+    for c in j["causes"]:
+        g = c.get("gain", {})
+        L.append(f"- {c['name']}: {c['params']} (95 % {c['ci95']}); held-out NRMSE without "
+                 f"{g.get('nrmse_val_without')}, with {g.get('nrmse_val_with')}, "
+                 f"dBIC {g.get('delta_bic')}")
+    L.append(f"- validation NRMSE {j['gain']['nrmse_val_before']:.4f} -> "
+             f"{j['gain']['nrmse_val_after']:.4f}; noise floor {j['noise']['floor_val']:.4f}; "
+             f"noise model {j['noise']['model']}")
+    for r, tests in enumerate(j["rounds"]):
+        for t in tests:
+            L.append(f"- round {r + 1}, {t['name']} on {'+'.join(t['on_top_of']) or 'none'}: "
+                     f"{t['nrmse_val_without']:.4f} -> {t['nrmse_val']:.4f}, dBIC "
+                     f"{t['delta_bic']:+.1f}, peak {t['peak_contribution_sd']:.3g} sd, energy "
+                     f"{t['contribution_energy']:.3g}, /discretisation "
+                     f"{t['contribution_over_discretisation']:.3g}, held-out gain "
+                     f"{100 * t['val_gain']:.1f} %: "
+                     + ("passes" if t["passes_guards"] else "; ".join(t["why_not"])))
+    L += [f"- notes: {n}" for n in j["fit_notes"]]
+    L += [f"- held: {g}: {w}" for g, w in j["held"].items()]
+    section("example", L)
+
+
 def main() -> int:
     global OUT
     ap = argparse.ArgumentParser()
-    ap.add_argument("mode", nargs="?", default="all", choices=["time", "sweep", "limits", "all"])
+    ap.add_argument("mode", nargs="?", default="all",
+                    choices=["time", "sweep", "limits", "example", "all"])
     ap.add_argument("--out", default=None, help="the Markdown file (default docs/analysis-bench.md)")
     ap.add_argument("--n", type=int, default=100000)
     ap.add_argument("--seeds", type=int, default=3)
@@ -230,6 +287,8 @@ def main() -> int:
         run_sweep(a)
     if a.mode in ("limits", "all"):
         run_limits(a)
+    if a.mode in ("example", "all"):
+        run_example(a)
     return 0
 
 

@@ -151,6 +151,13 @@ GEN = ["generate", "--config", "p", "--n", "300"]
     (["--n", "5"], "--n 5"),
     (["--oversample", "0"], "--oversample 0"),
     (["-o", "/nonexistent-dir/x.csv"], "-o /nonexistent-dir/x.csv: cannot write"),
+    (["--rest", "-1"], "--rest -1"),
+    (["--drift", "nan"], "--drift nan"),
+    (["--adc-bits", "2"], "--adc-bits 2"),
+    (["--order", "9"], "--order 9"),
+    (["--effect", "lag:tau=0.01", "--effect", "lag:tau=0.02"], "lag given twice"),
+    (["--effect", "nozzle:xh=1,bias=x"], "'x' is not a number"),
+    (["--effect", "nozzle:xh=1,gap=1"], "nozzle takes xh=...[,bias=...]"),
 ])
 def test_bad_generate(tmp_path, capsys, extra, msg):
     rc, err = _run(capsys, GEN + extra)
@@ -288,3 +295,13 @@ def test_largest_seed_is_accepted(capsys):
     rc = cli.main(GEN + ["--seed", str(cli.MAX_SEED)])
     out = capsys.readouterr().out
     assert rc == 0 and out.startswith("#")
+
+
+def test_generate_two_effects_and_options(capsys):
+    rc = cli.main(["generate", "--config", "dd", "--n", "400", "--effect", "lag:tau=0.01",
+                   "--effect", "nozzle:xh=2,bias=0.5", "--input", "sweep", "--rest", "0",
+                   "--noise-kind", "ar1", "--adc-bits", "12", "--drift", "0.02"])
+    out = capsys.readouterr().out
+    assert rc == 0
+    assert "effect=lag+nozzle" in out.splitlines()[0]
+    assert len(out.splitlines()) == 400 + 3

@@ -84,8 +84,8 @@ def _parser():
     d.add_argument("--quiet", action="store_true", help="no progress on stderr")
     g = sub.add_parser("generate", help="synthetic bump test with a hidden effect")
     g.add_argument("--config", required=True, choices=["p", "dd", "id", "pid"])
-    g.add_argument("--effect", default="none",
-                   help="none | deadtime:t=S | lag:tau=S | backlash:width=W | "
+    g.add_argument("--effect", action="append", default=[],
+                   help="repeatable: none | deadtime:t=S | lag:tau=S | backlash:width=W | "
                         "nozzle:xh=X[,bias=B] | saturation:lo=L,hi=H (W, X in input units; "
                         "B the nozzle's bias point above the inflection, units of x_1/2)")
     g.add_argument("--n", type=int, default=6000, help="samples (default 6000)")
@@ -99,6 +99,18 @@ def _parser():
                    help="seed of the input and the noise (a non-negative integer)")
     g.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="paper parameter of the simulated plant (e.g. tau=0.002)")
+    g.add_argument("--input", default="steps", choices=["steps", "prbs", "ramps", "sweep"],
+                   help="excitation (default steps)")
+    g.add_argument("--rest", type=float, default=0.1,
+                   help="seconds at rest before the excitation, 0..10 (default 0.1)")
+    g.add_argument("--noise-kind", default="white", choices=["white", "ar1", "pink"],
+                   help="colour of the sensor noise (default white)")
+    g.add_argument("--drift", type=float, default=0.0,
+                   help="slow drift, peak-to-peak fraction of the output span, 0..1")
+    g.add_argument("--adc-bits", type=int, default=0,
+                   help="quantise e and pc with an ADC of this many bits, 4..24 (0: off)")
+    g.add_argument("--order", type=int, default=0,
+                   help="the plant's Oustaloup order, 1..8 (0: the library's default)")
     g.add_argument("-o", "--output", help="CSV file (default stdout)")
     return p
 
@@ -237,6 +249,14 @@ def _check_generate(a) -> None:
     if not 1 <= a.oversample <= 64:
         raise UsageError(f"--oversample {a.oversample}: must be in [1, 64]")
     lib_fs = model.lib.param_range("fs")    # the library's sample-rate range
+    if not 0.0 <= a.rest <= 10.0:
+        raise UsageError(f"--rest {a.rest:g}: must be in [0, 10] s")
+    if not 0.0 <= a.drift <= 1.0:
+        raise UsageError(f"--drift {a.drift:g}: must be in [0, 1]")
+    if a.adc_bits and not 4 <= a.adc_bits <= 24:
+        raise UsageError(f"--adc-bits {a.adc_bits}: must be 0 or in [4, 24]")
+    if not 0 <= a.order <= 8:
+        raise UsageError(f"--order {a.order}: must be in [0, 8]")
     if a.fs * a.oversample not in lib_fs:
         raise UsageError(f"--fs x --oversample = {a.fs * a.oversample:g} Hz: the plant is "
                          f"simulated at that rate, at most {lib_fs.hi:g} Hz")
@@ -245,14 +265,22 @@ def _check_generate(a) -> None:
 def cmd_generate(a) -> int:
     from . import data, generate
     _check_generate(a)
-    eff, ep = parse_effect(a.effect, a.fs)
+    effects = {}
+    for text in a.effect or ["none"]:
+        eff, ep = parse_effect(text, a.fs)
+        if eff in effects:
+            raise UsageError(f"--effect {text}: {eff} given twice")
+        if eff != "none":
+            effects[eff] = ep
     params = dict(_kv(s, "--set") for s in a.set)
     unknown = [k for k in params if k not in model.lib.default_params(a.config)]
     if unknown:
         raise UsageError(f"--set {unknown[0]}: not a paper parameter")
     try:
-        ds = generate.generate(a.config, eff, ep, n=a.n, fs=a.fs, noise=a.noise,
-                               oversample=a.oversample, seed=a.seed, params=params)
+        ds = generate.generate(a.config, effects=effects, n=a.n, fs=a.fs, noise=a.noise,
+                               oversample=a.oversample, seed=a.seed, params=params,
+                               input_kind=a.input, rest=a.rest, noise_kind=a.noise_kind,
+                               drift=a.drift, adc_bits=a.adc_bits, order=a.order)
     except model.lib.ModelError as exc:
         raise UsageError(str(exc)) from None
     if a.output:

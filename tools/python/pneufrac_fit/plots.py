@@ -56,7 +56,8 @@ def overview(d, path: Path) -> None:
     ax[2].plot(t, rb, lw=0.5, color="C3", label="residual, baseline")
     if d.causes:
         ax[2].plot(t, re, lw=0.5, color="C0", label="residual, extended")
-    s = d.noise_sd
+    # the noise process's sd (its colour included), from the final residual
+    s = float(np.sqrt(d.noise_model.var)) if d.noise_model is not None else d.noise_sd
     ax[2].axhline(2.576 * s, color="k", lw=0.6, ls=":")
     ax[2].axhline(-2.576 * s, color="k", lw=0.6, ls=":", label="±2.58 noise sd")
     ax[2].axvline(t[d.nfit], color="k", ls="--", lw=0.8)
@@ -88,7 +89,7 @@ def residuals(d, ev: dict, fr, title: str, path: Path) -> None:
     a.bar(ev["clags"], ev["ccf"], width=0.8, color="C1")
     a.axhline(ev["bound"], color="r", ls="--", lw=0.8)
     a.axhline(-ev["bound"], color="r", ls="--", lw=0.8)
-    a.set_title("residual–input-step cross-correlation")
+    a.set_title("whitened residual – input-step cross-correlation")
     a.set_xlabel("lag (samples; > 0: residual after the step)")
     a = ax[1, 0]
     if ev["amp"]:
