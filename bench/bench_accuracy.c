@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Accuracy benchmark: every case of the shared reference against the exact
+ * Accuracy benchmark: every case of the exact reference (tests/ref/
+ * paper_step_cases.json) against the exact
  * response (tests/ref, Talbot inverse Laplace), max |error| over
  * t in [1 ms, 2 s] relative to the peak |response|, at 5, 20 and 100 kHz,
  * in double, float and Q15, with the default band and order. Prints a
@@ -14,7 +15,9 @@
 #include <string.h>
 
 #include "pf_accuracy.h"
-#include "pf_ref_csv.h"
+#include "pf_ref_cases.h"
+
+static pf_ref_cases cases;
 
 static const double rates[] = {5000.0, 20000.0, 100000.0};
 
@@ -50,20 +53,19 @@ static void cell(double e)
 static int grid(const char *csv_path)
 {
     static double err[NR][NB][NN][3];
-    int i, r, b, n, a, ncase = pf_ref_case_count();
+    int i, r, b, n, a;
     FILE *csv = fopen(csv_path, "w");
     if (csv == NULL) {
         perror(csv_path);
         return 1;
     }
     fprintf(csv, "case,fs,band,wb,wh,N,arith,error\n");
-    for (i = 0; i < ncase; i++) {
-        pf_params p;
-        pf_ref_case(pf_ref_case_name(i), &p);
+    for (i = 0; i < cases.n; i++) {
+        const pf_params *p = &cases.p[i];
         for (r = 0; r < NR; r++) {
             pf_acc_ref ref;
-            fprintf(stderr, "[bench] grid: %s at %.0f Hz\n", pf_ref_case_name(i), rates[r]);
-            if (pf_acc_ref_make(&ref, &p, rates[r], 1e-3, 2.0) != 0)
+            fprintf(stderr, "[bench] grid: %s at %.0f Hz\n", cases.name[i], rates[r]);
+            if (pf_acc_ref_make(&ref, p, rates[r], 1e-3, 2.0) != 0)
                 return 1;
             for (b = 0; b < NB; b++)
                 for (n = 0; n < NN; n++) {
@@ -79,14 +81,14 @@ static int grid(const char *csv_path)
                         if (pf_design_opts_resolve(&o, &res) != PF_OK)
                             res.wb = res.wh = 0.0;
                         fprintf(csv, "%s,%.0f,\"%s\",%.6g,%.6g,%d,%s,%.6g\n",
-                                pf_ref_case_name(i), rates[r], bands[b].name, res.wb,
+                                cases.name[i], rates[r], bands[b].name, res.wb,
                                 res.wh, orders[n], arith_name[a], e);
                     }
                 }
             pf_acc_ref_free(&ref);
         }
         printf("\n### %s\n\n| band | N | 5 kHz | 20 kHz | 100 kHz |\n"
-               "|---|---|---|---|---|\n", pf_ref_case_name(i));
+               "|---|---|---|---|---|\n", cases.name[i]);
         for (b = 0; b < NB; b++)
             for (n = 0; n < NN; n++) {
                 printf("| %s | %d |", bands[b].name, orders[n]);
@@ -138,24 +140,27 @@ static void toolbox_example(void)
 int main(int argc, char **argv)
 {
     int quick = argc > 1 && strcmp(argv[1], "--quick") == 0;
+    if (pf_ref_cases_load(PF_REF_DIR "/paper_step_cases.json", &cases) != 0) {
+        fprintf(stderr, "bench_accuracy: cannot read %s\n",
+                PF_REF_DIR "/paper_step_cases.json");
+        return 1;
+    }
     if (argc > 2 && strcmp(argv[1], "--grid") == 0) {
         toolbox_example();
         return grid(argv[2]);
     }
-    int i, r, a, ncase = pf_ref_case_count();
+    int i, r, a;
     double worst[3][3] = {{0}};
 
     printf("| case | fs | band (rad/s) | N | double | float | Q15 |\n");
     printf("|---|---|---|---|---|---|---|\n");
     for (r = quick ? 1 : 0; r < (quick ? 2 : 3); r++) {
-        for (i = 0; i < ncase; i++) {
-            pf_params p;
+        for (i = 0; i < cases.n; i++) {
             pf_design_opts o, res;
             pf_acc_ref ref;
             double e[3];
-            pf_ref_case(pf_ref_case_name(i), &p);
-            fprintf(stderr, "[bench] %s at %.0f Hz\n", pf_ref_case_name(i), rates[r]);
-            if (pf_acc_ref_make(&ref, &p, rates[r], 1e-3, 2.0) != 0)
+            fprintf(stderr, "[bench] %s at %.0f Hz\n", cases.name[i], rates[r]);
+            if (pf_acc_ref_make(&ref, &cases.p[i], rates[r], 1e-3, 2.0) != 0)
                 return 1;
             pf_design_opts_default(&o, rates[r]);
             pf_design_opts_resolve(&o, &res);
@@ -165,7 +170,7 @@ int main(int argc, char **argv)
                     worst[r][a] = e[a];
             }
             printf("| %s | %.0f kHz | [%.3g, %.3g] | %d | %.4f %% | %.4f %% | %.4f %% |\n",
-                   pf_ref_case_name(i), rates[r] / 1000, res.wb, res.wh, res.order,
+                   cases.name[i], rates[r] / 1000, res.wb, res.wh, res.order,
                    100 * e[0], 100 * e[1], 100 * e[2]);
             pf_acc_ref_free(&ref);
         }

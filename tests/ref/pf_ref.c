@@ -26,7 +26,7 @@
  * principal branch for tau > 0, so the paper's monomials agree with ours.
  * test_reference.c checks these identities numerically.
  *
- * Singularities of H(s)/s, for the ten cases of paper_step_exact.json
+ * Singularities of H(s)/s, for the paper's ten cases in paper_step_cases.json
  * (checked numerically: Newton root search in x = Log s plus an argument-
  * principle count over |Im x| < pi, |Re x| < 30, i.e. the whole principal
  * sheet with 1e-13 < |s| < 1e13):

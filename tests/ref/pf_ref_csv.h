@@ -1,14 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file pf_ref_csv.h
- * @brief Loader for reference/paper_step_exact.csv and the parameters of
- *        its cases (paper_step_exact.json), for the test suite. No malloc:
- *        the caller provides the table.
+ * @brief Loader for the exact reference table (tests/ref/
+ *        paper_step_exact.csv), for the test suite. No malloc: the caller
+ *        provides the table.
  */
 #ifndef PF_REF_CSV_H
 #define PF_REF_CSV_H
-
-#include "pneufrac/pf_params.h"
 
 #define PF_REF_CSV_MAX_ROWS 200
 #define PF_REF_CSV_MAX_COLS 16
@@ -26,15 +24,5 @@ typedef struct pf_ref_csv {
  *  @return 0 on success, non-zero if the file cannot be opened or read, is
  *          malformed, or exceeds the fixed limits. */
 int pf_ref_csv_load(const char *path, pf_ref_csv *out);
-
-/** Fill @p p with the parameters of case @p name of paper_step_exact.json
- *  ("ex4_q0.9", ..., "ex7"); parameters the case does not use are 0.
- *  @return 0 on success, non-zero for an unknown name. */
-int pf_ref_case(const char *name, pf_params *p);
-
-/** Number of hard-coded cases, and the name of case i (NULL if out of
- *  range), so tests can check the table against the CSV header. */
-int pf_ref_case_count(void);
-const char *pf_ref_case_name(int i);
 
 #endif /* PF_REF_CSV_H */
