@@ -10,8 +10,7 @@ import argparse
 import os
 import sys
 
-from .make import SEED_MAX, make, write
-from .scenarios import CATALOGUE
+from .scenarios import CATALOGUE, SEED_MAX
 
 
 class _Parser(argparse.ArgumentParser):
@@ -52,6 +51,7 @@ def main(argv: list[str] | None = None) -> int:
         return _fail(f"cannot create output directory '{a.out}': {exc.strerror}")
     if not os.access(a.out, os.W_OK):
         return _fail(f"output directory '{a.out}' is not writable")
+    from .make import make, write      # scipy: only once the arguments are good
     rec = make(a.scenario, seed)
     try:
         csv, js = write(rec, a.out, f"{a.scenario}-{seed}")

@@ -17,7 +17,7 @@ docs/analysis.md, with the parameters in pneufrac-fit's units:
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, asdict
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -55,10 +55,6 @@ class Effects:
         if self.nozzle_xh > 0:
             out.append("nozzle")
         return out
-
-    def as_dict(self) -> dict:
-        return {k: (None if isinstance(v, float) and math.isinf(v) else v)
-                for k, v in asdict(self).items()}
 
 
 def play(prev: float, x: float, r: float) -> float:

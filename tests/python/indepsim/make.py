@@ -13,11 +13,10 @@ import numpy as np
 from . import controller, daq, excitation, noise, plant, simulate
 from .diffusive import NODES_PER_DECADE
 from .effects import Effects, U0_INFLECTION, nozzle_F
-from .scenarios import CATALOGUE, Recipe, config_for
+from .scenarios import CATALOGUE, SEED_MAX, Recipe, config_for
 
 OVERSAMPLE = 8
 VAL_FRACTION = 0.3   # pneufrac-fit validates on the last 30 % (docs/analysis.md)
-SEED_MAX = 2 ** 31 - 1
 
 
 @dataclass

@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 from .controller import CONFIGS
 from .excitation import KINDS
 
+SEED_MAX = 2 ** 31 - 1
 BY_SEED = None      # config drawn from the seed: CONFIGS[seed % 4]
 
 EASY = dict(cls="easy", spread="near", fs=1000.0, durations=(20.0,), excitations=("steps",),
