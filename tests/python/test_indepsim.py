@@ -14,10 +14,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from scipy.interpolate import CubicSpline
 from scipy.signal import welch
 
-from indepsim import controller, daq, excitation, noise, simulate
+from indepsim import controller, daq, excitation, noise, reference, simulate
 from indepsim.diffusive import frac_integrator, response
 from indepsim.effects import U0_INFLECTION, Effects, nozzle
 from indepsim.make import make
@@ -31,29 +30,13 @@ FS_INT = 8000.0          # the internal rate of a 1 kHz record
 STEP_TOL = 1e-6
 
 
-def _cases() -> dict:
-    with open(REF / "paper_step_cases.json") as f:
-        return json.load(f)
+CASES, EXACT = reference.load(REF)
 
 
-@pytest.fixture(scope="module")
-def exact():
-    return np.genfromtxt(REF / "paper_step_exact.csv", delimiter=",", names=True,
-                         deletechars="")
-
-
-@pytest.mark.parametrize("case", list(_cases()))
-def test_step_response_matches_exact_reference(case, exact):
-    spec = _cases()[case]
-    p = {k: float(v) for k, v in spec["params"].items()}
-    n = int(5.0 * FS_INT) + 4
-    run = simulate.run(spec["config"], p, Effects(), np.ones(n), FS_INT)
-    t = exact["t"]
-    sel = (t >= 1e-3) & (t <= 5.0)
-    sim = CubicSpline(np.arange(n) / FS_INT, run.line)(t[sel])
-    ref = exact[case][sel]
-    err = np.max(np.abs(sim - ref)) / np.max(np.abs(ref))
-    assert err <= STEP_TOL, f"{case}: {err:.2e} of peak"
+@pytest.mark.parametrize("case", list(CASES))
+def test_step_response_matches_exact_reference(case):
+    err, at = reference.step_error(CASES[case], EXACT["t"], EXACT[case], FS_INT)
+    assert err <= STEP_TOL, f"{case}: {err:.2e} of peak at t = {at} s"
 
 
 @pytest.mark.parametrize("alpha", [0.05, 0.3, 0.5, 0.8, 0.94, 0.99])

@@ -9,8 +9,8 @@ are resolved into absolute values, in pneufrac-fit's units, by make.py.
 
 Classes:
   clean      no effect: every configuration, easy and realistic records,
-             drift, a sweep, 10 kHz with jittered stamps, an input that
-             never rests
+             drift, a sweep, 10 kHz, jittered time stamps, an input
+             that never rests
   easy       1 kHz, 20 s, random steps, white noise 0.5 %, parameters near
              the paper's, one clearly material effect
   realistic  one material effect, coloured noise, 12-bit ADC, non-step
@@ -34,7 +34,7 @@ EASY = dict(cls="easy", spread="near", fs=1000.0, durations=(20.0,), excitations
             jitter=(0.0,), drift_frac=0.0, op="zero", expected="fair")
 REAL = dict(cls="realistic", spread="wide", fs=1000.0, durations=(5.0, 20.0),
             excitations=KINDS, noises=("ar1", "pink"), noise_frac=(0.002, 0.01),
-            e_noise_frac=0.001, adc=True, jitter=(0.0, 0.005), drift_frac=0.0, op="random",
+            e_noise_frac=0.001, adc=True, jitter=(0.0,), drift_frac=0.0, op="random",
             expected="fair")
 
 # Effect size ranges (see the module docstring for the units).
@@ -81,9 +81,12 @@ def _catalogue() -> list[Recipe]:
            "span on p_c", BY_SEED, {}, EASY, cls="clean", drift_frac=(0.03, 0.06)),
         _r("clean-sweep", "no effect, 0.1-5 Hz sine sweep from the first sample (no rest)",
            BY_SEED, {}, EASY, cls="clean", excitations=("sweep",)),
-        _r("clean-10khz", "no effect, 10 kHz, 5 s, steps or PRBS, jittered time stamps",
+        _r("clean-10khz", "no effect, 10 kHz, 5 s, steps or PRBS",
            BY_SEED, {}, EASY, cls="clean", fs=10000.0, durations=(5.0,),
-           excitations=("steps", "prbs"), jitter=(0.005,)),
+           excitations=("steps", "prbs")),
+        _r("clean-jitter", "no effect, realistic record whose time stamps jitter (sd 0.5 % of "
+           "the period, written in microseconds)", BY_SEED, {}, REAL, cls="clean",
+           jitter=(0.005,)),
         _r("clean-never-rest", "no effect, an input that never rests; the record opens "
            "mid-operation", BY_SEED, {}, REAL, cls="clean", excitations=("never_rest",)),
     ]
@@ -99,9 +102,11 @@ def _catalogue() -> list[Recipe]:
            excitations=("steps", "ramps")),
         _r("nozzle-real", "nozzle off its inflection, realistic record", BY_SEED,
            {"nozzle": OFF_BIAS}, REAL),
-        _r("dead_time-10khz", "dead time 2-20 samples at 10 kHz (sub-sample part), 5 s, "
-           "jittered stamps", BY_SEED, {"dead_time": {"samples": (2.0, 20.0)}}, EASY,
-           fs=10000.0, durations=(5.0,), excitations=("steps", "prbs"), jitter=(0.005,)),
+        _r("dead_time-10khz", "dead time 2-20 samples at 10 kHz (with a sub-sample part), 5 s",
+           BY_SEED, {"dead_time": {"samples": (2.0, 20.0)}}, EASY,
+           fs=10000.0, durations=(5.0,), excitations=("steps", "prbs")),
+        _r("lag-jitter", "lag, realistic record with jittered time stamps", BY_SEED,
+           {"lag": MATERIAL["lag"]}, REAL, jitter=(0.005,)),
         _r("lag-sweep", "lag with a 0.1-5 Hz sine sweep, AR(1) noise", BY_SEED,
            {"lag": MATERIAL["lag"]}, EASY, excitations=("sweep",), noises=("ar1",)),
     ]
