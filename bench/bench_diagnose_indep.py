@@ -8,11 +8,17 @@ measures and prints, it never fails on the scores or on time.
         [--seeds 1|1-3|1,4] [--jobs 2] [--tool-jobs 1] [--timeout 900]
         [--tool PATH] [--keep DIR]
 
+Default: every scenario, seed 1, two records at a time (about 15 minutes on
+the 2-core machine).
+
 Prints a markdown table (one row per record) and summary lines. Right
 means the set of named causes equals the set of true causes. Parameter
 errors are relative to the true value; saturation limits relative to the
 record's output range. "halfway" is the issue's criterion: the validation
-NRMSE after is at most halfway from before to the true noise floor.
+NRMSE after is at most halfway from before to the true noise floor. The
+effect size next to the true causes is the rms change the effects make to
+the sampled output over the noise sd (an upper bound on what a fit can
+attribute to them).
 """
 from __future__ import annotations
 
@@ -124,12 +130,15 @@ class Procs:
     def __init__(self) -> None:
         self.live: set[subprocess.Popen] = set()
         self.lock = threading.Lock()
+        self.stopped = False
 
     def run(self, cmd: list[str], timeout: float, env=None) -> tuple[int | None, str, str]:
         """(status or None on timeout, stdout, stderr)."""
-        p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                             env=env)
         with self.lock:
+            if self.stopped:
+                return None, "", "stopped"
+            p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                 text=True, env=env)
             self.live.add(p)
         try:
             out, err = p.communicate(timeout=timeout)
@@ -144,6 +153,7 @@ class Procs:
 
     def kill_all(self) -> None:
         with self.lock:
+            self.stopped = True
             for p in self.live:
                 p.kill()
 
@@ -157,7 +167,7 @@ def one(name: str, seed: int, tool: str, tool_jobs: int, timeout: float, keep: s
     row = {"scenario": name, "seed": seed, "class": CATALOGUE[name].get("cls"), "config": "?",
            "expected": CATALOGUE[name].get("expected"), "truth": [], "named": None,
            "status": "ok", "params": [], "nrmse": None, "floor": None, "noise": None,
-           "halfway": None, "time": None}
+           "halfway": None, "time": None, "size": None}
     env = dict(os.environ, PYTHONPATH=str(ROOT / "tests" / "python"))
     rc, _, err = procs.run([sys.executable, "-m", "indepsim", "make", name, "--seed", str(seed),
                             "--out", keep], timeout, env)
@@ -167,7 +177,8 @@ def one(name: str, seed: int, tool: str, tool_jobs: int, timeout: float, keep: s
     stem = Path(keep) / f"{name}-{seed}"
     truth = json.loads(stem.with_suffix(".truth.json").read_text())
     pc = np.loadtxt(f"{stem}.csv", delimiter=",", skiprows=1, usecols=2)
-    row.update(config=truth["config"], truth=truth["causes"])
+    row.update(config=truth["config"], truth=truth["causes"],
+               size=truth["noise"]["effect_rms_over_sd"])
     cmd = [tool, "diagnose", f"{stem}.csv", "--config", truth["config"], "--json", "--quiet",
            "--jobs", str(tool_jobs)]
     t0 = time.monotonic()
@@ -209,7 +220,8 @@ def verdict(row: dict) -> str:
 
 
 def table(rows: list[dict]) -> list[str]:
-    L = ["| scenario | seed | cfg | truth | named | | parameters: tool vs truth | "
+    L = ["| scenario | seed | cfg | truth (effect rms / noise sd) | named | | "
+         "parameters: tool vs truth | "
          "val NRMSE before -> after | floor tool / true | noise sd tool / true | time |",
          "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
@@ -218,8 +230,9 @@ def table(rows: list[dict]) -> list[str]:
             "" if r["halfway"] is None else (" (halfway)" if r["halfway"] else " (not halfway)"))
         fl = "-" if not r["floor"] else f"{_f(r['floor'][0])} / {_f(r['floor'][1])}"
         ns = "-" if not r["noise"] else f"{_f(r['noise'][0])} / {_f(r['noise'][1])}"
+        size = "" if r["size"] is None or not r["truth"] else f" ({r['size']:.2g})"
         L.append(f"| {r['scenario']} | {r['seed']} | {r['config']} | "
-                 f"{', '.join(r['truth']) or 'none'} | {named} | {verdict(r)} | "
+                 f"{', '.join(r['truth']) or 'none'}{size} | {named} | {verdict(r)} | "
                  f"{'; '.join(r['params']) or '-'} | {nr} | {fl} | {ns} | "
                  f"{_f(r['time'], '{:.0f} s')} |")
     return L
@@ -273,9 +286,14 @@ def main() -> int:
     a = ap.parse_args()
     try:
         names = pick_scenarios(a.scenarios)
+    except ValueError:
+        print(f"bench_diagnose_indep: no scenario matches '{a.scenarios}'", file=sys.stderr)
+        return 2
+    try:
         seeds = parse_seeds(a.seeds)
-    except ValueError as exc:
-        print(f"bench_diagnose_indep: bad selection {exc}", file=sys.stderr)
+    except ValueError:
+        print(f"bench_diagnose_indep: --seeds '{a.seeds}': use N, N-M or N,M with seeds in "
+              f"[0, {SEED_MAX}] (at most 10001 per range)", file=sys.stderr)
         return 2
     if not 1 <= a.jobs <= 64 or not 1 <= a.tool_jobs <= 64 or not a.timeout > 0:
         print("bench_diagnose_indep: --jobs, --tool-jobs in 1..64, --timeout > 0",
@@ -287,6 +305,18 @@ def main() -> int:
               file=sys.stderr)
         return 2
     keep = a.keep or tempfile.mkdtemp(prefix="indep-")
+    try:
+        return sweep(a, names, seeds, tool, keep)
+    finally:
+        if not a.keep:
+            shutil.rmtree(keep, ignore_errors=True)
+
+
+def _interrupt(*_) -> None:
+    raise KeyboardInterrupt
+
+
+def sweep(a, names: list[str], seeds: list[int], tool: str, keep: str) -> int:
     os.makedirs(keep, exist_ok=True)
     jobs = [(n, s) for s in seeds for n in names]
     t0 = time.monotonic()
@@ -294,7 +324,7 @@ def main() -> int:
     procs = Procs()
     # Records are made and diagnosed in subprocesses; threads only wait on
     # them, and an interrupted sweep kills what is still running.
-    signal.signal(signal.SIGTERM, lambda *_: (_ for _ in ()).throw(KeyboardInterrupt()))
+    signal.signal(signal.SIGTERM, _interrupt)
     ex = cf.ThreadPoolExecutor(max_workers=a.jobs)
     try:
         futs = {ex.submit(one, n, s, tool, a.tool_jobs, a.timeout, keep, procs): (n, s)
@@ -314,8 +344,8 @@ def main() -> int:
     print("\n".join(table(ordered)))
     print()
     print("\n".join(summary(ordered)))
-    print(f"\n(records in {keep}; sweep wall time {time.monotonic() - t0:.0f} s, "
-          f"{a.jobs} at once)")
+    print(f"\n(sweep wall time {time.monotonic() - t0:.0f} s, {a.jobs} records at once"
+          + (f"; records kept in {keep})" if a.keep else ")"))
     return 0
 
 
