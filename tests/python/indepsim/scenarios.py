@@ -13,8 +13,11 @@ Classes:
              that never rests
   easy       1 kHz, 20 s, random steps, white noise 0.5 %, parameters near
              the paper's, one clearly material effect
-  realistic  one material effect, coloured noise, 12-bit ADC, non-step
-             inputs, operating point away from zero, 5 or 20 s records
+  realistic  one material effect and what real records bring: coloured
+             noise, 12-bit ADC, non-step inputs, operating point away from
+             zero, 5 or 20 s records (the *-real recipes); or one such
+             feature at a time on an easy record: a nozzle off its
+             inflection, 10 kHz, a sine sweep with AR(1) noise
   two        two effects at once
   marginal   one effect sized near the detection limit: `expected` says
              so; `none` or the right cause are both defensible answers
@@ -99,16 +102,17 @@ def _catalogue() -> list[Recipe]:
     c += [
         _r("nozzle-offbias", "nozzle biased away from its inflection (u0 in 0.25-0.4 or "
            "0.85-1.3), steps or ramps, white noise", BY_SEED, {"nozzle": OFF_BIAS}, EASY,
-           excitations=("steps", "ramps")),
+           cls="realistic", excitations=("steps", "ramps")),
         _r("nozzle-real", "nozzle off its inflection, realistic record", BY_SEED,
            {"nozzle": OFF_BIAS}, REAL),
         _r("dead_time-10khz", "dead time 2-20 samples at 10 kHz (with a sub-sample part), 5 s",
-           BY_SEED, {"dead_time": {"samples": (2.0, 20.0)}}, EASY,
+           BY_SEED, {"dead_time": {"samples": (2.0, 20.0)}}, EASY, cls="realistic",
            fs=10000.0, durations=(5.0,), excitations=("steps", "prbs")),
         _r("lag-jitter", "lag, realistic record with jittered time stamps", BY_SEED,
            {"lag": MATERIAL["lag"]}, REAL, jitter=(0.005,)),
         _r("lag-sweep", "lag with a 0.1-5 Hz sine sweep, AR(1) noise", BY_SEED,
-           {"lag": MATERIAL["lag"]}, EASY, excitations=("sweep",), noises=("ar1",)),
+           {"lag": MATERIAL["lag"]}, EASY, cls="realistic", excitations=("sweep",),
+           noises=("ar1",)),
     ]
     for a, b in (("lag", "backlash"), ("dead_time", "saturation"), ("nozzle", "lag"),
                  ("backlash", "saturation")):
