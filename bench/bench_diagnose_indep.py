@@ -8,8 +8,8 @@ measures and prints, it never fails on the scores or on time.
         [--seeds 1|1-3|1,4] [--jobs 2] [--tool-jobs 1] [--timeout 900]
         [--tool PATH] [--keep DIR]
 
-Default: every scenario, seed 1, two records at a time (about 15 minutes on
-the 2-core machine).
+Default: every scenario, seed 1, two records at a time (about 20 minutes on
+the shared 2-core machine).
 
 Prints a markdown table (one row per record) and summary lines. Right
 means the set of named causes equals the set of true causes. Parameter
