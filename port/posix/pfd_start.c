@@ -4,7 +4,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "pfd_log.h"
 
@@ -79,31 +78,6 @@ static int load_and_design(const char *path, pfd_config *c, int need_checksum,
     return design_all(path, c, err, n);
 }
 
-/* Move an unusable FILE aside, to FILE.corrupt, or FILE.corrupt.N if that
- * exists already: an earlier bad file may be the one someone still wants
- * to look at. */
-static void move_aside(const char *path)
-{
-    char aside[4200];
-    int k;
-
-    if (access(path, F_OK) != 0)
-        return;
-    for (k = 0; k < 1000; k++) {
-        if (k == 0)
-            snprintf(aside, sizeof aside, "%s.corrupt", path);
-        else
-            snprintf(aside, sizeof aside, "%s.corrupt.%d", path, k);
-        if (access(aside, F_OK) != 0)
-            break;
-    }
-    if (k < 1000 && rename(path, aside) == 0)
-        pfd_log(PFD_LOG_WARN, "config-fallback", "moved=%s", aside);
-    else
-        pfd_log(PFD_LOG_WARN, "config-fallback", "moved=none error=\"cannot move %s aside\"",
-                path);
-}
-
 int pfd_start_config(const pfd_run *run, pfd_config *c)
 {
     char err[600];
@@ -118,10 +92,15 @@ int pfd_start_config(const pfd_run *run, pfd_config *c)
         pfd_fatal("%s", err);
         return -1;
     }
-    move_aside(run->config);
-    pfd_log(PFD_LOG_WARN, "config-fallback", "using=defaults error=\"%s\"", err);
+    /* The file cannot be trusted, so neither can anything it might have
+     * said about security: the run is read-only, and the file is never
+     * moved or rewritten, so that its instances and settings are there
+     * again once it is repaired. */
+    pfd_log(PFD_LOG_WARN, "config-fallback",
+            "using=defaults mode=read-only persistence=off file=%s error=\"%s\"", run->config,
+            err);
     default_instances(c, run);
-    return 0;
+    return 1;
 }
 
 int pfd_start_seal(const char *path)
