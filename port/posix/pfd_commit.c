@@ -8,6 +8,7 @@
 
 #include "pfd_audit.h"
 #include "pfd_log.h"
+#include "pfd_plausible.h"
 
 int pfd_daemon_init(pfd_daemon *d, const pfd_settings *set)
 {
@@ -18,7 +19,8 @@ int pfd_daemon_init(pfd_daemon *d, const pfd_settings *set)
     d->server.listen_fd = d->server.tls_fd = d->server.reserve_fd = -1;
     d->scratch = malloc(sizeof *d->scratch);
     d->persist_buf = malloc(sizeof *d->persist_buf);
-    if (d->scratch == NULL || d->persist_buf == NULL) {
+    d->check = malloc(sizeof *d->check);
+    if (d->scratch == NULL || d->persist_buf == NULL || d->check == NULL) {
         pfd_daemon_free(d);
         return -1;
     }
@@ -37,6 +39,7 @@ int pfd_daemon_init(pfd_daemon *d, const pfd_settings *set)
 
 int pfd_inst_add(pfd_daemon *d, const pfd_config_inst *ci, pfd_fail *why)
 {
+    pfd_iparams ref;
     pfd_inst *in;
     pfd_snap s0;
     int k;
@@ -63,7 +66,8 @@ int pfd_inst_add(pfd_daemon *d, const pfd_config_inst *ci, pfd_fail *why)
             return -1;
         }
     }
-    if (pfd_slot_build(in->slot[0], &ci->ip, d->scratch, why) != 0) {
+    pfd_plausible_ref(&ci->ip, NULL, &ref);
+    if (pfd_slot_prepare(in->slot[0], &ci->ip, &ref, d->scratch, d->check, why) != 0) {
         for (k = 0; k < PFD_NSLOTS; k++)
             free(in->slot[k]);
         free(in);
@@ -102,6 +106,8 @@ void pfd_daemon_free(pfd_daemon *d)
     d->scratch = NULL;
     free(d->persist_buf);
     d->persist_buf = NULL;
+    free(d->check);
+    d->check = NULL;
 }
 
 void pfd_publish_live(pfd_inst *in)
@@ -236,7 +242,7 @@ static int persist_locked(pfd_daemon *d);
 int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_who *w, const pfd_stage *st,
                const pfd_wlist *wl)
 {
-    pfd_iparams ip, old_set;
+    pfd_iparams ip, old_set, ref;
     pfd_slot *slot, *old;
     pfd_fail why;
     float e_hold;
@@ -258,16 +264,20 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_who *w, const pfd_stage *s
         return rc;
     }
     slot = in->slot[k];
-    if (pfd_slot_build(slot, &ip, d->scratch, &why) != 0) {
-        uint16_t res = why.st == PF_E_SCALE ? PFD_COMMIT_SCALE
-                       : why.param != PF_P_COUNT ? PFD_COMMIT_INVALID
-                                                 : PFD_COMMIT_FAILED;
+    pfd_plausible_ref(&ip, &old_set, &ref);
+    if (pfd_slot_prepare(slot, &ip, &ref, d->scratch, d->check, &why) != 0) {
+        uint16_t res = why.st == PF_E_SCALE         ? PFD_COMMIT_SCALE
+                       : why.st == PFD_E_UNSTABLE   ? PFD_COMMIT_UNSTABLE
+                       : why.param != PF_P_COUNT    ? PFD_COMMIT_INVALID
+                                                    : PFD_COMMIT_FAILED;
         int rc;
         pfd_audit_params(w, in->unit, &old_set, &ip, "refused");
         pfd_log(PFD_LOG_WARN, "commit-refused",
                 "peer=%s role=%s unit=%d result=%u param=%s status=\"%s\"", w->peer, w->role,
                 in->unit, (unsigned)res, pfd_param_name(why.param),
-                why.st == PFD_E_DAEMON ? "out of range" : pf_status_str(why.st));
+                why.st == PFD_E_DAEMON     ? "out of range"
+                : why.st == PFD_E_UNSTABLE ? "unstable sampled loop"
+                                           : pf_status_str(why.st));
         /* The slot was free and stays free: a pending set, if any, is
          * still what `committed` and the config file describe. */
         rc = refuse(d, in, res, why.param);

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "pfd_log.h"
+#include "pfd_plausible.h"
 
 static void default_instances(pfd_config *c, const pfd_run *run)
 {
@@ -28,6 +29,12 @@ void pfd_start_describe(char *buf, size_t n, const char *path,
 
     if (why->st == PF_E_NULL)
         snprintf(d, sizeof d, "out of memory");
+    else if (why->st == PFD_E_UNSTABLE && why->param != (int)PF_P_COUNT)
+        snprintf(d, sizeof d, "the sampled loop is unstable (its output would grow without "
+                 "bound); '%s' makes it so", pfd_param_name(why->param));
+    else if (why->st == PFD_E_UNSTABLE)
+        snprintf(d, sizeof d, "the sampled loop is unstable (its output would grow without "
+                 "bound)");
     else if (why->st == PF_E_SCALE)
         snprintf(d, sizeof d, "q15: a coefficient does not fit (change in_fs/out_fs)");
     else if (why->param != (int)PF_P_COUNT && why->st == PFD_E_DAEMON)
@@ -51,21 +58,25 @@ void pfd_start_describe(char *buf, size_t n, const char *path,
 static int design_all(const char *path, const pfd_config *c, char *err, size_t n)
 {
     pf_ctrl_design *scratch = malloc(sizeof *scratch);
+    pf_ctrl_check_work *work = malloc(sizeof *work);
     pfd_slot *slot = malloc(sizeof *slot);
     int i, rc = 0;
 
-    if (scratch == NULL || slot == NULL) {
+    if (scratch == NULL || slot == NULL || work == NULL) {
         snprintf(err, n, "config %s: out of memory", path);
         rc = -1;
     }
     for (i = 0; i < c->n && rc == 0; i++) {
         pfd_fail why;
-        if (pfd_slot_build(slot, &c->inst[i].ip, scratch, &why) != 0) {
+        pfd_iparams ref;
+        pfd_plausible_ref(&c->inst[i].ip, NULL, &ref);
+        if (pfd_slot_prepare(slot, &c->inst[i].ip, &ref, scratch, work, &why) != 0) {
             pfd_start_describe(err, n, path, &c->inst[i], &why);
             rc = -1;
         }
     }
     free(slot);
+    free(work);
     free(scratch);
     return rc;
 }
