@@ -146,7 +146,10 @@ int pfd_conn_handshake(pfd_conn *c, int64_t deadline_ns, char *why, size_t n)
         default: {
             unsigned long e = ERR_peek_last_error();
             long v = SSL_get_verify_result(c->ssl);
-            if (v != X509_V_OK)
+            const char *app = (const char *)SSL_get_app_data(c->ssl);
+            if (v == X509_V_ERR_APPLICATION_VERIFICATION && app != NULL)
+                snprintf(why, n, "%s", app); /* pfd_tls.c's verify callback */
+            else if (v != X509_V_OK)
                 snprintf(why, n, "%s", X509_verify_cert_error_string(v));
             else if (e != 0)
                 snprintf(why, n, "%s", ERR_reason_error_string(e) ? ERR_reason_error_string(e)

@@ -15,8 +15,8 @@ struct pfd_tls {
 
 /* The role carried by @p cert: exactly one role extension holding one
  * DER UTF8String of printable ASCII (the names tls_roles can hold).
- * @return 0, or -1. */
-static int cert_role(const pfd_tls *t, X509 *cert, char *role, size_t n)
+ * @return 0, or -1 with @p why. */
+static int cert_role(const pfd_tls *t, X509 *cert, char *role, size_t n, const char **why)
 {
     int idx = X509_get_ext_by_OBJ(cert, t->role_oid, -1);
     X509_EXTENSION *ext;
@@ -25,7 +25,11 @@ static int cert_role(const pfd_tls *t, X509 *cert, char *role, size_t n)
     ASN1_UTF8STRING *s;
     int ok = 0, i;
 
-    if (idx < 0 || X509_get_ext_by_OBJ(cert, t->role_oid, idx) >= 0)
+    *why = "no role extension in the client certificate";
+    if (idx < 0)
+        return -1;
+    *why = "malformed role extension in the client certificate";
+    if (X509_get_ext_by_OBJ(cert, t->role_oid, idx) >= 0)
         return -1;
     ext = X509_get_ext(cert, idx);
     data = X509_EXTENSION_get_data(ext);
@@ -33,6 +37,7 @@ static int cert_role(const pfd_tls *t, X509 *cert, char *role, size_t n)
     s = d2i_ASN1_UTF8STRING(NULL, &p, ASN1_STRING_length(data));
     if (s != NULL && p == ASN1_STRING_get0_data(data) + ASN1_STRING_length(data) &&
         ASN1_STRING_length(s) > 0 && (size_t)ASN1_STRING_length(s) < n) {
+        *why = NULL;
         const unsigned char *v = ASN1_STRING_get0_data(s);
         ok = 1;
         for (i = 0; i < ASN1_STRING_length(s); i++)
@@ -44,27 +49,34 @@ static int cert_role(const pfd_tls *t, X509 *cert, char *role, size_t n)
         }
     }
     ASN1_UTF8STRING_free(s);
+    if (!ok)
+        *why = "malformed role extension in the client certificate";
     return ok ? 0 : -1;
 }
 
 /* OpenSSL's chain verification stands (CA, validity dates, signatures);
- * on top, the client's own certificate must carry a role we know. */
+ * on top, the client's own certificate must carry a role we know. The
+ * reason for a refusal is left as the session's app data, for the log
+ * (pfd_conn_handshake). */
 static int verify_cb(int ok, X509_STORE_CTX *x)
 {
     SSL *ssl;
     const pfd_tls *t;
     char role[PFD_ROLE_NAME_MAX];
+    const char *why;
 
     if (!ok || X509_STORE_CTX_get_error_depth(x) != 0)
         return ok;
     ssl = (SSL *)X509_STORE_CTX_get_ex_data(x, SSL_get_ex_data_X509_STORE_CTX_idx());
     t = (const pfd_tls *)SSL_CTX_get_app_data(SSL_get_SSL_CTX(ssl));
-    if (cert_role(t, X509_STORE_CTX_get_current_cert(x), role, sizeof role) != 0 ||
-        pfd_roles_lookup(&t->roles, role) < 0) {
-        X509_STORE_CTX_set_error(x, X509_V_ERR_APPLICATION_VERIFICATION);
-        return 0;
-    }
-    return 1;
+    if (cert_role(t, X509_STORE_CTX_get_current_cert(x), role, sizeof role, &why) == 0 &&
+        pfd_roles_lookup(&t->roles, role) < 0)
+        why = "the certificate's role is not in tls_roles";
+    else if (why == NULL)
+        return 1;
+    SSL_set_app_data(ssl, (char *)why);
+    X509_STORE_CTX_set_error(x, X509_V_ERR_APPLICATION_VERIFICATION);
+    return 0;
 }
 
 static void ssl_error(char *err, size_t n, const char *what, const char *file)
@@ -143,9 +155,10 @@ SSL *pfd_tls_session(pfd_tls *t, int fd)
 int pfd_tls_peer(pfd_tls *t, SSL *ssl, char *role, size_t n)
 {
     X509 *cert = SSL_get1_peer_certificate(ssl);
+    const char *why;
     int access = -1;
     if (cert != NULL && SSL_get_verify_result(ssl) == X509_V_OK &&
-        cert_role(t, cert, role, n) == 0)
+        cert_role(t, cert, role, n, &why) == 0)
         access = pfd_roles_lookup(&t->roles, role);
     X509_free(cert);
     return access;

@@ -193,9 +193,9 @@ def handshake_refused(d, pki, who, max_version=None):
     ("expired", "certificate has expired"),
     ("otherca", "unable to get local issuer certificate"),
     (None, "peer did not return a certificate"),
-    ("norole", "application verification failure"),
-    ("intruder", "application verification failure"),
-    ("badder", "application verification failure"),
+    ("norole", "no role extension in the client certificate"),
+    ("intruder", "the certificate's role is not in tls_roles"),
+    ("badder", "malformed role extension in the client certificate"),
 ])
 def test_bad_certificates_are_refused_at_the_handshake(daemon, pki, who, reason):
     d = start(daemon, pki)
