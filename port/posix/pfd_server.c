@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/ioctl.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -37,7 +38,7 @@ typedef struct pfd_client {
     char peer[48];
     /* what the slot policy reads (atomic) */
     int64_t since_ns; /* last completed request, or accepted */
-    int active, busy, evicted;
+    int active, heard, busy, evicted;
 } pfd_client;
 
 static pfd_ratelimit rl_refused = PFD_RATELIMIT("client-refused");
@@ -132,6 +133,8 @@ static void *client_main(void *arg)
         int rc, len;
 
         rc = pfd_conn_wait(&c->conn, POLL_MS);
+        if (rc > 0)
+            __atomic_store_n(&c->heard, 1, __ATOMIC_RELEASE);
         if (__atomic_load_n(&c->evicted, __ATOMIC_ACQUIRE)) {
             why = "evicted";
             break;
@@ -218,6 +221,16 @@ static void evict(pfd_client *v, const char *for_peer, const char *why)
                 for_peer, why);
 }
 
+/* Whether a client that has not spoken yet has bytes waiting: its thread
+ * has not got round to them. */
+static int waiting(const pfd_client *c)
+{
+    int n = 0;
+    if (!c->in_use || __atomic_load_n(&c->active, __ATOMIC_ACQUIRE))
+        return 0;
+    return ioctl(c->conn.fd, FIONREAD, &n) == 0 && n > 0;
+}
+
 /* Under clients_mx: a slot for a client from @p addr, evicting one if
  * the policy says so. @return the slot, or NULL with @p why. */
 static pfd_client *take_slot(pfd_daemon *d, uint32_t addr, const char *peer, const char **why)
@@ -231,6 +244,7 @@ static pfd_client *take_slot(pfd_daemon *d, uint32_t addr, const char *peer, con
         v[i].in_use = c->in_use;
         v[i].evicted = __atomic_load_n(&c->evicted, __ATOMIC_ACQUIRE);
         v[i].active = __atomic_load_n(&c->active, __ATOMIC_ACQUIRE);
+        v[i].heard = __atomic_load_n(&c->heard, __ATOMIC_ACQUIRE) || waiting(c);
         v[i].busy = __atomic_load_n(&c->busy, __ATOMIC_ACQUIRE);
         v[i].addr = c->addr;
         v[i].since_ns = __atomic_load_n(&c->since_ns, __ATOMIC_ACQUIRE);

@@ -6,14 +6,20 @@ static int live(const pfd_slot_view *s)
     return s->in_use && !s->evicted;
 }
 
-/* Is @p a a better victim than @p b (-1: none yet)? Not yet active before
- * active; then the one idle (or waiting for its first request) longest. */
+/* Eviction order: silent newcomers, then newcomers, then active ones. */
+static int rank(const pfd_slot_view *s)
+{
+    return s->active ? 2 : s->heard ? 1 : 0;
+}
+
+/* Is @p a a better victim than @p b (-1: none yet)? Lower rank first;
+ * then the one idle (or waiting for its first request) longest. */
 static int better(const pfd_slot_view *v, int a, int b)
 {
     if (b < 0)
         return 1;
-    if (v[a].active != v[b].active)
-        return !v[a].active;
+    if (rank(&v[a]) != rank(&v[b]))
+        return rank(&v[a]) < rank(&v[b]);
     return v[a].since_ns < v[b].since_ns;
 }
 

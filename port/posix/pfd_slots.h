@@ -9,10 +9,11 @@
  *    competes only with itself, and a client that reconnects is never
  *    locked out by its own stale connections.
  *  - A full table replaces its best victim: first the connections that
- *    have not completed a request yet (oldest first); then the connection
- *    idle longest, but only once it has been idle for at least
- *    `protect_ns`, so that a flood of new connections cannot push out a
- *    client that polls.
+ *    have not completed a request and have sent nothing at all, then
+ *    those that have not completed a request (each oldest first), then
+ *    the connection idle longest, but only once it has been idle for at
+ *    least `protect_ns`, so that a flood of new connections cannot push
+ *    out a client that polls.
  *  - A connection in the middle of a request is never a victim.
  */
 #ifndef PFD_SLOTS_H
@@ -25,6 +26,7 @@ typedef struct pfd_slot_view {
     int in_use;          /**< taken (also while an evicted one winds down) */
     int evicted;         /**< told to go: counts for nothing */
     int active;          /**< has completed a request */
+    int heard;           /**< has sent at least one byte */
     int busy;            /**< a request is being served */
     uint32_t addr;       /**< IPv4, host order */
     int64_t since_ns;    /**< last completed request, or accepted if none */
