@@ -154,7 +154,7 @@ void pfd_release_lock(pfd_inst *in, const pfd_who *w, const char *why)
 static int iparams_equal(const pfd_iparams *a, const pfd_iparams *b)
 {
     int k;
-    if (a->p.config != b->p.config || a->arith != b->arith || a->fs != b->fs ||
+    if (a->p.topology != b->p.topology || a->arith != b->arith || a->fs != b->fs ||
         a->in_fs != b->in_fs || a->out_fs != b->out_fs || a->bump_tau != b->bump_tau)
         return 0;
     for (k = PF_P_A; k <= PF_P_RCI; k++)
@@ -316,8 +316,8 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_who *w, const pfd_stage *s
     pthread_mutex_unlock(&d->regs_mx);
 
     pfd_log(PFD_LOG_INFO, "commit", "peer=%s role=%s unit=%d config=%s arith=%s fs=%.9g",
-            w->peer, w->role, in->unit, pf_config_name(ip.p.config), pfd_arith_name(ip.arith),
-            ip.fs);
+            w->peer, w->role, in->unit, pf_topology_name(ip.p.topology),
+            pfd_arith_name(ip.arith), ip.fs);
     /* Answered only once the file is on disk; if it cannot be written the
      * set still runs (it was switched in above), and the client learns
      * that it would not survive a restart. */

@@ -64,7 +64,7 @@ static int add_instances(pfd_daemon *d, const pfd_config *c, const char *path)
     for (i = 0; i < d->n; i++) {
         const pfd_iparams *ip = &d->inst[i]->committed;
         pfd_log(PFD_LOG_INFO, "instance", "unit=%d config=%s arith=%s fs=%.9g",
-                d->inst[i]->unit, pf_config_name(ip->p.config),
+                d->inst[i]->unit, pf_topology_name(ip->p.topology),
                 pfd_arith_name(ip->arith), ip->fs);
     }
     return 0;

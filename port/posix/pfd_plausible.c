@@ -46,7 +46,7 @@ static int culprit(const pfd_iparams *ip, const pfd_iparams *ref, pf_ctrl_check_
         pfd_iparams alt;
         if (k > PF_P_RCI && k != PF_P_FS)
             continue;
-        if (k < PF_P_CONFIG && !pf_param_used(ip->p.config, (pf_param_id)k))
+        if (k < PF_P_CONFIG && !pf_param_used(ip->p.topology, (pf_param_id)k))
             continue;
         a = get(ip, k);
         b = get(ref, k);
@@ -84,10 +84,10 @@ int pfd_slot_prepare(pfd_slot *s, const pfd_iparams *ip, const pfd_iparams *ref,
 void pfd_plausible_ref(const pfd_iparams *ip, const pfd_iparams *committed,
                        pfd_iparams *ref)
 {
-    if (committed != NULL && committed->p.config == ip->p.config) {
+    if (committed != NULL && committed->p.topology == ip->p.topology) {
         *ref = *committed;
         return;
     }
     *ref = *ip;
-    pf_params_default(&ref->p, ip->p.config);
+    pf_params_default(&ref->p, ip->p.topology);
 }

@@ -50,7 +50,7 @@ typedef struct pfd_run {
     int fallback;        /**< --config-fallback-defaults */
     /* the default instances, without --config */
     int instances;
-    int controller;      /**< pf_config */
+    int controller;      /**< pf_topology */
     double fs;
     int arith;           /**< enum pfd_arith */
     double run_for;      /**< s; 0 = until a signal */

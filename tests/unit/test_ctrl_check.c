@@ -25,7 +25,7 @@
 
 static pf_ctrl_check_work work;
 
-static double radius(pf_config cfg, double fs, const char *name, double v,
+static double radius(pf_topology cfg, double fs, const char *name, double v,
                      const char *name2, double v2, const pf_effects *fx)
 {
     static pf_ctrl_design d;
@@ -50,25 +50,25 @@ static void paper_examples_are_stable(void **state)
     static const double rates[] = {100.0, 1000.0, 10000.0, 50000.0};
     int c, k;
     (void)state;
-    for (c = 0; c < PF_CFG_COUNT; c++)
+    for (c = 0; c < PF_TOPO_COUNT; c++)
         for (k = 0; k < 4; k++) {
-            double rho = radius((pf_config)c, rates[k], NULL, 0, NULL, 0, NULL);
+            double rho = radius((pf_topology)c, rates[k], NULL, 0, NULL, 0, NULL);
             if (!(rho <= 1.0 + PF_CTRL_RHO_TOL && rho > 0.5))
-                fail_msg("%s at %g Hz: rho = %.17g", pf_config_name((pf_config)c), rates[k],
+                fail_msg("%s at %g Hz: rho = %.17g", pf_topology_name((pf_topology)c), rates[k],
                          rho);
         }
 }
 
 static void integrator_is_on_the_circle(void **state)
 {
-    double rho = radius(PF_CFG_ID, 1000.0, "q", 1.0, NULL, 0, NULL);
+    double rho = radius(PF_TOPO_ID, 1000.0, "q", 1.0, NULL, 0, NULL);
     (void)state;
     assert_true(fabs(rho - 1.0) <= PF_CTRL_RHO_TOL);
 }
 
 /* The growth per sample of the runtime's output under a unit step,
  * between samples n1 and n2 (envelopes over 64 samples). */
-static double measured_growth(pf_config cfg, double k, uint32_t n1, uint32_t n2)
+static double measured_growth(pf_topology cfg, double k, uint32_t n1, uint32_t n2)
 {
     static pf_ctrl_design d;
     pf_design_opts o;
@@ -100,13 +100,13 @@ static void extreme_gains_are_unstable(void **state)
     int i;
     (void)state;
     for (i = 0; i < 2; i++) {
-        double rho = radius(PF_CFG_DD, 1000.0, "k1", gains[i], "k2", gains[i], NULL);
-        double grow = measured_growth(PF_CFG_DD, gains[i], 1000, 3000);
+        double rho = radius(PF_TOPO_DD, 1000.0, "k1", gains[i], "k2", gains[i], NULL);
+        double grow = measured_growth(PF_TOPO_DD, gains[i], 1000, 3000);
         if (!(rho > 1.001 && fabs(rho - grow) < 1e-4))
             fail_msg("k1 = k2 = %g: rho %.9g, measured growth %.9g", gains[i], rho, grow);
     }
     /* The issue's own case: Example 6 with k1 = k2 = 1e9 at 1 kHz. */
-    assert_true(radius(PF_CFG_DD, 1000.0, "k1", 1e9, "k2", 1e9, NULL) > 1.0 + PF_CTRL_RHO_TOL);
+    assert_true(radius(PF_TOPO_DD, 1000.0, "k1", 1e9, "k2", 1e9, NULL) > 1.0 + PF_CTRL_RHO_TOL);
 }
 
 static void effects_are_left_out(void **state)
@@ -118,8 +118,8 @@ static void effects_are_left_out(void **state)
     fx.sat_lo = -0.001;
     fx.sat_hi = 0.001;
     fx.lag = 0.01;
-    assert_true(radius(PF_CFG_DD, 1000.0, "k1", 1e5, "k2", 1e5, &fx) ==
-                radius(PF_CFG_DD, 1000.0, "k1", 1e5, "k2", 1e5, NULL));
+    assert_true(radius(PF_TOPO_DD, 1000.0, "k1", 1e5, "k2", 1e5, &fx) ==
+                radius(PF_TOPO_DD, 1000.0, "k1", 1e5, "k2", 1e5, NULL));
 }
 
 static void null_arguments(void **state)
