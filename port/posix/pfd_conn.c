@@ -81,12 +81,16 @@ static long io_once(pfd_conn *c, void *buf, size_t n, int writing, short *events
     }
 }
 
-int pfd_conn_read(pfd_conn *c, void *buf, size_t n, int gap_ms, int64_t deadline_ns)
+/* Move all @p n bytes: each wait at most @p gap_ms, and none past
+ * @p deadline_ns (0: none). */
+static int transfer(pfd_conn *c, void *buf, size_t n, int writing, int gap_ms,
+                    int64_t deadline_ns)
 {
     unsigned char *p = (unsigned char *)buf;
     while (n > 0) {
         short ev = 0;
-        long k = io_once(c, p, n, 0, &ev);
+        /* OpenSSL retries a write with the same buffer and length. */
+        long k = io_once(c, p, n, writing, &ev);
         int w;
         if (k < 0)
             return PFD_CONN_CLOSED;
@@ -104,29 +108,14 @@ int pfd_conn_read(pfd_conn *c, void *buf, size_t n, int gap_ms, int64_t deadline
     return 0;
 }
 
+int pfd_conn_read(pfd_conn *c, void *buf, size_t n, int gap_ms, int64_t deadline_ns)
+{
+    return transfer(c, buf, n, 0, gap_ms, deadline_ns);
+}
+
 int pfd_conn_write(pfd_conn *c, const void *buf, size_t n, int ms)
 {
-    const int64_t deadline = pfd_now_ns() + (int64_t)ms * 1000000;
-    const unsigned char *p = (const unsigned char *)buf;
-    while (n > 0) {
-        short ev = 0;
-        /* OpenSSL retries a write with the same buffer and length. */
-        long k = io_once(c, (void *)p, n, 1, &ev);
-        int w;
-        if (k < 0)
-            return PFD_CONN_CLOSED;
-        if (k > 0) {
-            p += k;
-            n -= (size_t)k;
-            continue;
-        }
-        w = wait_fd(c->fd, ev, ms, deadline);
-        if (w < 0)
-            return PFD_CONN_CLOSED;
-        if (w == 0)
-            return PFD_CONN_TIMEOUT;
-    }
-    return 0;
+    return transfer(c, (void *)buf, n, 1, ms, pfd_now_ns() + (int64_t)ms * 1000000);
 }
 
 int pfd_conn_handshake(pfd_conn *c, int64_t deadline_ns, char *why, size_t n)

@@ -267,22 +267,13 @@ int pfd_setting_parse(const pfd_setting *r, const char *text, pfd_settings *s,
                           (r->flags & PFD_SF_OFF) ? ", IPV4ADDR or none" : "");
         break;
     case PFD_ST_FILE:
-        if (strlen(text) >= r->size || strchr(text, '\n') != NULL)
-            return refuse(msg, n, "'%s' is not a file name of at most %zu bytes", text,
-                          r->size - 1);
-        strcpy((char *)f, text);
-        break;
     case PFD_ST_ROLES:
-        if (strlen(text) >= r->size)
-            return refuse(msg, n, "list too long");
-        if (pfd_roles_parse(text, &roles, msg, n) != 0)
-            return -1;
-        strcpy((char *)f, text);
-        break;
     case PFD_ST_NETS:
-        if (strlen(text) >= r->size)
-            return refuse(msg, n, "list too long");
-        if (pfd_allow_parse(text, &al, msg, n) != 0)
+        /* Text kept as given, once it is known to mean something. */
+        if (strlen(text) >= r->size || strchr(text, '\n') != NULL)
+            return refuse(msg, n, "'%.40s...' is too long", text);
+        if ((r->type == PFD_ST_NETS && pfd_allow_parse(text, &al, msg, n) != 0) ||
+            (r->type == PFD_ST_ROLES && pfd_roles_parse(text, &roles, msg, n) != 0))
             return -1;
         strcpy((char *)f, text);
         break;
