@@ -35,7 +35,7 @@ int pfd_roles_parse(const char *text, pfd_roles *out, char *err, size_t n)
         int a, i;
 
         p += strspn(p, " ");
-        while (name_char(p[len]) && len < sizeof name - 1)
+        while (len < sizeof name - 1 && name_char(p[len]))
             len++;
         if (len == 0 || name_char(p[len]) || p[len] != ':') {
             snprintf(err, n, "'%s' is not NAME:ACCESS[,NAME:ACCESS...]", text);
@@ -44,7 +44,7 @@ int pfd_roles_parse(const char *text, pfd_roles *out, char *err, size_t n)
         memcpy(name, p, len);
         name[len] = '\0';
         p += len + 1;
-        while (p[k] >= 'a' && p[k] <= 'z' && k < sizeof level - 1)
+        while (k < sizeof level - 1 && p[k] >= 'a' && p[k] <= 'z')
             k++;
         memcpy(level, p, k);
         level[k] = '\0';
