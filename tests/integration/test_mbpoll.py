@@ -90,4 +90,7 @@ def test_pymodbus_example_as_written(daemon, tmp_path):
     r = Regs(d.client())
     assert r.read("e") == 0.5
     assert r.read("committed_q") == pytest.approx(0.8, rel=1e-7)
-    assert 0 < float(m.group(1)) < 0.005
+    # p_c of a 0.5 step, switched bumplessly from q = 0.9 to 0.8 (the
+    # output blends the two sets' responses): positive, and within the
+    # default out_fs, 0.01, which Example 6's response never leaves.
+    assert 0 < float(m.group(1)) < 0.01
