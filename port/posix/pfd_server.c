@@ -231,6 +231,19 @@ static int waiting(const pfd_client *c)
     return ioctl(c->conn.fd, FIONREAD, &n) == 0 && n > 0;
 }
 
+/* Whether client @p id holds a lock: a holder is never evicted, or a
+ * flood of connections could take the lock from it (its disconnect
+ * releases it). */
+static int holds_lock(pfd_daemon *d, uint64_t id)
+{
+    int i, held = 0;
+    pthread_mutex_lock(&d->regs_mx);
+    for (i = 0; i < d->n && !held; i++)
+        held = d->inst[i]->param_lock && d->inst[i]->lock_holder == id;
+    pthread_mutex_unlock(&d->regs_mx);
+    return held;
+}
+
 /* Under clients_mx: a slot for a client from @p addr, evicting one if
  * the policy says so. @return the slot, or NULL with @p why. */
 static pfd_client *take_slot(pfd_daemon *d, uint32_t addr, const char *peer, const char **why)
@@ -245,7 +258,8 @@ static pfd_client *take_slot(pfd_daemon *d, uint32_t addr, const char *peer, con
         v[i].evicted = __atomic_load_n(&c->evicted, __ATOMIC_ACQUIRE);
         v[i].active = __atomic_load_n(&c->active, __ATOMIC_ACQUIRE);
         v[i].heard = __atomic_load_n(&c->heard, __ATOMIC_ACQUIRE) || waiting(c);
-        v[i].busy = __atomic_load_n(&c->busy, __ATOMIC_ACQUIRE);
+        v[i].busy = __atomic_load_n(&c->busy, __ATOMIC_ACQUIRE) ||
+                    (c->in_use && holds_lock(d, c->id));
         v[i].addr = c->addr;
         v[i].since_ns = __atomic_load_n(&c->since_ns, __ATOMIC_ACQUIRE);
     }

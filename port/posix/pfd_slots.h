@@ -14,7 +14,8 @@
  *    the connection idle longest, but only once it has been idle for at
  *    least `protect_ns`, so that a flood of new connections cannot push
  *    out a client that polls.
- *  - A connection in the middle of a request is never a victim.
+ *  - A connection in the middle of a request, or holding a lock, is never
+ *    a victim.
  */
 #ifndef PFD_SLOTS_H
 #define PFD_SLOTS_H
@@ -27,7 +28,7 @@ typedef struct pfd_slot_view {
     int evicted;         /**< told to go: counts for nothing */
     int active;          /**< has completed a request */
     int heard;           /**< has sent at least one byte */
-    int busy;            /**< a request is being served */
+    int busy;            /**< a request is being served, or it holds a lock */
     uint32_t addr;       /**< IPv4, host order */
     int64_t since_ns;    /**< last completed request, or accepted if none */
 } pfd_slot_view;

@@ -317,6 +317,34 @@ def test_lock_has_a_holder(daemon):
     assert "reg=param_lock old=1 new=0 result=released-at-disconnect" in d.log()
 
 
+def test_lock_holder_is_not_evicted(daemon):
+    """A flood of connections must not take a lock away by evicting its
+    idle holder (its disconnect would release the lock)."""
+    d = daemon("--clock", "external", "--max-clients", "2",
+               "--first-request-timeout-ms", "100")
+    holder = connect_from("127.0.0.1", d.port)
+    holder.sendall(adu(1, 1, struct.pack(">BHH", 6, REG["param_lock"][1], 1)))
+    assert len(holder.recv(64)) == 12
+    time.sleep(0.3)  # the longest idle, past the protection time
+    flood = []
+    for k in range(20):
+        s = connect_from(f"127.0.2.{k + 1}", d.port)
+        ask(s)
+        flood.append(s)
+        time.sleep(0.15)  # each one idle past the protection time in turn
+    assert "msg=client-evicted" in d.log()
+    assert not re.search(r"msg=client-evicted peer=127\.0\.0\.1:", d.log())
+    holder.sendall(adu(2, 1, struct.pack(">BHH", 6, REG["mode"][1], 1)))
+    assert len(holder.recv(64)) == 12
+    for s in flood:
+        s.close()
+    time.sleep(0.5)
+    other = Regs(d.client())
+    assert other.read("param_lock") == 1 and other.read("mode") == 1
+    assert other.write_raw("mode", 0).exception_code == 1
+    holder.close()
+
+
 def test_param_lock_flag_locks_everyone(daemon):
     d = daemon("--param-lock", "--clock", "external")
     a, b = Regs(d.client()), Regs(d.client())
