@@ -255,7 +255,8 @@ static pfd_client *take_slot(pfd_daemon *d, uint32_t addr, const char *peer, con
     for (i = 0; i < n; i++) {
         const pfd_client *c = &d->server.clients[i];
         v[i].in_use = c->in_use;
-        v[i].evicted = __atomic_load_n(&c->evicted, __ATOMIC_ACQUIRE);
+        v[i].evicted = __atomic_load_n(&c->evicted, __ATOMIC_ACQUIRE) ||
+                       __atomic_load_n(&c->done, __ATOMIC_ACQUIRE);
         v[i].active = __atomic_load_n(&c->active, __ATOMIC_ACQUIRE);
         v[i].heard = __atomic_load_n(&c->heard, __ATOMIC_ACQUIRE) || waiting(c);
         v[i].busy = __atomic_load_n(&c->busy, __ATOMIC_ACQUIRE) ||

@@ -57,7 +57,7 @@ const pfd_setting pfd_settings_table[] = {
     {.flag = "--max-clients-per-addr", .key = "max_clients_per_addr", .type = PFD_ST_INT,
      .group = PFD_SG_DAEMON, SECURE, .lo = 1, .hi = 256, IN_SETTINGS(max_per_addr),
      .metavar = "N", .help = "simultaneous clients from one IPv4 address; one more from "
-                             "that address replaces its longest-idle one"},
+                             "that address replaces one of its own, idle ones first"},
     {.flag = "--first-request-timeout-ms", .key = "first_request_timeout_ms",
      .type = PFD_ST_INT, .group = PFD_SG_DAEMON, SECURE, .lo = 100, .hi = 60000,
      IN_SETTINGS(first_request_ms), .metavar = "N",

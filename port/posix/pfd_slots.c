@@ -24,7 +24,8 @@ static int better(const pfd_slot_view *v, int a, int b)
 }
 
 /* The best victim among live, not busy slots (from @p addr only if
- * @p same_addr); active ones only if idle for protect_ns. */
+ * @p same_addr); active ones only if idle for protect_ns, so that an
+ * address that reconnects in a hurry cannot push out its own poller. */
 static int victim(const pfd_slot_view *v, int n, uint32_t addr, int same_addr,
                   int64_t now_ns, int64_t protect_ns)
 {
@@ -32,7 +33,7 @@ static int victim(const pfd_slot_view *v, int n, uint32_t addr, int same_addr,
     for (i = 0; i < n; i++) {
         if (!live(&v[i]) || v[i].busy || (same_addr && v[i].addr != addr))
             continue;
-        if (!same_addr && v[i].active && now_ns - v[i].since_ns < protect_ns)
+        if (v[i].active && now_ns - v[i].since_ns < protect_ns)
             continue;
         if (better(v, i, best))
             best = i;

@@ -5,9 +5,9 @@
  * "Security"). Pure: the server passes a snapshot of its table.
  *
  *  - One address holds at most max_per_addr connections. One more from
- *    that address replaces that address's own best victim, so an address
- *    competes only with itself, and a client that reconnects is never
- *    locked out by its own stale connections.
+ *    that address replaces that address's own best victim (in the order
+ *    below), so an address competes only with itself, and a client that
+ *    reconnects is not locked out by its own stale connections.
  *  - A full table replaces its best victim: first the connections that
  *    have not completed a request and have sent nothing at all, then
  *    those that have not completed a request (each oldest first), then
@@ -25,7 +25,8 @@
 /** What the policy needs to know of one slot. */
 typedef struct pfd_slot_view {
     int in_use;          /**< taken (also while an evicted one winds down) */
-    int evicted;         /**< told to go: counts for nothing */
+    int evicted;         /**< told to go, or its thread has ended: counts
+                              for nothing */
     int active;          /**< has completed a request */
     int heard;           /**< has sent at least one byte */
     int busy;            /**< a request is being served, or it holds a lock */

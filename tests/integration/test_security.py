@@ -160,15 +160,18 @@ def test_slot_policy(daemon):
     """Per-address limit, and who is evicted for whom: an address at its
     limit makes room among its own connections; a full table gives up the
     connections that never completed a request, never a client that polls."""
-    d = daemon("--max-clients", "4", "--max-clients-per-addr", "2")
+    d = daemon("--max-clients", "4", "--max-clients-per-addr", "2",
+               "--first-request-timeout-ms", "500")
     a = connect_from("127.0.0.1", d.port)
     assert ask(a)
-    time.sleep(0.1)
+    time.sleep(0.6)  # a: idle past the protection time (500 ms)
     b = connect_from("127.0.0.1", d.port)
     assert ask(b)
     c = connect_from("127.0.0.1", d.port)  # third from 127.0.0.1: a (idle longest) goes
     assert ask(c)
     assert not ask(a) and ask(b)
+    f = connect_from("127.0.0.1", d.port)  # b and c poll: f is refused, they stay
+    assert not ask(f) and ask(b) and ask(c)
     idle = [connect_from(f"127.0.0.{k}", d.port) for k in (2, 3)]  # never ask
     time.sleep(0.1)
     e = connect_from("127.0.0.4", d.port)  # table full: an idle one goes
@@ -179,7 +182,7 @@ def test_slot_policy(daemon):
                      r"reason=max-clients-per-addr", log), log
     assert re.search(r"msg=client-evicted peer=127\.0\.0\.[23]:\d+ active=0 .*"
                      r"reason=max-clients", log), log
-    for s in [a, b, c, e] + idle:
+    for s in [a, b, c, e, f] + idle:
         s.close()
 
 

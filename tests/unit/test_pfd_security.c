@@ -91,12 +91,25 @@ static void slots_per_address(void **state)
     v[0] = slot(7, 1, 1, 100);
     v[1] = slot(7, 1, 1, 50); /* address 7, idle longer */
     v[2] = slot(8, 0, 0, 0);  /* someone else's silent newcomer: not touched */
-    /* a third from address 7 replaces address 7's own, even an active one
-     * inside the protection time */
-    c = pfd_slots_choose(v, 8, 7, 16, 2, 200 * MS, 2000 * MS);
+    /* a third from address 7 replaces address 7's own idle one */
+    c = pfd_slots_choose(v, 8, 7, 16, 2, 3000 * MS, 2000 * MS);
     assert_int_equal(c.victim, 1);
     assert_string_equal(c.why, "max-clients-per-addr");
+    /* but not a poller, idle for less than the protection time: refused */
+    c = pfd_slots_choose(v, 8, 7, 16, 2, 200 * MS, 2000 * MS);
+    assert_int_equal(c.slot, -1);
+    assert_int_equal(c.victim, -1);
+    /* a newcomer of its own goes first, however young */
+    v[0] = slot(7, 0, 1, 190);
+    c = pfd_slots_choose(v, 8, 7, 16, 2, 200 * MS, 2000 * MS);
+    assert_int_equal(c.victim, 0);
+    /* a connection whose thread has ended does not count */
+    v[0].evicted = 1;
+    c = pfd_slots_choose(v, 8, 7, 16, 2, 200 * MS, 2000 * MS);
+    assert_int_equal(c.victim, -1);
+    assert_true(c.slot >= 3);
     /* another address is unaffected */
+    v[0].evicted = 0;
     c = pfd_slots_choose(v, 8, 9, 16, 2, 200 * MS, 2000 * MS);
     assert_int_equal(c.victim, -1);
     assert_true(c.slot >= 3);
