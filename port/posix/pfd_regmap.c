@@ -2,6 +2,9 @@
 #include "pfd_regmap.h"
 
 #include <math.h>
+
+#include "pfd_access.h"
+#include <modbus/modbus.h>
 #include <string.h>
 
 #ifndef PFD_VERSION_MAJOR
@@ -35,55 +38,70 @@ enum {
 #define K_P0 6
 #define K_COUNT (K_P0 + 16)
 
+/* The live signals' write range (e, sp, pv, manual and fail-safe output):
+ * the daemon's own bound, far beyond any process value and finite in f32. */
 #define BIG 1e9
-#define PMIN 1e-9
 
 /* Staged parameters from holding 20, their committed mirrors from input
  * 36; u16 first, then f32. */
 #define HS(k) (uint16_t)((k) < 2 ? 20 + (k) : 22 + 2 * ((k) - 2))
 #define IC(k) (uint16_t)((k) < 2 ? 36 + (k) : 38 + 2 * ((k) - 2))
 
-#define PARAMS(X)                                                              \
-    X(K_CONFIG, PFD_T_U16, "config", "", 0, 3, 0,                              \
-      "configuration: 0 p (eq. 17), 1 dd (FrDD, eq. 18), 2 id (FrID, eq. 20), 3 pid (Remark 3)") \
-    X(K_ARITH, PFD_T_U16, "arith", "", 0, 1, 0, "arithmetic: 0 float, 1 q15")  \
-    X(K_FS, PFD_T_F32, "fs", "Hz", PFD_FS_MIN, PFD_FS_MAX, 0, "sample rate")   \
-    X(K_IN_FS, PFD_T_F32, "in_fs", "", PFD_FULLSCALE_MIN, PFD_FULLSCALE_MAX, 0, \
-      "full scale of e: Q15 +1.0 in q15, and the scale of the int16 mirrors of e, x, p_b/k1, y") \
-    X(K_OUT_FS, PFD_T_F32, "out_fs", "", PFD_FULLSCALE_MIN, PFD_FULLSCALE_MAX, 0, \
-      "full scale of p_c: Q15 +1.0 in q15, and the scale of pc_i16")           \
-    X(K_BUMP, PFD_T_F32, "bump_tau", "s", 0, PFD_BUMP_TAU_MAX, 0,              \
-      "time constant of the bumpless transfer's offset bleed; 0 = none")       \
-    X(K_P0 + 0, PFD_T_F32, "a", "", PMIN, BIG, 0, "flapper lever arm a (eq. 15)") \
-    X(K_P0 + 1, PFD_T_F32, "b", "", PMIN, BIG, 0, "flapper lever arm b (eq. 15)") \
-    X(K_P0 + 2, PFD_T_F32, "k1", "", PMIN, BIG, 0, "nozzle gain, p_b = k1 x (eq. 9)") \
-    X(K_P0 + 3, PFD_T_F32, "k2", "", PMIN, BIG, 0, "relay gain, p_c = k2 z (eq. 13)") \
-    X(K_P0 + 4, PFD_T_F32, "A", "", PMIN, BIG, 0, "bellows effective area (eq. 16)") \
-    X(K_P0 + 5, PFD_T_F32, "ks", "", PMIN, BIG, 0, "bellows pseudo-spring constant (eq. 16)") \
-    X(K_P0 + 6, PFD_T_F32, "tau", "s", PMIN, BIG, 0, "relay time constant (eq. 11)") \
-    X(K_P0 + 7, PFD_T_F32, "pmin", "", PMIN, BIG, 0, "relay Psi_min, <= pmax (eq. 11)") \
-    X(K_P0 + 8, PFD_T_F32, "pmax", "", PMIN, BIG, 0, "relay Psi_max (eq. 11)") \
-    X(K_P0 + 9, PFD_T_F32, "beta", "", 0, 1, PFD_F_MIN_EXCL, "relay diaphragm order") \
-    X(K_P0 + 10, PFD_T_F32, "q", "", 0, 1, 0, "bellows order; 0 is a linear spring") \
-    X(K_P0 + 11, PFD_T_F32, "nu", "", 0, 1, PFD_F_MIN_EXCL, "derivative restrictor order (dd, pid)") \
-    X(K_P0 + 12, PFD_T_F32, "w", "", 0, 1, PFD_F_MIN_EXCL, "reset restrictor order (id, pid; pid: >= nu)") \
-    X(K_P0 + 13, PFD_T_F32, "RC", "s", PMIN, BIG, 0, "restrictor time constant (dd, id)") \
-    X(K_P0 + 14, PFD_T_F32, "RCd", "s", PMIN, BIG, 0, "pid derivative restrictor, < RCi") \
-    X(K_P0 + 15, PFD_T_F32, "RCi", "s", PMIN, BIG, 0, "pid reset restrictor")
+/* The parameter set, staged and committed. OWN rows are the daemon's own
+ * settings, with their range, unit and description here; LIB rows are
+ * the library's parameters, whose range (and unit and description, where
+ * the row gives none) the library's table holds. The register name is
+ * the parameter's name (test_pfd_config checks that they agree); the
+ * register map adds "staged: " or "committed: " to the description. */
+#define PARAMS(OWN, LIB)                                                       \
+    LIB(K_CONFIG, PFD_T_U16, "config", PF_P_CONFIG, NULL)                      \
+    OWN(K_ARITH, PFD_T_U16, "arith", "", 0, PFD_ARITH_COUNT - 1,               \
+        "arithmetic: 0 float, 1 q15")                                          \
+    OWN(K_FS, PFD_T_F32, "fs", "Hz", PFD_FS_MIN, PFD_FS_MAX,                   \
+        "sample rate (the real-time loop's range)")                            \
+    LIB(K_IN_FS, PFD_T_F32, "in_fs", PF_P_IN_FS,                               \
+        "full scale of e: Q15 +1.0 in q15, and the scale of the int16 mirrors of e, x, p_b/k1, y") \
+    LIB(K_OUT_FS, PFD_T_F32, "out_fs", PF_P_OUT_FS,                            \
+        "full scale of p_c: Q15 +1.0 in q15, and the scale of pc_i16")         \
+    OWN(K_BUMP, PFD_T_F32, "bump_tau", "s", 0, PFD_BUMP_TAU_MAX,               \
+        "time constant of the bumpless transfer's offset bleed; 0 = none")     \
+    LIB(K_P0 + 0, PFD_T_F32, "a", PF_P_A, NULL)                                \
+    LIB(K_P0 + 1, PFD_T_F32, "b", PF_P_B, NULL)                                \
+    LIB(K_P0 + 2, PFD_T_F32, "k1", PF_P_K1, NULL)                              \
+    LIB(K_P0 + 3, PFD_T_F32, "k2", PF_P_K2, NULL)                              \
+    LIB(K_P0 + 4, PFD_T_F32, "A", PF_P_AREA, NULL)                             \
+    LIB(K_P0 + 5, PFD_T_F32, "ks", PF_P_KS, NULL)                              \
+    LIB(K_P0 + 6, PFD_T_F32, "tau", PF_P_TAU, NULL)                            \
+    LIB(K_P0 + 7, PFD_T_F32, "pmin", PF_P_PMIN, NULL)                          \
+    LIB(K_P0 + 8, PFD_T_F32, "pmax", PF_P_PMAX, NULL)                          \
+    LIB(K_P0 + 9, PFD_T_F32, "beta", PF_P_BETA, NULL)                          \
+    LIB(K_P0 + 10, PFD_T_F32, "q", PF_P_Q, NULL)                               \
+    LIB(K_P0 + 11, PFD_T_F32, "nu", PF_P_NU, NULL)                             \
+    LIB(K_P0 + 12, PFD_T_F32, "w", PF_P_W, NULL)                               \
+    LIB(K_P0 + 13, PFD_T_F32, "RC", PF_P_RC, NULL)                             \
+    LIB(K_P0 + 14, PFD_T_F32, "RCd", PF_P_RCD, NULL)                           \
+    LIB(K_P0 + 15, PFD_T_F32, "RCi", PF_P_RCI, NULL)
 
-#define STAGED_ENTRY(k, t, nm, un, lo, hi, fl, ds)                             \
-    {PFD_HOLD, t, PFD_RW, PFD_F_STAGED | (fl), HS(k), F_STAGED + (k), lo, hi,  \
-     nm, un, "staged: " ds},
-#define COMMITTED_ENTRY(k, t, nm, un, lo, hi, fl, ds)                          \
-    {PFD_INPUT, t, PFD_R, 0, IC(k), F_COMMITTED + (k), 0, 0, "committed_" nm,  \
-     un, "committed: " ds},
+#define STAGED_OWN(k, t, nm, un, lo, hi, ds)                                   \
+    {PFD_HOLD, t, PFD_RW, PFD_F_STAGED, HS(k), F_STAGED + (k), PFD_NO_PARAM,   \
+     lo, hi, nm, un, ds},
+#define STAGED_LIB(k, t, nm, id, ds)                                           \
+    {PFD_HOLD, t, PFD_RW, PFD_F_STAGED, HS(k), F_STAGED + (k), id, 0, 0, nm,   \
+     NULL, ds},
+#define COMMITTED_OWN(k, t, nm, un, lo, hi, ds)                                \
+    {PFD_INPUT, t, PFD_R, 0, IC(k), F_COMMITTED + (k), PFD_NO_PARAM, 0, 0,     \
+     "committed_" nm, un, ds},
+#define COMMITTED_LIB(k, t, nm, id, ds)                                        \
+    {PFD_INPUT, t, PFD_R, 0, IC(k), F_COMMITTED + (k), id, 0, 0,               \
+     "committed_" nm, NULL, ds},
 
 #define H(addr, type, acc, fl, field, lo, hi, name, unit, desc)                \
-    {PFD_HOLD, type, acc, fl, addr, field, lo, hi, name, unit, desc},
+    {PFD_HOLD, type, acc, fl, addr, field, PFD_NO_PARAM, lo, hi, name, unit, desc},
 #define I(addr, type, field, name, unit, desc)                                 \
-    {PFD_INPUT, type, PFD_R, 0, addr, field, 0, 0, name, unit, desc},
+    {PFD_INPUT, type, PFD_R, 0, addr, field, PFD_NO_PARAM, 0, 0, name, unit, desc},
 
-#define LIVE_IN (PFD_F_LIVE | PFD_F_REFRESH)
+/* The process inputs: operators write them, and a lock leaves them open. */
+#define LIVE_IN (PFD_F_LIVE | PFD_F_REFRESH | PFD_F_OPERATE | PFD_F_OPEN)
 
 const pfd_reg pfd_regs[] = {
     H(0, PFD_T_F32, PFD_RW, LIVE_IN, F_E, -BIG, BIG, "e", "",
@@ -98,29 +116,30 @@ const pfd_reg pfd_regs[] = {
       "sp as a scaled int16")
     H(8, PFD_T_I16, PFD_RW, LIVE_IN, F_PV_I16, -32768, 32767, "pv_i16", "in_fs/32768",
       "pv as a scaled int16")
-    H(9, PFD_T_U16, PFD_RW, PFD_F_LIVE, F_INPUT_SEL, 0, 1, "input_sel", "",
+    H(9, PFD_T_U16, PFD_RW, PFD_F_LIVE | PFD_F_OPERATE, F_INPUT_SEL, 0, 1, "input_sel", "",
       "input: 0 e, 1 sp - pv")
-    H(10, PFD_T_U16, PFD_RW, PFD_F_LIVE, F_MODE, 0, 1, "mode", "",
+    H(10, PFD_T_U16, PFD_RW, PFD_F_LIVE | PFD_F_OPERATE, F_MODE, 0, 1, "mode", "",
       "0 auto, 1 manual (output = manual_out; back to auto is bumpless)")
-    H(11, PFD_T_F32, PFD_RW, PFD_F_LIVE, F_MANUAL, -BIG, BIG, "manual_out", "",
+    H(11, PFD_T_F32, PFD_RW, PFD_F_LIVE | PFD_F_OPERATE, F_MANUAL, -BIG, BIG, "manual_out", "",
       "output in manual mode")
     H(13, PFD_T_F32, PFD_RW, PFD_F_LIVE, F_FAILSAFE, -BIG, BIG, "failsafe_out", "",
       "output while the watchdog is tripped")
     H(15, PFD_T_U16, PFD_RW, PFD_F_LIVE, F_WATCHDOG, 0, 60000, "watchdog_ms", "ms",
       "trip to failsafe_out when e/sp/pv are not written for this long (counted in samples); 0 = off")
     H(16, PFD_T_U16, PFD_RW, 0, F_LOCK, 0, 1, "param_lock", "",
-      "1: staged parameters, commit and command 1 are refused (exception 01); "
-      "fixed at 1 by --param-lock")
+      "1: lock this instance for the client that writes it, until it writes 0 or "
+      "disconnects; meanwhile other clients may write only the registers marked open "
+      "(exception 01); fixed at 1 for every client by --param-lock")
     H(17, PFD_T_U16, PFD_W, PFD_F_ACTION | PFD_F_STAGED, F_COMMIT, 1, 1, "commit", "",
       "write 1: validate the staged set and switch it in between two samples, bumplessly; "
       "refused (exception 03, nothing changes) if invalid; exception 04 with commit_result 5 "
       "if it runs but the config file could not be written; reads 0")
     H(18, PFD_T_U16, PFD_W, PFD_F_ACTION, F_COMMAND, 1, 3, "command", "",
       "write 1: discard staged changes, 2: reset the controller state, 3: clear statistics; reads 0")
-    H(19, PFD_T_U16, PFD_W, PFD_F_ACTION, F_TICK, 1, 65535, "tick", "samples",
+    H(19, PFD_T_U16, PFD_W, PFD_F_ACTION | PFD_F_OPERATE | PFD_F_OPEN, F_TICK, 1, 65535, "tick", "samples",
       "--clock external only (else exception 01): advance exactly N samples, "
       "answered when they are done; reads 0")
-    PARAMS(STAGED_ENTRY)
+    PARAMS(STAGED_OWN, STAGED_LIB)
     /* Read-only copies for clients that can only read holding registers
      * (and for FC23: write tick, read the output, in one transaction). */
     H(62, PFD_T_F32, PFD_R, 0, F_PC, 0, 0, "hold_pc", "", "copy of input register pc")
@@ -147,9 +166,11 @@ const pfd_reg pfd_regs[] = {
       "10 bumpless transfer in progress, 11 the last write of the config file failed")
     I(16, PFD_T_U16, F_CRESULT, "commit_result", "",
       "last commit: 0 ok, 1 invalid parameter, 2 q15 scaling failed, 3 busy, 4 other error, "
-      "5 applied and running but not persisted (config file write failed)")
+      "5 applied and running but not persisted (config file write failed), "
+      "6 the sampled loop would be unstable")
     I(17, PFD_T_U16, F_CADDR, "commit_err_addr", "",
-      "holding address of the staged parameter that made the last commit fail; 65535 none")
+      "holding address of the staged parameter that made the last commit fail "
+      "(result 6: the one whose change alone made the loop unstable); 65535 none")
     I(18, PFD_T_U16, F_CPARAM, "commit_err_param", "",
       "the library's pf_param_id of that parameter (pf_param_name); 65535 none")
     I(19, PFD_T_U16, F_COMMITS, "commits", "", "accepted commits, modulo 65536")
@@ -166,7 +187,7 @@ const pfd_reg pfd_regs[] = {
     I(33, PFD_T_U16, F_VMAP, "regmap_version", "", "version of this register map")
     I(34, PFD_T_U16, F_UNIT, "unit_id", "", "this instance's unit id")
     I(35, PFD_T_U16, F_NINST, "instances", "", "instances in this daemon")
-    PARAMS(COMMITTED_ENTRY)
+    PARAMS(COMMITTED_OWN, COMMITTED_LIB)
 };
 const unsigned pfd_nregs = sizeof pfd_regs / sizeof pfd_regs[0];
 
@@ -185,6 +206,58 @@ const pfd_reg *pfd_reg_at(int space, unsigned addr)
             return r;
     }
     return NULL;
+}
+
+const pfd_reg *pfd_reg_named(int space, const char *name)
+{
+    unsigned i;
+    for (i = 0; i < pfd_nregs; i++)
+        if (pfd_regs[i].space == space && !strcmp(pfd_regs[i].name, name))
+            return &pfd_regs[i];
+    return NULL;
+}
+
+double pfd_reg_min(const pfd_reg *r)
+{
+    return r->param >= 0 ? pf_param_info((pf_param_id)r->param)->lo : r->min;
+}
+
+double pfd_reg_max(const pfd_reg *r)
+{
+    return r->param >= 0 ? pf_param_info((pf_param_id)r->param)->hi : r->max;
+}
+
+int pfd_reg_min_excl(const pfd_reg *r)
+{
+    return r->param >= 0 &&
+           (pf_param_info((pf_param_id)r->param)->flags & PF_PARAM_LO_OPEN);
+}
+
+const char *pfd_reg_unit(const pfd_reg *r)
+{
+    if (r->unit != NULL || r->param < 0)
+        return r->unit != NULL ? r->unit : "";
+    return pf_param_info((pf_param_id)r->param)->unit;
+}
+
+const char *pfd_reg_desc(const pfd_reg *r)
+{
+    if (r->desc != NULL || r->param < 0)
+        return r->desc != NULL ? r->desc : "";
+    return pf_param_info((pf_param_id)r->param)->desc;
+}
+
+int pfd_reg_in_range(const pfd_reg *r, double v)
+{
+    if (r->param >= 0)
+        return pf_param_check((pf_param_id)r->param, v) == PF_OK;
+    return isfinite(v) && v >= r->min && v <= r->max;
+}
+
+void pfd_reg_format_range(const pfd_reg *r, char *buf, size_t n)
+{
+    snprintf(buf, n, "%s%.9g .. %.9g]", pfd_reg_min_excl(r) ? "(" : "[",
+             pfd_reg_min(r), pfd_reg_max(r));
 }
 
 void pfd_f32_pack(float v, uint16_t *w)
@@ -206,7 +279,7 @@ float pfd_f32_unpack(const uint16_t *w)
 static double ip_get(const pfd_iparams *ip, int k)
 {
     switch (k) {
-    case K_CONFIG: return (double)ip->p.config;
+    case K_CONFIG: return (double)ip->p.topology;
     case K_ARITH: return (double)ip->arith;
     case K_FS: return ip->fs;
     case K_IN_FS: return ip->in_fs;
@@ -219,7 +292,7 @@ static double ip_get(const pfd_iparams *ip, int k)
 static void ip_set(pfd_iparams *ip, int k, double v)
 {
     switch (k) {
-    case K_CONFIG: ip->p.config = (pf_config)(int)v; break;
+    case K_CONFIG: ip->p.topology = (pf_topology)(int)v; break;
     case K_ARITH: ip->arith = (int)v; break;
     case K_FS: ip->fs = v; break;
     case K_IN_FS: ip->in_fs = v; break;
@@ -245,31 +318,41 @@ uint16_t pfd_regmap_staged_addr(int param)
     }
 }
 
-static double field_value(const pfd_reg *r, const pfd_view *v)
+double pfd_regmap_hold_value(const pfd_reg *r, const pfd_hold *h,
+                             const pfd_iparams *committed)
 {
-    const pfd_inst *in = v->inst;
-    const pfd_live *l = &in->hold.live;
-    const pfd_snap *s = v->snap;
-    const double inv_in = 1.0 / in->committed.in_fs;
+    const pfd_live *l = &h->live;
+    const double in_fs = committed->in_fs;
 
-    if (r->field >= F_COMMITTED)
-        return ip_get(&in->committed, r->field - F_COMMITTED);
-    if (r->field >= F_STAGED)
-        return ip_get(&in->hold.staged, r->field - F_STAGED);
+    if (r->field >= F_STAGED && r->field < F_COMMITTED)
+        return ip_get(&h->staged, r->field - F_STAGED);
     switch (r->field) {
     case F_E: return l->e;
     case F_SP: return l->sp;
     case F_PV: return l->pv;
-    case F_E_I16: return pfd_to_q15(l->e, inv_in);
-    case F_SP_I16: return pfd_to_q15(l->sp, inv_in);
-    case F_PV_I16: return pfd_to_q15(l->pv, inv_in);
+    case F_E_I16: return pf_q15_quantize(l->e, in_fs);
+    case F_SP_I16: return pf_q15_quantize(l->sp, in_fs);
+    case F_PV_I16: return pf_q15_quantize(l->pv, in_fs);
     case F_INPUT_SEL: return l->input_sel;
     case F_MODE: return l->mode;
     case F_MANUAL: return l->manual_out;
     case F_FAILSAFE: return l->failsafe_out;
     case F_WATCHDOG: return l->watchdog_ms;
-    case F_LOCK: return in->hold.param_lock;
-    case F_COMMIT: case F_COMMAND: case F_TICK: return 0;
+    case F_LOCK: return h->param_lock;
+    default: return 0; /* the actions read 0 */
+    }
+}
+
+static double field_value(const pfd_reg *r, const pfd_view *v)
+{
+    const pfd_inst *in = v->inst;
+    const pfd_snap *s = v->snap;
+
+    if (r->field >= F_COMMITTED)
+        return ip_get(&in->committed, r->field - F_COMMITTED);
+    if (r->space == PFD_HOLD && r->access != PFD_R)
+        return pfd_regmap_hold_value(r, v->hold, &in->committed);
+    switch (r->field) {
     case F_PC: return s->sig.pc;
     case F_X: return s->sig.x;
     case F_PB: return s->sig.pb;
@@ -279,7 +362,7 @@ static double field_value(const pfd_reg *r, const pfd_view *v)
     case F_X_I16: return s->sig.x_q15;
     case F_PB_I16: return s->sig.pb_q15;
     case F_Y_I16: return s->sig.y_q15;
-    case F_EU_I16: return pfd_to_q15(s->e_used, inv_in);
+    case F_EU_I16: return pf_q15_quantize(s->e_used, in->committed.in_fs);
     case F_STATUS: return v->status;
     case F_CRESULT: return in->commit_result;
     case F_CADDR: return in->err_addr;
@@ -341,10 +424,10 @@ int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
         const pfd_reg *r = pfd_reg_at(PFD_HOLD, a);
         unsigned nw;
         if (r == NULL || r->access == PFD_R || r->addr != a)
-            return 2; /* MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS */
+            return MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS;
         nw = pfd_type_words(r->type);
         if (a + nw > addr + count)
-            return 2; /* half of a 32-bit field */
+            return MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS; /* half of a 32-bit field */
         a += nw;
     }
     for (a = addr; a < addr + count;) {
@@ -354,24 +437,21 @@ int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
         int ok;
 
         switch (r->type) {
-        case PFD_T_F32: {
-            float f = pfd_f32_unpack(w);
-            v = (double)f;
-            ok = isfinite(v) && v <= r->max &&
-                 ((r->flags & PFD_F_MIN_EXCL) ? v > r->min : v >= r->min);
+        case PFD_T_F32:
+            v = (double)pfd_f32_unpack(w);
+            ok = pfd_reg_in_range(r, v);
             break;
-        }
         case PFD_T_I16:
             v = (double)(int16_t)w[0];
             ok = 1;
             break;
         default:
             v = (double)w[0];
-            ok = v >= r->min && v <= r->max;
+            ok = pfd_reg_in_range(r, v);
             break;
         }
         if (!ok)
-            return 3; /* MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE */
+            return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
         if (r->flags & PFD_F_ACTION) {
             if (r->field == F_COMMIT)
                 out->commit = (uint16_t)v;
@@ -392,6 +472,10 @@ int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
             out->live = 1;
         if (r->field == F_LOCK)
             out->lock = 1;
+        if (!(r->flags & PFD_F_OPEN))
+            out->guarded = 1;
+        if (pfd_access_to_write(r) > out->access)
+            out->access = pfd_access_to_write(r);
         a += pfd_type_words(r->type);
     }
     return 0;
@@ -400,7 +484,7 @@ int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
 void pfd_regmap_apply(pfd_hold *h, const pfd_iparams *committed,
                       const pfd_wlist *wl)
 {
-    const double sc = committed->in_fs / 32768.0;
+    const double in_fs = committed->in_fs;
     pfd_live *l = &h->live;
     unsigned i;
 
@@ -415,9 +499,9 @@ void pfd_regmap_apply(pfd_hold *h, const pfd_iparams *committed,
         case F_E: l->e = (float)v; break;
         case F_SP: l->sp = (float)v; break;
         case F_PV: l->pv = (float)v; break;
-        case F_E_I16: l->e = (float)(v * sc); break;
-        case F_SP_I16: l->sp = (float)(v * sc); break;
-        case F_PV_I16: l->pv = (float)(v * sc); break;
+        case F_E_I16: l->e = (float)pf_q15_value((int16_t)v, in_fs); break;
+        case F_SP_I16: l->sp = (float)pf_q15_value((int16_t)v, in_fs); break;
+        case F_PV_I16: l->pv = (float)pf_q15_value((int16_t)v, in_fs); break;
         case F_INPUT_SEL: l->input_sel = (uint16_t)v; break;
         case F_MODE: l->mode = (uint16_t)v; break;
         case F_MANUAL: l->manual_out = (float)v; break;
@@ -441,18 +525,38 @@ static void print_range(FILE *f, const pfd_reg *r)
 {
     if (r->access == PFD_R)
         return;
-    if (r->type == PFD_T_I16)
+    if (r->type == PFD_T_I16) {
         fputs("any", f);
-    else
-        fprintf(f, "%s%.9g .. %.9g]", (r->flags & PFD_F_MIN_EXCL) ? "(" : "[",
-                r->min, r->max);
+    } else {
+        char range[64];
+        pfd_reg_format_range(r, range, sizeof range);
+        fputs(range, f);
+    }
+}
+
+/* Who may write it (pfd_access.h), and whether a lock leaves it open. */
+static void print_writers(FILE *f, const pfd_reg *r)
+{
+    if (r->access == PFD_R)
+        return;
+    fputs((r->flags & PFD_F_OPERATE) ? "operate" : "engineer", f);
+    if (r->flags & PFD_F_OPEN)
+        fputs(", open", f);
+}
+
+/* A parameter's description says which set it belongs to. */
+static const char *desc_prefix(const pfd_reg *r)
+{
+    if (r->field >= F_COMMITTED)
+        return "committed: ";
+    return r->field >= F_STAGED ? "staged: " : "";
 }
 
 static void print_space(FILE *f, int space)
 {
     unsigned i;
-    fputs("| Address | Name | Type | Access | Unit | Range | Description |\n"
-          "|---:|---|---|---|---|---|---|\n", f);
+    fputs("| Address | Name | Type | Access | Unit | Range | Write | Description |\n"
+          "|---:|---|---|---|---|---|---|---|\n", f);
     for (i = 0; i < pfd_nregs; i++) {
         const pfd_reg *r = &pfd_regs[i];
         static const char *const acc[] = {"R", "RW", "W"};
@@ -463,9 +567,11 @@ static void print_space(FILE *f, int space)
         else
             fprintf(f, "| %u | ", (unsigned)r->addr);
         fprintf(f, "`%s` | %s | %s | %s | ", r->name, type_name(r->type),
-                acc[r->access], r->unit);
+                acc[r->access], pfd_reg_unit(r));
         print_range(f, r);
-        fprintf(f, " | %s |\n", r->desc);
+        fputs(" | ", f);
+        print_writers(f, r);
+        fprintf(f, " | %s%s |\n", desc_prefix(r), pfd_reg_desc(r));
     }
 }
 
@@ -476,8 +582,10 @@ void pfd_regmap_print_md(FILE *f)
 "# pneufracd register map (version %d)\n"
 "\n"
 "Generated by `pneufracd --print-register-map` from the table in\n"
-"`port/posix/pfd_regmap.c`; the test `regmap_doc` fails if this file and the\n"
-"program disagree. Do not edit by hand.\n"
+"`port/posix/pfd_regmap.c`, whose rows for the library's parameters take\n"
+"their range, unit and description from the library's parameter table\n"
+"(`pf_param_info`, `lib/src/pf_param_table.c`); the test `regmap_doc` fails\n"
+"if this file and the program disagree. Do not edit by hand.\n"
 "\n"
 "- Every instance has this map; the Modbus unit id selects the instance.\n"
 "  An unknown unit id is answered with exception 0B (gateway target failed).\n"
@@ -486,17 +594,26 @@ void pfd_regmap_print_md(FILE *f)
 "  `-B`). `u32`: likewise, high word first. `i16`: two's complement.\n"
 "- Function codes: 03 read holding, 04 read input, 06 write one, 16 write\n"
 "  many, 23 write-and-read. Anything else: exception 01.\n"
-"- Exceptions: 01 writes in read-only mode, staged parameters, commit or\n"
-"  `command` 1 while `param_lock` = 1, `tick` with the internal clock; 02 an\n"
-"  address that is not in the table, a write to a read-only register or to\n"
-"  half of a 32-bit field; 03 a count out of range (reads 1..125, writes\n"
-"  1..123, FC23 1..121), a value out of range, NaN or infinity, a refused\n"
-"  commit; 04 a commit that was applied but could not be persisted\n"
-"  (`commit_result` 5), or an unexpected library error (`commit_result` 4);\n"
-"  06 a commit while no parameter slot is free (only if the loop stalls\n"
-"  mid-switch for 10 ms); 0B an unknown unit id. A request that gets an\n"
-"  exception changes nothing, except 04 with `commit_result` 5: that set\n"
-"  runs.\n"
+"- Exceptions: 01 a function code other than those above (also 0x80 and\n"
+"  up: the answer's function code is the request's with bit 7 set), writes\n"
+"  in read-only mode, writes the client's access does not allow (column\n"
+"  Write), writes of registers that are not open while another client\n"
+"  holds `param_lock` (or with --param-lock), `tick` with the internal\n"
+"  clock; 02 an address that is not in the table, a write to a read-only\n"
+"  register or to half of a 32-bit field; 03 a count out of range (reads\n"
+"  1..125, writes 1..123, FC23 1..121), a value out of range, NaN or\n"
+"  infinity, a refused commit; 04 a commit that was applied but could not\n"
+"  be persisted (`commit_result` 5), or an unexpected library error\n"
+"  (`commit_result` 4); 06 a commit while no parameter slot is free (only\n"
+"  if the loop stalls mid-switch for 10 ms); 0B an unknown unit id. A\n"
+"  request that gets an exception changes nothing, except 04 with\n"
+"  `commit_result` 5: that set runs.\n"
+"- Write: the access a client needs to write the register (docs/pneufracd.md,\n"
+"  \"Security\"): operate or engineer; reading needs read. Open: writable\n"
+"  while another client holds `param_lock`.\n"
+"- Staged registers belong to the connection that writes them: each client\n"
+"  reads its own staged set (the committed set plus its own staged writes),\n"
+"  and its commit applies exactly those writes.\n"
 "- A multi-register write is validated whole, then applied together;\n"
 "  `commit`, `command` and `tick` act after the data registers of the same\n"
 "  request, in that order.\n"

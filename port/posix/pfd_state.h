@@ -20,6 +20,7 @@
 #include <stdint.h>
 
 #include "pfd_instance.h"
+#include "pfd_settings.h"
 #include "pfd_tbuf.h"
 
 #define PFD_MAX_INSTANCES 64
@@ -85,8 +86,12 @@ typedef struct pfd_inst {
         pfd_snap s;
     } rt;
 
-    /* Modbus side, under pfd_daemon.regs_mx */
-    pfd_hold hold;
+    /* Modbus side, under pfd_daemon.regs_mx. The staged registers are each
+     * client's own (pfd_stage.h). */
+    pfd_live live;          /* the live holding registers */
+    uint16_t param_lock;
+    uint64_t lock_holder;   /* the connection (pfd_who.id) holding param_lock;
+                               0: none, which with --param-lock is everyone */
     pfd_iparams committed;
     uint16_t commit_result, err_addr, err_param;
     /* Generation of the last set handed to the loop; every accepted commit
@@ -104,24 +109,24 @@ enum {
     PFD_COMMIT_SCALE = 2,   /**< q15: a coefficient does not fit; change in_fs/out_fs */
     PFD_COMMIT_BUSY = 3,    /**< no free slot (the loop is mid-switch) */
     PFD_COMMIT_FAILED = 4,  /**< any other library error */
-    PFD_COMMIT_UNSAVED = 5  /**< applied and running, but the config file
+    PFD_COMMIT_UNSAVED = 5, /**< applied and running, but the config file
                                  could not be written */
+    PFD_COMMIT_UNSTABLE = 6 /**< the set's sampled loop would be unstable */
 };
 
-/** Daemon-wide settings (config file [daemon] section, then the CLI). */
-typedef struct pfd_settings {
-    char listen_addr[64];
-    int listen_port;
-    int external_clock;
-    int max_clients;
-    int read_only;
-    int param_lock;      /**< locked at start, and the lock register is fixed */
-    char allow[512];     /**< comma-separated CIDR list; "" = loopback only */
-    int rt_priority;     /**< SCHED_FIFO priority; 0 = do not try */
-    int mlock;
-    int byte_timeout_ms;
-    int idle_timeout_s;
-} pfd_settings;
+/** Period jitter over every sample of every instance, in 1 us bins; the
+ *  last bin collects everything from PFD_JITTER_BINS us up. */
+#define PFD_JITTER_BINS 10000
+typedef struct pfd_jitter {
+    uint32_t bin[PFD_JITTER_BINS + 1];
+    uint64_t total, overruns;
+    int64_t max_ns;
+} pfd_jitter;
+
+struct pfd_client;  /* pfd_server.c */
+struct pfd_config;  /* pfd_config.h */
+struct pfd_tls;     /* pfd_tls.h */
+struct pf_ctrl_check_work; /* pf_controller.h */
 
 typedef struct pfd_daemon {
     pfd_settings set;
@@ -131,13 +136,51 @@ typedef struct pfd_daemon {
     pthread_mutex_t regs_mx;
     pthread_mutex_t commit_mx;
     pf_ctrl_design *scratch; /* design scratch, under commit_mx */
+    struct pf_ctrl_check_work *check; /* stability check scratch, under commit_mx */
     int stop;                /* atomic */
     /* lockstep hand-shake */
     pthread_mutex_t tick_mx;
     pthread_cond_t work_cv, done_cv;
-    /* persistence */
-    const char *config_path; /* NULL: persistence off */
-    void *config_file;       /* pfd_config_file *, what was read (for [daemon]) */
+
+    /* the loop thread (pfd_loop.c) */
+    struct {
+        pthread_t th;
+        int running;
+        pfd_jitter jitter; /* written by the loop only, read after it stopped */
+    } loop;
+
+    /* the Modbus server (pfd_server.c) */
+    struct {
+        int listen_fd, tls_fd; /* -1: none */
+        int reserve_fd;        /* spare fd, given up to refuse a client when
+                                  the process is out of fds; -1: none */
+        struct pfd_tls *tls;   /* NULL: no TLS listener */
+        pthread_t accept_th;
+        int accept_running;
+        pfd_allow allow;
+        pthread_mutex_t clients_mx;
+        struct pfd_client *clients; /* n_slots slots, under clients_mx */
+        int n_slots;           /* 2 x max_clients: evicted ones wind down */
+        uint64_t next_id;      /* connection serial numbers, from 1 */
+    } server;
+
+    /* persistence (pfd_commit.c) */
+    const char *config_path;              /* NULL: persistence off */
+    const struct pfd_config *config_file; /* as read: its [daemon] is written back */
+    struct pfd_config *persist_buf;       /* what is written, under commit_mx */
+    int persist_failed;                   /* atomic: the last write failed */
 } pfd_daemon;
+
+/** Whether the daemon is stopping (pfd_loop_stop, pfd_server_stop). */
+static inline int pfd_stopping(const pfd_daemon *d)
+{
+    return __atomic_load_n(&d->stop, __ATOMIC_ACQUIRE);
+}
+
+/** Ask every thread to stop. */
+static inline void pfd_request_stop(pfd_daemon *d)
+{
+    __atomic_store_n(&d->stop, 1, __ATOMIC_RELEASE);
+}
 
 #endif
