@@ -147,7 +147,7 @@ def prune(pb, best, say, reasons: dict):
     nom = model.nominal_groups(pb.setup.config)
     while True:
         nm = noise.fit(best.residual(pb)[pb.counted])
-        fit.uncertainty(pb, best, nm)
+        fit.uncertainty(pb, best)
         sp = fit.full_specs(pb, best)
         worst, worst_ratio = None, 1.0
         for name, tr, _, _ in sp:
@@ -199,9 +199,9 @@ def starts(pb, rng, label=""):
 def fit_baseline(pb, rng, say):
     """(fit, identified, reasons, notes, noise model) of the linear model."""
     say(f"baseline: {len(pb.free)} parameters free ({', '.join(pb.free)}), multi-start")
+    notes: list[str] = []
     best = search.explore_refine(pb, (), starts(pb, rng), refine_iter=2 * search.REFINE_ITER,
                                  stage_iter=STAGE_ITER)
-    notes: list[str] = []
     reasons = {g: "fixed by --fix" for g in pb.user_fixed}
     best = unstick(pb, best, say, notes)
     for g, side in pb.at_bound.items():

@@ -12,6 +12,7 @@ groups are refitted at the best few."""
 from __future__ import annotations
 
 import copy
+import math
 
 import numpy as np
 
@@ -60,6 +61,14 @@ def with_freed(pb, groups: list):
     return q
 
 
+def _paper_shape(pb, full: dict) -> dict:
+    """full with every free group but K at the paper's value."""
+    nom = model.nominal_groups(pb.setup.config)
+    out = dict(full)
+    out.update({g: nom[g] for g in pb.free if g in nom and g != "K"})
+    return out
+
+
 def _starts(pb, effects, new: str, base, rng, hint: dict | None = None):
     """Warm starts (base values, each effect size). On the linear model
     also the paper's values and the best fresh start: the baseline may sit
@@ -78,9 +87,7 @@ def _starts(pb, effects, new: str, base, rng, hint: dict | None = None):
         warm.append((f"warm{i}", st))
     if base.effects:
         return warm
-    nom = model.nominal_groups(pb.setup.config)
-    paper = dict(full)
-    paper.update({g: nom[g] for g in pb.free if g in nom and g != "K"})
+    paper = _paper_shape(pb, full)
     paper.update(inits[0])
     if "saturation" in effects:
         paper = _sat_start(pb, base, paper)
@@ -117,7 +124,7 @@ def scan_dead(pb, effects, vals: dict, dmax: int) -> list[tuple[float, int]]:
         K, c = fit.project(pb, sh, sK, 1.0, pb.counted)
         if sK and not K > 0:
             continue
-        r = (K * sh + c if sK else sh + c)[pb.counted] - pb.y[pb.counted]
+        r = fit.whiten(pb, (K * sh + c if sK else sh + c)[pb.counted] - pb.y[pb.counted])
         out.append((float(r @ r), d))
     out.sort()
     return out
@@ -153,23 +160,43 @@ def fit_extended(pb, base, new: str, rng, hint: dict | None = None):
         full = {**base.groups, **base.values}
         w = search.explorer(pb) or pb
         budget = search._budget(w, effects, search.STAGE_ITER)
-        tried = [(fit.lm_fit(w, effects, full, search.dead_to(pb, w, d), budget, f"d={d}"), d)
-                 for d in ds]
+        # each delay from the model so far and, when that is the linear
+        # baseline (possibly in a corner that mimics the delay), from the
+        # paper's values too
+        shapes = [("", full)] + ([("paper ", _paper_shape(pb, full))] if not base.effects else [])
+        # the copy's delays on either side of each candidate (its samples
+        # are coarser), explored from each shape by successive halving
+        r = w.setup.fs_int / pb.setup.fs_int
+        dws = sorted({max(1, f(d * r)) for d in ds for f in (math.floor, math.ceil)})
+        tried = [(fit.lm_fit(w, effects, st, dw, budget, f"{lab}d={dw}"), dw)
+                 for dw in dws for lab, st in shapes]
         if not base.effects:          # and one fresh start at the best delay
-            e, d = min(tried, key=lambda x: x[0].cost)
+            e, dw = min(tried, key=lambda x: x[0].cost)
             for lab, st in _starts(pb, effects, new, base, rng)[-1:]:
-                tried.append((fit.lm_fit(w, effects, st, search.dead_to(pb, w, d), budget,
-                                         lab), d))
-        while len(tried) > 1:         # successive halving over the delays
+                tried.append((fit.lm_fit(w, effects, st, dw, budget, lab), dw))
+        while len(tried) > 1:
             tried.sort(key=lambda x: x[0].cost)
-            tried = [(fit.lm_fit(w, effects, r.values, search.dead_to(pb, w, d), budget,
-                                 r.start), d) for r, d in tried[:(len(tried) + 1) // 2]]
-        e, d = tried[0]
-        fits = [search.refine(pb, effects, [(e.start, e.values)], dead=d)]
-        # the shape may have moved: profile the delay once more around it
-        for dd in (d - 1, d + 1):
-            if dd >= 1:
-                fits.append(search.refine(pb, effects, [(f"d={dd}", dict(fits[0].values))],
+            tried = [(fit.lm_fit(w, effects, e.values, dw, budget, e.start), dw)
+                     for e, dw in tried[:(len(tried) + 1) // 2]]
+        e, dw = tried[0]
+        d = max(1, int(round(dw / r)))
+        b = search.refine(pb, effects, [(e.start, e.values)], dead=d)
+        fits = [b]
+        # The shape moves with the delay (a baseline mimics part of a delay
+        # with its own dynamics): scan the delay again with the refined
+        # shape, refit where it points, until it stays put.
+        dmax = int(min(DEAD_MAX, pb.nfit // 20)) * pb.setup.oversample
+        for _ in range(8):
+            scan = scan_dead(pb, effects, {**b.groups, **b.values}, dmax)
+            d_new = next((dd for _, dd in scan if dd >= 1), b.dead)
+            if d_new == b.dead:
+                break
+            b = search.refine(pb, effects, [(f"d={d_new}", dict(b.values))], dead=d_new)
+            fits.append(b)
+        b = search.best(fits)
+        for dd in (b.dead - 1, b.dead + 1):
+            if dd >= 1 and all(f.dead != dd for f in fits):
+                fits.append(search.refine(pb, effects, [(f"d={dd}", dict(b.values))],
                                           dead=dd, iters=search.REFINE_ITER // 2))
         return search.best(fits)
     return search.explore_refine(pb, effects, _starts(pb, effects, new, base, rng, hint),

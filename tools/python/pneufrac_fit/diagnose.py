@@ -15,10 +15,6 @@ from . import evidence as ev_mod
 from . import fit, model, noise, selection, signals
 from .fit import FitResult, Problem
 
-# Internal simulation rate: at least F_SIM_MIN (the data rate times the
-# smallest whole factor that reaches it), so that a slow record is not
-# simulated coarser than the 1 kHz x 2 the method was validated at.
-F_SIM_MIN = 2000.0
 
 
 class Progress:
@@ -76,10 +72,6 @@ class Diagnosis:
         return self.extended.effect_params(self.pb.setup.fs_int, self.oversample)
 
 
-def auto_oversample(fs: float) -> int:
-    return max(1, int(math.ceil(F_SIM_MIN / fs - 1e-9)))
-
-
 def noise_estimate(y: np.ndarray, e: np.ndarray) -> float:
     """Sample-to-sample (white) noise sd of the output from second
     differences away from input changes (robust: MAD). Coloured noise has
@@ -116,9 +108,10 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
     say = Progress(progress)
     if seed < 0:
         raise ValueError("seed must be a non-negative integer")
-    m = auto_oversample(rec.fs) if oversample is None else int(oversample)
+    m = model.auto_oversample(rec.fs) if oversample is None else int(oversample)
     pb = Problem.from_record(rec, config, fixes, order, m)
     pb.user_fixed = dict(fixes or {})
+    notes_nm = _noise_from_rest(rec, pb)
     if jobs is None:
         jobs = min(2, os.cpu_count() or 1)
     fit.set_threads(jobs)
@@ -126,6 +119,7 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
     say(f"{rec.n} samples at {rec.fs:g} Hz, config {config}; fit on the first "
         f"{pb.nfit}, validate on the last {rec.n - pb.nfit}; simulated at {m}x")
     base, identified, reasons, fit_notes, nm0 = base_mod.fit_baseline(pb, rng, say)
+    fit_notes[:0] = notes_nm
     say(f"baseline: NRMSE fit {base.nrmse_fit:.4f}, validation {base.nrmse_val:.4f}, "
         f"noise {nm0.describe()}")
     final, pbf, rounds, checks = selection.forward(pb, base, seed * 1000 + 17, jobs, say)
@@ -147,6 +141,28 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
                   float(final.e0), float(final.values["pc0"]), m, pb=pbf)
     d.elapsed = time.monotonic() - t0
     return d
+
+
+# Samples of opening rest from which the noise itself is measured.
+MIN_NOISE_REST = 200
+
+
+def _noise_from_rest(rec, pb) -> list:
+    """With an opening rest stretch of MIN_NOISE_REST samples or more, the
+    output there is the sensor noise alone: its AR model (noise.fit) is the
+    record's noise model. Every fit then minimises the residual whitened by
+    it (the output's likelihood under that noise), and the guards compare
+    models under it. Without one, the fits are plain output error and each
+    comparison whitens with the extended model's residual."""
+    if rec.rest < MIN_NOISE_REST:
+        return []
+    nm = noise.fit(rec.pc[:rec.rest])
+    if nm.order == 0:
+        return [f"The noise, measured on the opening {rec.rest} samples at rest, is white."]
+    pb.nm = nm
+    return [f"The noise, measured on the opening {rec.rest} samples at rest, is "
+            f"{nm.describe()}: every fit minimises the residual whitened by it (the "
+            "output's likelihood under that noise), and the guards compare models under it."]
 
 
 def _best_baseline(pb, base, rounds, notes):

@@ -8,7 +8,13 @@ orders and limits.
 The output is linear in the forward gain K (for every effect but
 saturation, whose limits are absolute) and in the output offset pc0, so
 both are solved by linear least squares inside every evaluation (variable
-projection): the search never wanders along them. The finite-difference
+projection): the search never wanders along them.
+
+With a noise model (Problem.nm, an AR model A(q) of the residual, noise.py)
+the criterion is prewhitened: the residual, and the regressors of K and
+pc0, are filtered by A(q) before the sum of squares. That is the likelihood
+of the output under that noise: under strongly coloured noise an unweighted
+output error chases the noise's slow wander and weighs it like evidence. The finite-difference
 Jacobian runs its columns on parallel threads (the library call releases
 the interpreter lock).
 """
@@ -66,6 +72,7 @@ class Problem:
     entangled: list = field(default_factory=list)
     user_fixed: dict = field(default_factory=dict)
     at_bound: dict = field(default_factory=dict)   # group -> bound it is held at
+    nm: object = None            # noise model: the criterion is whitened by it
 
     @classmethod
     def from_record(cls, rec, config, fixed=None, order=8, oversample=1):
@@ -281,24 +288,32 @@ def simulate_raw(pb: Problem, effects, vals: dict, dead: int = 0, n: int | None 
     return pb.setup.simulate(g, e - g["e0"], effects, ev, oversample)
 
 
+def whiten(pb: Problem, x: np.ndarray) -> np.ndarray:
+    """x filtered by the problem's noise model (unchanged without one)."""
+    return x if pb.nm is None else pb.nm.whiten(x)
+
+
 def project(pb: Problem, s: np.ndarray, solve_K: bool, K: float, sl: slice):
     """(K, c): the gain (when solved) and the output offset (when not
-    given) that fit y ~ K s + c over the samples sl; K must be positive."""
+    given) that fit y ~ K s + c over the samples sl, in the whitened
+    criterion when there is a noise model; K must be positive."""
     y = pb.y[sl]
     ss = s[sl]
     if pb.pc0 is not None:
         c = pb.pc0
         if solve_K:
-            den = float(ss @ ss)
-            K = float(ss @ (y - c)) / den if den > 0 else math.nan
+            a, b = whiten(pb, ss), whiten(pb, y - c)
+            den = float(a @ a)
+            K = float(a @ b) / den if den > 0 else math.nan
         return K, c
+    one = np.ones_like(ss)
     if not solve_K:
-        return K, float(np.mean(y - K * ss))
-    sm, ym = float(np.mean(ss)), float(np.mean(y))
-    sc = ss - sm
-    den = float(sc @ sc)
-    K = float(sc @ (y - ym)) / den if den > 0 else math.nan
-    return K, ym - K * sm
+        a, b = whiten(pb, one), whiten(pb, y - K * ss)
+        den = float(a @ a)
+        return K, (float(a @ b) / den if den > 0 else float(np.mean(y - K * ss)))
+    X = np.column_stack([whiten(pb, ss), whiten(pb, one)])
+    coef, *_ = np.linalg.lstsq(X, whiten(pb, y), rcond=None)
+    return float(coef[0]), float(coef[1])
 
 
 def model_output(pb: Problem, effects, vals: dict, dead: int = 0, n: int | None = None,
@@ -326,9 +341,9 @@ class _Objective:
         self.pb, self.sp, self.effects, self.dead = pb, sp, effects, dead
         self.budget, self.calls = budget, 0
         sl = pb.counted
-        self.scale = max(float(np.std(pb.y[sl])), 1e-300)
+        self.scale = max(float(np.std(whiten(pb, pb.y[sl]))), 1e-300)
         self.best = (math.inf, None)
-        self.n = sl.stop - sl.start
+        self.n = sl.stop - sl.start - (pb.nm.order if pb.nm is not None else 0)
 
     def __call__(self, th):
         self.calls += 1
@@ -341,7 +356,7 @@ class _Objective:
         vals = from_theta(self.sp, th, pb)
         try:
             out, K, c = model_output(pb, self.effects, vals, self.dead, pb.nfit)
-            r = (out[pb.counted] - pb.y[pb.counted]) / self.scale
+            r = whiten(pb, out[pb.counted] - pb.y[pb.counted]) / self.scale
             ok = math.isfinite(K) and K > 0
         except lib.ModelError:
             ok = False
@@ -450,7 +465,7 @@ def evaluate(pb: Problem, fr: FitResult) -> None:
     sl = pb.counted
     fr.nrmse_fit = nrmse(r[sl], pb.y[sl])
     fr.nrmse_val = nrmse(r[n:], pb.y[n:])
-    rc = r[sl]
+    rc = whiten(pb, r[sl])
     rss = float(rc @ rc)
     m = rc.size
     fr.cost = rss
@@ -513,16 +528,15 @@ def jacobian(pb: Problem, fr: FitResult) -> tuple[list, np.ndarray]:
     return sp, np.column_stack(res)
 
 
-def uncertainty(pb: Problem, fr: FitResult, nm: noise.NoiseModel | None = None) -> None:
+def uncertainty(pb: Problem, fr: FitResult) -> None:
     """Standard errors and 95 % intervals of every parameter (transformed
-    coordinates) from the sandwich covariance under the noise model nm
-    (white with the residual's variance when None)."""
+    coordinates): the sandwich covariance of the estimate, with the noise
+    the AR model of its (whitened, when the criterion is) residual. It holds
+    whether or not the criterion's own noise model is right."""
     sp, J = jacobian(pb, fr)
     fr.jac = J
-    if nm is None:
-        r = fr.residual(pb)[pb.counted]
-        nm = noise.white(float(r @ r) / max(r.size - J.shape[1], 1), r.size)
-    cov = noise.sandwich(J, nm)
+    r = fr.residual(pb)[pb.counted]
+    cov = noise.sandwich(whiten(pb, J), noise.fit(whiten(pb, r)))
     se = np.sqrt(np.clip(np.diag(cov), 0, np.inf))
     th = to_theta(sp, fr.values, pb)
     fr.se, fr.ci = {}, {}
@@ -594,6 +608,6 @@ def start_cost(pb: Problem, effects, vals: dict, dead: int = 0) -> float:
         return math.inf
     if not (math.isfinite(K) and K > 0):
         return math.inf
-    r = out[pb.counted] - pb.y[pb.counted]
+    r = whiten(pb, out[pb.counted] - pb.y[pb.counted])
     c = float(r @ r)
     return c if math.isfinite(c) else math.inf

@@ -131,7 +131,10 @@ def test(pb, effect: str, fr, ref, pb_ref=None) -> Test:
     n = pb.nfit
     r1 = fr.residual(pb)
     r0 = ref.residual(pb_ref)
-    nm = noise.fit(r1[sl])
+    # the record's noise model when it was measured at rest, else the
+    # extended model's residual's (under "no effect" both residuals agree;
+    # under "effect" that residual is the noise)
+    nm = pb.nm if pb.nm is not None else noise.fit(r1[sl])
     t.nm = nm
     w1, w0 = nm.whiten(r1[sl]), nm.whiten(r0[sl])
     m = w1.size

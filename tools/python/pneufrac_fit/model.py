@@ -160,6 +160,16 @@ def library_effects(effects, ev: dict, fs_int: float) -> dict:
     return fx
 
 
+# Internal simulation rate: at least F_SIM_MIN (the data rate times the
+# smallest whole factor that reaches it), so that a slow record is not
+# simulated coarser than the 1 kHz x 2 the method was validated at.
+F_SIM_MIN = 2000.0
+
+
+def auto_oversample(fs: float) -> int:
+    return max(1, int(math.ceil(F_SIM_MIN / fs - 1e-9)))
+
+
 @dataclass
 class Setup:
     """What every simulation of one record shares."""

@@ -45,10 +45,11 @@ def explorer(pb):
     q.e_abs = pb.e_abs[:n].reshape(take, D).mean(axis=1)
     q.y = pb.y[:n].reshape(take, D).mean(axis=1)
     fs = pb.setup.fs / D
-    m = max(1, int(math.ceil(pb.setup.fs_int / D / fs - 1e-9)))
+    m = model.auto_oversample(fs)
     q.setup = model.Setup(pb.setup.config, fs, take / fs, pb.setup.order, m)
     q.nfit = take
     q.burn = min(pb.burn // D, take // 2)
+    q.nm = None if D > 1 else pb.nm     # a noise model is of one sampling rate
     return q
 
 

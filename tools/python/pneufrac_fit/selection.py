@@ -21,7 +21,7 @@ import time
 
 import numpy as np
 
-from . import baseline, candidates, fit, guards, model, noise, search
+from . import baseline, candidates, fit, guards, model, search, signals
 
 
 def reference(pb, effects, fr, prior):
@@ -36,6 +36,22 @@ def reference(pb, effects, fr, prior):
     return search.refine(pb, effects, [("from extended", a), ("prior", b)], dead=dead)
 
 
+def play_start_unknown(pb):
+    """A play (dead band) at rest sits at one of its edges, the one the last
+    move before the record left it at; the model starts it centred. Both are
+    at the same edge once the input has turned back for the first time, so
+    with backlash in a comparison neither model counts the samples before
+    the input's first reversal (and 2 % of the fit part more, for the
+    difference to die away): the same samples for both."""
+    import copy
+    k = signals.first_reversal(pb.e_abs[:pb.nfit]) + int(fit.BURN * pb.nfit)
+    if k <= pb.burn:
+        return pb
+    q = copy.copy(pb)
+    q.burn = int(min(k, pb.nfit // 2))
+    return q
+
+
 def try_effect(pb, current, effect: str, seed: int, hint: dict | None = None):
     """Fit current + effect, its reference, and the guards. Groups the
     baseline held because they were entangled with others, or because they
@@ -47,12 +63,15 @@ def try_effect(pb, current, effect: str, seed: int, hint: dict | None = None):
     ent = [g for g in list(pb.entangled) + list(pb.at_bound)
            if g not in pb.user_fixed and g in pb.fixed]
     pbx = candidates.with_freed(pb, ent) if ent else pb
+    if effect == "backlash":
+        pbx = play_start_unknown(pbx)
     fr = candidates.fit_extended(pbx, current, effect, rng, hint)
-    if fr.cost < current.cost * (1 - 1e-6):
+    if fr.cost < fit.start_cost(pbx, current.effects, {**current.groups, **current.values},
+                                current.dead) * (1 - 1e-6):
         ref = reference(pbx, current.effects, fr, current)
     else:       # no better than the model without it: no reference needed
         ref = current
-    fit.uncertainty(pbx, fr, noise.fit(fr.residual(pbx)[pbx.counted]))
+    fit.uncertainty(pbx, fr)
     t = guards.test(pbx, effect, fr, ref, pb if ref is current else pbx)
     if t.passes:
         t = confirm(pbx, effect, fr, t, current, rng)

@@ -100,16 +100,52 @@ def rest_length(v: np.ndarray, sigma: float, q: float) -> int:
     return int(out[0]) if out.size else v.size
 
 
+def first_reversal(e: np.ndarray) -> int:
+    """Index of the first input change against the direction of the first
+    one (the input's length if it never turns back)."""
+    cp = change_points(e)
+    if cp.size < 2:
+        return int(np.asarray(e).size)
+    d = np.sign(np.asarray(e, float)[cp] - np.asarray(e, float)[cp - 1])
+    back = np.flatnonzero(d != d[0])
+    return int(cp[back[0]]) if back.size else int(np.asarray(e).size)
+
+
+def settling(v: np.ndarray) -> float:
+    """How far v's level moves across a stretch, in standard errors: the
+    mean of its last third minus that of its first third, over the sd of
+    that difference under v's own noise (an AR model of v less its straight
+    line, noise.fit; coloured noise wanders, and that is not settling)."""
+    from . import noise
+    v = np.asarray(v, float)
+    n = v.size
+    m = n // 3
+    if m < 2:
+        return 0.0
+    k = np.arange(n, dtype=float)
+    resid = v - np.polyval(np.polyfit(k, v, 1), k)
+    J = np.zeros((n, 1))
+    J[:m, 0] = -1.0 / m
+    J[n - m:, 0] = 1.0 / m
+    var = float(noise.sandwich(J, noise.fit(resid))[0, 0])
+    diff = float(np.mean(v[n - m:]) - np.mean(v[:m]))
+    return abs(diff) / math.sqrt(var) if var > 0 else (0.0 if diff == 0 else math.inf)
+
+
 def opening_rest(e, pc, sig_e, q_e, sig_y, q_y) -> tuple[int, str]:
     """(samples, why) of the opening stretch in which both the input and the
-    output are at rest; 0 with the reason when there is none. The output
-    must be at rest too: a controller still settling (or an integrator still
-    running) at the start is not at an operating point."""
+    output are at rest; 0 with the reason when there is none. The input
+    stays within REST_SIGMAS of its sample-to-sample noise; the output must
+    not be settling (a controller still moving, or an integrator still
+    running, is not at an operating point): its level may not change across
+    the stretch by more than REST_SIGMAS standard errors of its own noise,
+    coloured or not."""
     k = rest_length(e, sig_e, q_e)
     if k < MIN_REST:
         return 0, (f"the input moves within the first {MIN_REST} samples" if k < len(e)
                    else "the input never moves")
-    ky = rest_length(pc[:k], sig_y, q_y)
-    if ky < MIN_REST:
-        return 0, "the output is not at rest while the input is"
-    return min(k, ky), ""
+    z = settling(pc[:k])
+    if z > REST_SIGMAS:
+        return 0, (f"the output is still settling while the input rests (its level moves "
+                   f"{z:.1f} standard errors)")
+    return k, ""
