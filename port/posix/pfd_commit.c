@@ -7,6 +7,7 @@
 #include <time.h>
 
 #include "pfd_log.h"
+#include "pfd_rate.h"
 
 int pfd_daemon_init(pfd_daemon *d, const pfd_settings *set)
 {
@@ -68,6 +69,8 @@ int pfd_inst_add(pfd_daemon *d, const pfd_config_inst *ci, pfd_fail *why)
         free(in);
         return -1;
     }
+    pfd_rate_measure(in->slot[0]);
+    in->rate = in->slot[0]->rate;
     in->unit = ci->unit;
     in->slot_state[0] = PFD_SLOT_ACTIVE;
     in->rt.active = in->slot[0];
@@ -114,7 +117,7 @@ static int iparams_equal(const pfd_iparams *a, const pfd_iparams *b)
 {
     int k;
     if (a->p.config != b->p.config || a->arith != b->arith || a->fs != b->fs ||
-        a->in_fs != b->in_fs || a->out_fs != b->out_fs || a->bump_tau != b->bump_tau)
+        a->substeps != b->substeps || a->in_fs != b->in_fs || a->out_fs != b->out_fs || a->bump_tau != b->bump_tau)
         return 0;
     for (k = PF_P_A; k <= PF_P_RCI; k++)
         if (pf_params_get(&a->p, (pf_param_id)k) != pf_params_get(&b->p, (pf_param_id)k))
@@ -154,13 +157,37 @@ uint16_t pfd_status_bits(const pfd_daemon *d, const pfd_inst *in,
     return b;
 }
 
-unsigned pfd_settle_samples(double fs)
+unsigned pfd_settle_samples(double internal_fs)
 {
-    /* One second of held input, at most 20000 samples: long enough for the
+    /* One second of held input, at most 20000 steps: long enough for the
      * fast part of a new set's step response (the derivative kick of dd
      * and pid) to die out, short enough to keep a commit in milliseconds. */
-    double n = fs < 20000.0 ? fs : 20000.0;
+    double n = internal_fs < 20000.0 ? internal_fs : 20000.0;
     return (unsigned)n;
+}
+
+double pfd_loop_load(const pfd_daemon *d, const pfd_inst *in, double fs,
+                     const pfd_rate *r)
+{
+    pfd_load l = {0.0, 0.0, 0.0};
+    int i;
+
+    for (i = 0; i < d->n; i++) {
+        if (d->inst[i] == in)
+            pfd_load_add(&l, fs, r);
+        else
+            pfd_load_add(&l, d->inst[i]->committed.fs, &d->inst[i]->rate);
+    }
+    return pfd_load_total(&l);
+}
+
+/* Under commit_mx: whether the loop could run @p s in place of @p in's
+ * committed set within the budget. */
+static int affordable(const pfd_daemon *d, const pfd_inst *in, const pfd_slot *s,
+                      double *load)
+{
+    *load = pfd_loop_load(d, in, s->ip.fs, &s->rate);
+    return *load <= d->set.loop_budget / 100.0;
 }
 
 static int refuse(pfd_daemon *d, pfd_inst *in, uint16_t result, int param)
@@ -204,6 +231,7 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
     pfd_slot *slot, *old;
     pfd_fail why;
     float e_hold;
+    double load;
     int k, j;
 
     pthread_mutex_lock(&d->commit_mx);
@@ -236,8 +264,23 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
         pthread_mutex_unlock(&d->commit_mx);
         return rc;
     }
+    pfd_rate_measure(slot);
+    if (!affordable(d, in, slot, &load)) {
+        /* With one step per exchange the exchange rate is what costs;
+         * with more, the substeps are. */
+        const int param = slot->rate.k > 1 ? PFD_P_SUBSTEPS : PF_P_FS;
+        int rc;
+        pfd_log(PFD_LOG_WARN, "commit-refused",
+                "unit=%d result=%u param=%s load_pct=%.1f budget_pct=%d fs=%.9g "
+                "substeps=%u step_ns=%.0f", in->unit, (unsigned)PFD_COMMIT_LOAD,
+                pfd_param_name(param), 100.0 * load, d->set.loop_budget, ip.fs,
+                slot->rate.k, slot->rate.step_ns);
+        rc = refuse(d, in, PFD_COMMIT_LOAD, param);
+        pthread_mutex_unlock(&d->commit_mx);
+        return rc;
+    }
     if (e_hold != 0.0f)
-        pfd_slot_settle(slot, e_hold, pfd_settle_samples(ip.fs));
+        pfd_slot_hold(slot, e_hold, pfd_settle_samples(slot->rate.internal_fs));
     /* in->gen changes only under commit_mx, which we hold. */
     slot->gen = in->gen + 1u;
 
@@ -254,6 +297,7 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
     if (wl->live)
         pfd_publish_live(in);
     in->committed = ip;
+    in->rate = slot->rate;
     in->commit_result = PFD_COMMIT_OK;
     in->err_addr = 0xFFFFu;
     in->err_param = 0xFFFFu;
@@ -267,8 +311,10 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
             __atomic_store_n(&in->slot_state[j], PFD_SLOT_FREE, __ATOMIC_RELEASE);
     pthread_mutex_unlock(&d->regs_mx);
 
-    pfd_log(PFD_LOG_INFO, "commit", "unit=%d config=%s arith=%s fs=%.9g",
-            in->unit, pf_config_name(ip.p.config), pfd_arith_name(ip.arith), ip.fs);
+    pfd_log(PFD_LOG_INFO, "commit",
+            "unit=%d config=%s arith=%s fs=%.9g substeps=%u internal_fs=%.9g load_pct=%.1f",
+            in->unit, pf_config_name(ip.p.config), pfd_arith_name(ip.arith), ip.fs,
+            slot->rate.k, slot->rate.internal_fs, 100.0 * load);
     /* Answered only once the file is on disk; if it cannot be written the
      * set still runs (it was switched in above), and the client learns
      * that it would not survive a restart. */

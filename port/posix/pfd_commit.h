@@ -35,7 +35,8 @@ uint16_t pfd_status_bits(const pfd_daemon *d, const pfd_inst *in,
  *  switched in at the next sample; persisted if a config file is in use.
  *  Takes the locks it needs. @return 0 or a MODBUS_EXCEPTION_* code:
  *  ILLEGAL_FUNCTION param_lock set meanwhile; ILLEGAL_DATA_VALUE refused
- *  (commit_result and err_* say why); SLAVE_OR_SERVER_BUSY no free slot;
+ *  (commit_result and err_* say why: an invalid set, or one the loop
+ *  could not sustain within loop_budget); SLAVE_OR_SERVER_BUSY no free slot;
  *  SLAVE_OR_SERVER_FAILURE another library error. Nothing changes on any
  *  of these, and a set already pending stays pending. Except
  *  SLAVE_OR_SERVER_FAILURE with commit_result PFD_COMMIT_UNSAVED: the set
@@ -46,8 +47,14 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl);
  *  Takes commit_mx. @return 0, or -1 after logging. */
 int pfd_persist(pfd_daemon *d);
 
-/** Samples a new parameter set is pre-run with the held input before the
- *  switch (docs/pneufracd.md, "Bumpless commit"). */
-unsigned pfd_settle_samples(double fs);
+/** Steps a new parameter set is pre-run with the held input before the
+ *  switch, at its internal rate (docs/pneufracd.md, "Bumpless commit"). */
+unsigned pfd_settle_samples(double internal_fs);
+
+/** The loop's load (pfd_load_total, a fraction of one core) with every
+ *  instance's committed set, except that @p in (if not NULL) runs at
+ *  @p fs with @p r. Under commit_mx, or before the threads start. */
+double pfd_loop_load(const pfd_daemon *d, const pfd_inst *in, double fs,
+                     const pfd_rate *r);
 
 #endif

@@ -14,6 +14,7 @@
 #include "pfd_log.h"
 #include "pfd_loop.h"
 #include "pfd_modbus.h"
+#include "pfd_rate.h"
 #include "pfd_regmap.h"
 #include "pfd_start.h"
 
@@ -45,6 +46,29 @@ static void housekeeping(pfd_daemon *d, watch *w)
     }
 }
 
+/* Refuse to start instances that the loop could not run within the
+ * budget, naming the costliest. @return 0, or -1 after a fatal message. */
+static int check_load(const pfd_daemon *d)
+{
+    const double load = pfd_loop_load(d, NULL, 0.0, NULL);
+    const pfd_inst *worst = d->inst[0];
+    int i;
+
+    pfd_log(PFD_LOG_INFO, "loop-load", "load_pct=%.2f budget_pct=%d", 100.0 * load,
+            d->set.loop_budget);
+    if (load <= d->set.loop_budget / 100.0)
+        return 0;
+    for (i = 1; i < d->n; i++)
+        if (d->inst[i]->committed.fs * pfd_rate_exchange_ns(&d->inst[i]->rate) >
+            worst->committed.fs * pfd_rate_exchange_ns(&worst->rate))
+            worst = d->inst[i];
+    pfd_fatal("the instances need %.0f %% of one core, over --loop-budget %d %%; the "
+              "costliest is unit %d: %.9g Hz x %u substeps at %.0f ns a step (lower fs, "
+              "substeps or the number of instances)", 100.0 * load, d->set.loop_budget,
+              worst->unit, worst->committed.fs, worst->rate.k, worst->rate.step_ns);
+    return -1;
+}
+
 /* The instances of @p c into @p d. @return 0, or -1 after a fatal message. */
 static int add_instances(pfd_daemon *d, const pfd_config *c, const char *path)
 {
@@ -63,11 +87,13 @@ static int add_instances(pfd_daemon *d, const pfd_config *c, const char *path)
             path ? path : "none", path ? "on" : "off");
     for (i = 0; i < d->n; i++) {
         const pfd_iparams *ip = &d->inst[i]->committed;
-        pfd_log(PFD_LOG_INFO, "instance", "unit=%d config=%s arith=%s fs=%.9g",
+        const pfd_rate *r = &d->inst[i]->rate;
+        pfd_log(PFD_LOG_INFO, "instance",
+                "unit=%d config=%s arith=%s fs=%.9g substeps=%u internal_fs=%.9g step_ns=%.0f",
                 d->inst[i]->unit, pf_config_name(ip->p.config),
-                pfd_arith_name(ip->arith), ip->fs);
+                pfd_arith_name(ip->arith), ip->fs, r->k, r->internal_fs, r->step_ns);
     }
-    return 0;
+    return check_load(d);
 }
 
 /* Until SIGINT, SIGTERM or --run-for; housekeeping every 200 ms. */

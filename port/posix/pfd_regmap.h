@@ -17,7 +17,7 @@
 
 #include "pfd_state.h"
 
-#define PFD_REGMAP_VERSION 1
+#define PFD_REGMAP_VERSION 2
 
 enum pfd_space { PFD_HOLD = 0, PFD_INPUT = 1 };
 enum pfd_type { PFD_T_U16 = 0, PFD_T_I16, PFD_T_U32, PFD_T_F32 };
@@ -31,8 +31,8 @@ enum pfd_access { PFD_R = 0, PFD_RW, PFD_W };
 #define PFD_F_LIVE 0x10u    /**< goes to the loop at once */
 
 /** Sizes of the two register spaces (every address below is mapped). */
-#define PFD_HOLD_SIZE 66
-#define PFD_INPUT_SIZE 78
+#define PFD_HOLD_SIZE 67
+#define PFD_INPUT_SIZE 86
 
 typedef struct pfd_reg {
     uint8_t space, type, access, flags;

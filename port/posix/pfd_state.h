@@ -89,6 +89,7 @@ typedef struct pfd_inst {
     /* Modbus side, under pfd_daemon.regs_mx */
     pfd_hold hold;
     pfd_iparams committed;
+    pfd_rate rate;          /* how the committed set runs (also under commit_mx) */
     uint16_t commit_result, err_addr, err_param;
     /* Generation of the last set handed to the loop; every accepted commit
      * adds one, so it is also the commit count. The status compares it
@@ -105,8 +106,10 @@ enum {
     PFD_COMMIT_SCALE = 2,   /**< q15: a coefficient does not fit; change in_fs/out_fs */
     PFD_COMMIT_BUSY = 3,    /**< no free slot (the loop is mid-switch) */
     PFD_COMMIT_FAILED = 4,  /**< any other library error */
-    PFD_COMMIT_UNSAVED = 5  /**< applied and running, but the config file
+    PFD_COMMIT_UNSAVED = 5, /**< applied and running, but the config file
                                  could not be written */
+    PFD_COMMIT_LOAD = 6     /**< the loop could not sustain the set within
+                                 loop_budget: fs or substeps (err_addr) */
 };
 
 /** Period jitter over every sample of every instance, in 1 us bins; the
