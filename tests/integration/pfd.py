@@ -6,6 +6,7 @@ generated register map (so the tests use exactly what docs/ documents)."""
 import os
 import re
 import signal
+import struct
 import subprocess
 import time
 from pathlib import Path
@@ -39,6 +40,15 @@ def _load_regmap():
 
 
 REG = _load_regmap()
+
+
+def _map_size(space):
+    return max(a + (2 if t in ("f32", "u32") else 1) for sp, a, t in REG.values() if sp == space)
+
+
+# Registers in each space: every address below is mapped.
+HOLD_SIZE = _map_size("hold")
+INPUT_SIZE = _map_size("input")
 
 
 class Daemon:
@@ -154,6 +164,26 @@ def simulate(*args):
                          text=True, timeout=120).stdout.splitlines()
     head = out[0].split(",")
     return [dict(zip(head, row.split(","))) for row in out[1:]]
+
+
+def simulate_exchanges(fs, k, *args, inputs=None, tmp_path=None):
+    """What the daemon's exchanges at rate fs with k substeps give:
+    `pneufrac simulate` at the internal rate fs*k, each input held for k
+    samples, read at every k-th row (docs/pneufracd.md, "Substeps").
+    inputs: e at each exchange (default: a unit step), written to a CSV in
+    tmp_path at the internal rate."""
+    fi = f"{fs * k:.17g}"
+    if inputs is not None:
+        path = Path(tmp_path) / f"held-{time.monotonic_ns()}.csv"
+        path.write_text("t,e\n" + "".join(f"{(n * k + j) / (fs * k):.17g},{e!r}\n"
+                                           for n, e in enumerate(inputs) for j in range(k)))
+        args = (*args, "--input", str(path))
+    return simulate("--fs", fi, *args)[::k]
+
+
+def f32(x):
+    """x rounded to binary32, as a register holds it."""
+    return struct.unpack(">f", struct.pack(">f", float(x)))[0]
 
 
 class Raw:

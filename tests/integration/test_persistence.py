@@ -48,11 +48,13 @@ def test_commit_persists_and_reloads(daemon, conf):
     r = Regs(d.client())
     r.write("q", 0.8)
     r.write("RC", 0.02)
+    r.write("substeps", 7)
     r.write("commit", 1)
     r.write("watchdog_ms", 250)
     r.write("failsafe_out", 0.003)
     text = conf.read_text()
     assert re.search(r"^q = 0\.80000001192092896$", text, re.M), text
+    assert re.search(r"^substeps = 7$", text, re.M), text
     assert re.search(r"^checksum = [0-9a-f]{8}$", text.splitlines()[-1])
     assert d.stop() == 0  # clean stop, and the live settings persisted
     assert re.search(r"^watchdog_ms = 250$", conf.read_text(), re.M)
@@ -61,6 +63,7 @@ def test_commit_persists_and_reloads(daemon, conf):
     r2 = Regs(d2.client())
     assert r2.read("committed_q") == f32(0.8)
     assert r2.read("committed_RC") == f32(0.02)
+    assert r2.read("committed_substeps") == 7 and r2.read("substeps_used") == 7
     assert r2.read("q") == f32(0.8)  # staged starts as committed
     assert r2.read("watchdog_ms") == 250
     assert r2.read("failsafe_out") == f32(0.003)

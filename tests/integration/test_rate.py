@@ -1,0 +1,93 @@
+# SPDX-License-Identifier: MIT
+"""The model at its own rate: substeps beyond the internal-rate limit are
+refused as an invalid parameter; a set the loop could not run within
+--loop-budget is refused at commit (exception 03, commit_result 6,
+commit_err_addr naming substeps or fs) and at start (exit status 2).
+The loads are predicted from the per-step cost the daemon itself
+measured, so each case is decided with a wide margin whatever the
+machine's speed."""
+
+import subprocess
+
+import pytest
+
+from pfd import DAEMON, REG, Raw, Regs, exception_code
+
+LOAD_REFUSED = 6
+
+
+def fc06(addr, value):
+    return bytes([6]) + addr.to_bytes(2, "big") + (value & 0xFFFF).to_bytes(2, "big")
+
+
+def predicted_pct(fs, k, step_ns):
+    """One instance: fs x (k + 1) x step, plus the same exchange over the
+    same period (docs/pneufracd.md, "Loop budget")."""
+    return 2 * 100 * fs * (k + 1) * step_ns * 1e-9
+
+
+def commit(r, raw, **staged):
+    for name, value in staged.items():
+        r.write(name, value)
+    return exception_code(raw.request(1, fc06(REG["commit"][1], 1)))
+
+
+def committed_image(r):
+    return [r.read(n) for n in ("committed_fs", "committed_substeps", "substeps_used",
+                                "internal_fs", "commits")]
+
+
+def test_substeps_beyond_the_internal_limit(daemon):
+    d = daemon("--clock", "external")
+    r, raw = Regs(d.client()), Raw(d.port)
+    before = committed_image(r)
+    assert commit(r, raw, fs=1000.0, substeps=201) == 3  # 201 kHz
+    assert r.read("commit_result") == 1
+    assert r.read("commit_err_addr") == REG["substeps"][1]
+    assert committed_image(r) == before
+    assert commit(r, raw, substeps=200) is None
+    assert r.read("substeps_used") == 200 and r.read("internal_fs") == 200000.0
+
+
+def test_commit_over_the_budget_is_refused(daemon):
+    d = daemon("--clock", "external", "--arith", "q15", "--loop-budget", "1")
+    r, raw = Regs(d.client()), Raw(d.port)
+    # pid in q15: the costliest step. Measured on a light set first.
+    assert commit(r, raw, config=3, out_fs=16.0, fs=100.0, substeps=1) is None
+    step = r.read("step_cost_ns")
+    assert step > 0
+    assert abs(r.read("load_pct") - 100 * 100.0 * 2 * step * 1e-9) < 1e-6 * max(1.0, step)
+    heavy = predicted_pct(50000.0, 4, step)
+    if heavy < 4:
+        pytest.skip(f"a q15 pid step takes {step:.1f} ns here: too fast to exceed 1 % by 4x")
+    before = committed_image(r)
+    # 50 kHz x 4 substeps: refused, and the substeps are to blame.
+    assert commit(r, raw, fs=50000.0, substeps=4) == 3
+    assert r.read("commit_result") == LOAD_REFUSED
+    assert r.read("commit_err_addr") == REG["substeps"][1]
+    assert r.read("status") & (1 << 2)
+    assert committed_image(r) == before
+    # One step per exchange at 50 kHz: the exchange rate is to blame.
+    if predicted_pct(50000.0, 1, step) >= 4:
+        assert commit(r, raw, substeps=1) == 3
+        assert r.read("commit_result") == LOAD_REFUSED
+        assert r.read("commit_err_addr") == REG["fs"][1]
+    # A set far below the budget goes through, and runs.
+    assert predicted_pct(200.0, 1, step) < 0.25
+    assert commit(r, raw, fs=200.0, substeps=1) is None
+    assert r.read("commit_result") == 0
+    r.tick(3)
+    assert r.read("committed_fs") == 200.0 and r.read("samples") == 3
+
+
+def test_start_over_the_budget_is_refused():
+    """64 q15 instances at 50 kHz with 4 substeps: 64 x 50000 x 5 steps a
+    second, some 16 cores at 1 ns a step against a budget of 1 %."""
+    p = subprocess.run([DAEMON, "--listen", "127.0.0.1:0", "--run-for", "5",
+                        "--instances", "64", "--fs", "50000", "--substeps", "4",
+                        "--arith", "q15", "--loop-budget", "1"],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 2, p.stderr
+    last = p.stderr.strip().splitlines()[-1]
+    assert last.startswith("pneufracd: the instances need ") and "--loop-budget 1 %" in last, last
+    assert "msg=listening" not in p.stderr
