@@ -7,7 +7,6 @@
 #include <time.h>
 
 #include "pfd_log.h"
-#include "pfd_rate.h"
 
 int pfd_daemon_init(pfd_daemon *d, const pfd_settings *set)
 {
@@ -166,19 +165,18 @@ unsigned pfd_settle_samples(double internal_fs)
     return (unsigned)n;
 }
 
-double pfd_loop_load(const pfd_daemon *d, const pfd_inst *in, double fs,
-                     const pfd_rate *r)
+void pfd_loop_load(const pfd_daemon *d, const pfd_inst *in, double fs, const pfd_rate *r,
+                   pfd_load *out)
 {
-    pfd_load l = {0.0, 0.0, 0.0};
     int i;
 
+    pfd_load_init(out, d->wake_ns);
     for (i = 0; i < d->n; i++) {
         if (d->inst[i] == in)
-            pfd_load_add(&l, fs, r);
+            pfd_load_add(out, fs, r);
         else
-            pfd_load_add(&l, d->inst[i]->committed.fs, &d->inst[i]->rate);
+            pfd_load_add(out, d->inst[i]->committed.fs, &d->inst[i]->rate);
     }
-    return pfd_load_total(&l);
 }
 
 /* Under commit_mx: whether the loop could run @p s in place of @p in's
@@ -186,7 +184,9 @@ double pfd_loop_load(const pfd_daemon *d, const pfd_inst *in, double fs,
 static int affordable(const pfd_daemon *d, const pfd_inst *in, const pfd_slot *s,
                       double *load)
 {
-    *load = pfd_loop_load(d, in, s->ip.fs, &s->rate);
+    pfd_load l;
+    pfd_loop_load(d, in, s->ip.fs, &s->rate, &l);
+    *load = pfd_load_total(&l);
     return *load <= d->set.loop_budget / 100.0;
 }
 
@@ -315,6 +315,7 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
             "unit=%d config=%s arith=%s fs=%.9g substeps=%u internal_fs=%.9g load_pct=%.1f",
             in->unit, pf_config_name(ip.p.config), pfd_arith_name(ip.arith), ip.fs,
             slot->rate.k, slot->rate.internal_fs, 100.0 * load);
+    pfd_rate_warn_capped(in->unit, &slot->rate);
     /* Answered only once the file is on disk; if it cannot be written the
      * set still runs (it was switched in above), and the client learns
      * that it would not survive a restart. */

@@ -11,6 +11,7 @@
 #include <stddef.h>
 
 #include "pfd_config.h"
+#include "pfd_rate.h"
 #include "pfd_regmap.h"
 #include "pfd_state.h"
 
@@ -51,10 +52,11 @@ int pfd_persist(pfd_daemon *d);
  *  switch, at its internal rate (docs/pneufracd.md, "Bumpless commit"). */
 unsigned pfd_settle_samples(double internal_fs);
 
-/** The loop's load (pfd_load_total, a fraction of one core) with every
- *  instance's committed set, except that @p in (if not NULL) runs at
- *  @p fs with @p r. Under commit_mx, or before the threads start. */
-double pfd_loop_load(const pfd_daemon *d, const pfd_inst *in, double fs,
-                     const pfd_rate *r);
+/** The loop's load (pfd_load_total() of @p out is a fraction of one
+ *  core) with every instance's committed set, except that @p in (if not
+ *  NULL) runs at @p fs with @p r. Under commit_mx, or before the threads
+ *  start. */
+void pfd_loop_load(const pfd_daemon *d, const pfd_inst *in, double fs, const pfd_rate *r,
+                   pfd_load *out);
 
 #endif

@@ -67,6 +67,7 @@ int pfd_slot_build(pfd_slot *s, const pfd_iparams *ip, pf_ctrl_design *scratch,
     s->ip = *ip;
     s->rate.k = k;
     s->rate.internal_fs = o.fs;
+    s->rate.wanted_fs = ip->substeps != 0 ? 0.0 : pfd_rate_wanted_fs(&ip->p);
     if (ip->arith == PFD_ARITH_Q15) {
         st = pf_ctrl_coeffs_q15_make(&s->cq, scratch, ip->in_fs, ip->out_fs);
         if (st == PF_OK)
@@ -78,12 +79,17 @@ int pfd_slot_build(pfd_slot *s, const pfd_iparams *ip, pf_ctrl_design *scratch,
     if (st != PF_OK)
         return fail(why, st, pf_status_param(st));
 
-    s->period_ns = (uint64_t)llround(1e9 / ip->fs);
+    s->period_ns = pfd_period_ns(ip->fs);
     s->decay = ip->bump_tau > 0.0 ? exp(-1.0 / (ip->fs * ip->bump_tau)) : 0.0;
     s->inv_in_fs = 1.0 / ip->in_fs;
     s->inv_out_fs = 1.0 / ip->out_fs;
     s->inv_pb_fs = s->inv_in_fs / ip->p.k1;
     return 0;
+}
+
+uint64_t pfd_period_ns(double fs)
+{
+    return (uint64_t)llround(1e9 / fs);
 }
 
 void pfd_slot_reset(pfd_slot *s)

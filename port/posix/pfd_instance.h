@@ -84,6 +84,8 @@ typedef struct pfd_rate {
     unsigned k;         /**< controller steps per exchange, >= 1 */
     double internal_fs; /**< fs x k, Hz: the rate the set is designed at */
     double step_ns;     /**< measured CPU ns per step (pfd_rate_measure); 0 = not yet */
+    double wanted_fs;   /**< the rule's internal rate (pfd_rate_wanted_fs); 0 with
+                             substeps given */
 } pfd_rate;
 
 /** A built runtime. Never moved once built: the runtimes point into it. */
@@ -101,6 +103,9 @@ typedef struct pfd_slot {
                                division per sample */
     uint32_t gen;         /**< set by the commit that built it (pfd_inst.gen) */
 } pfd_slot;
+
+/** round(1e9/fs): one exchange, ns. */
+uint64_t pfd_period_ns(double fs);
 
 /** Check @p ip (daemon limits, then the library's), choose its substeps,
  *  design it at the internal rate with @p scratch, and bind @p s at rest

@@ -50,12 +50,15 @@ static void housekeeping(pfd_daemon *d, watch *w)
  * budget, naming the costliest. @return 0, or -1 after a fatal message. */
 static int check_load(const pfd_daemon *d)
 {
-    const double load = pfd_loop_load(d, NULL, 0.0, NULL);
     const pfd_inst *worst = d->inst[0];
+    pfd_load l;
+    double load;
     int i;
 
-    pfd_log(PFD_LOG_INFO, "loop-load", "load_pct=%.2f budget_pct=%d", 100.0 * load,
-            d->set.loop_budget);
+    pfd_loop_load(d, NULL, 0.0, NULL, &l);
+    load = pfd_load_total(&l);
+    pfd_log(PFD_LOG_INFO, "loop-load", "util_pct=%.2f load_pct=%.2f budget_pct=%d wake_us=%.2f",
+            100.0 * l.util, 100.0 * load, d->set.loop_budget, d->wake_ns / 1000.0);
     if (load <= d->set.loop_budget / 100.0)
         return 0;
     for (i = 1; i < d->n; i++)
@@ -63,9 +66,10 @@ static int check_load(const pfd_daemon *d)
             worst->committed.fs * pfd_rate_exchange_ns(&worst->rate))
             worst = d->inst[i];
     pfd_fatal("the instances need %.0f %% of one core, over --loop-budget %d %%; the "
-              "costliest is unit %d: %.9g Hz x %u substeps at %.0f ns a step (lower fs, "
-              "substeps or the number of instances)", 100.0 * load, d->set.loop_budget,
-              worst->unit, worst->committed.fs, worst->rate.k, worst->rate.step_ns);
+              "costliest is unit %d: %.9g Hz x %u substeps at %.0f ns a step, and %.1f us "
+              "a wake-up (lower fs, substeps or the number of instances)", 100.0 * load,
+              d->set.loop_budget, worst->unit, worst->committed.fs, worst->rate.k,
+              worst->rate.step_ns, d->wake_ns / 1000.0);
     return -1;
 }
 
@@ -92,6 +96,7 @@ static int add_instances(pfd_daemon *d, const pfd_config *c, const char *path)
                 "unit=%d config=%s arith=%s fs=%.9g substeps=%u internal_fs=%.9g step_ns=%.0f",
                 d->inst[i]->unit, pf_config_name(ip->p.config),
                 pfd_arith_name(ip->arith), ip->fs, r->k, r->internal_fs, r->step_ns);
+        pfd_rate_warn_capped(d->inst[i]->unit, r);
     }
     return check_load(d);
 }
@@ -141,6 +146,7 @@ static int run(const pfd_cli *a, const pfd_config *c)
     }
     d->config_path = a->run.config;
     d->config_file = c;
+    d->wake_ns = pfd_rate_measure_wakeup();
     if (add_instances(d, c, a->run.config) != 0) {
         pfd_daemon_free(d);
         free(d);

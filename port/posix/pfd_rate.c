@@ -2,8 +2,12 @@
 #include "pfd_rate.h"
 
 #include <complex.h>
+#include <errno.h>
 #include <math.h>
+#include <string.h>
 #include <time.h>
+
+#include "pfd_log.h"
 
 /* Frequencies the loop-gain scan looks at, rad/s: from far above anything
  * the internal rate could resolve down to far below the slowest dynamics
@@ -104,9 +108,14 @@ double pfd_rate_fastest(const pf_params *p)
     return fmin(t, loop_time(p));
 }
 
+double pfd_rate_wanted_fs(const pf_params *p)
+{
+    return PFD_RATE_STEPS_PER_TAU / pfd_rate_fastest(p);
+}
+
 unsigned pfd_rate_substeps(const pf_params *p, double fs)
 {
-    const double want = PFD_RATE_STEPS_PER_TAU / pfd_rate_fastest(p);
+    const double want = pfd_rate_wanted_fs(p);
     const double k_max = fmin((double)PFD_SUBSTEPS_MAX, floor(PFD_INTERNAL_FS_MAX / fs));
     /* The tolerance keeps an exact multiple (20 kHz at 1 kHz) from
      * becoming one more substep through rounding. */
@@ -117,11 +126,39 @@ unsigned pfd_rate_substeps(const pf_params *p, double fs)
     return (unsigned)fmin(k, k_max);
 }
 
+void pfd_rate_warn_capped(int unit, const pfd_rate *r)
+{
+    if (r->wanted_fs > r->internal_fs * (1.0 + 1e-9))
+        pfd_log(PFD_LOG_WARN, "rate-capped",
+                "unit=%d wanted_fs=%.9g internal_fs=%.9g reason=\"the limits (%d substeps, "
+                "%.0f Hz inside) are below the rule's rate: the 0.1 %% aim is not met\"",
+                unit, r->wanted_fs, r->internal_fs, PFD_SUBSTEPS_MAX, PFD_INTERNAL_FS_MAX);
+}
+
 static double thread_cpu_ns(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
     return (double)ts.tv_sec * 1e9 + (double)ts.tv_nsec;
+}
+
+static double mono_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e9 + (double)ts.tv_nsec;
+}
+
+static double median(double *v, int n)
+{
+    int i, j;
+    for (i = 1; i < n; i++)
+        for (j = i; j > 0 && v[j - 1] > v[j]; j--) {
+            double t = v[j];
+            v[j] = v[j - 1];
+            v[j - 1] = t;
+        }
+    return v[n / 2];
 }
 
 /* Rounds and steps per round of a measurement: long enough that the
@@ -135,7 +172,7 @@ void pfd_rate_measure(pfd_slot *s)
      * decay towards denormals under a constant input. */
     const float e = (float)(0.5 * s->ip.in_fs);
     double per[MEASURE_ROUNDS];
-    int i, j;
+    int i;
 
     for (i = 0; i < MEASURE_ROUNDS; i++) {
         double t0 = thread_cpu_ns();
@@ -144,14 +181,32 @@ void pfd_rate_measure(pfd_slot *s)
     }
     /* Median: the rule must not rest on the luckiest round, nor on one
      * that an interrupt lengthened. */
-    for (i = 1; i < MEASURE_ROUNDS; i++)
-        for (j = i; j > 0 && per[j - 1] > per[j]; j--) {
-            double t = per[j];
-            per[j] = per[j - 1];
-            per[j - 1] = t;
-        }
-    s->rate.step_ns = per[MEASURE_ROUNDS / 2];
+    s->rate.step_ns = median(per, MEASURE_ROUNDS);
     pfd_slot_reset(s);
+}
+
+/* Wake-ups per round and their spacing: 5 rounds of 20 x 200 us. */
+#define WAKE_COUNT 20
+#define WAKE_SPACING_NS 200000.0
+
+double pfd_rate_measure_wakeup(void)
+{
+    double per[MEASURE_ROUNDS];
+    int i, j;
+
+    for (i = 0; i < MEASURE_ROUNDS; i++) {
+        double t = mono_ns(), c0 = thread_cpu_ns();
+        for (j = 0; j < WAKE_COUNT; j++) {
+            struct timespec ts;
+            t += WAKE_SPACING_NS;
+            ts.tv_sec = (time_t)(t / 1e9);
+            ts.tv_nsec = (long)(t - (double)ts.tv_sec * 1e9);
+            while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR) {
+            }
+        }
+        per[i] = (thread_cpu_ns() - c0) / WAKE_COUNT;
+    }
+    return median(per, MEASURE_ROUNDS);
 }
 
 double pfd_rate_exchange_ns(const pfd_rate *r)
@@ -159,12 +214,27 @@ double pfd_rate_exchange_ns(const pfd_rate *r)
     return ((double)r->k + 1.0) * r->step_ns;
 }
 
+void pfd_load_init(pfd_load *l, double wake_ns)
+{
+    memset(l, 0, sizeof *l);
+    l->wake_ns = wake_ns;
+}
+
 void pfd_load_add(pfd_load *l, double fs, const pfd_rate *r)
 {
     const double c = pfd_rate_exchange_ns(r) * 1e-9;
+    const uint64_t period = pfd_period_ns(fs);
+    unsigned i;
+
     l->util += fs * c;
     l->cost_max = fmax(l->cost_max, c);
     l->fs_max = fmax(l->fs_max, fs);
+    for (i = 0; i < l->n_periods && l->periods[i] != period; i++) {
+    }
+    if (i == l->n_periods && i < PFD_MAX_INSTANCES) {
+        l->periods[l->n_periods++] = period;
+        l->util += fs * l->wake_ns * 1e-9;
+    }
 }
 
 double pfd_load_total(const pfd_load *l)

@@ -15,12 +15,17 @@
 #ifndef PFD_RATE_H
 #define PFD_RATE_H
 
-#include "pfd_instance.h"
+#include <stdint.h>
 
-/** Internal rate the rule asks for, as a multiple of 1/tau_fast: the
- *  error over t >= tau_fast is about c/(f tau_fast) % of the peak with c
- *  at most 6.7 over the relays measured (bench/bench_rate), so 20 leaves
- *  a factor 3 below 0.1 %. */
+#include "pfd_instance.h"
+#include "pfd_state.h"
+
+/** Internal rate the rule asks for, in steps per tau_fast. Over relays
+ *  of every order and ratio (bench/bench_rate, docs/benchmarks-daemon.md)
+ *  the part of the error that falls with the rate peaks at t = tau and
+ *  halves as the rate doubles: at most 0.060 % of the peak at f tau = 10,
+ *  0.029 % at 20. 0.1 % would be reached near f tau = 6; 20 leaves a
+ *  factor of about 3. */
 #define PFD_RATE_STEPS_PER_TAU 20.0
 
 /** The design's fastest time constant, s: the smallest of the relay's tau,
@@ -29,9 +34,16 @@
  *  @p p must be valid (pf_params_validate). */
 double pfd_rate_fastest(const pf_params *p);
 
+/** The internal rate the rule asks for: 20 / tau_fast, Hz. */
+double pfd_rate_wanted_fs(const pf_params *p);
+
 /** The rule: the fewest substeps k >= 1 with fs x k >= 20 / tau_fast,
  *  within k <= PFD_SUBSTEPS_MAX and fs x k <= max(fs, PFD_INTERNAL_FS_MAX). */
 unsigned pfd_rate_substeps(const pf_params *p, double fs);
+
+/** Log a warning if the rule asked for more than the limits gave
+ *  (r->wanted_fs above r->internal_fs): the accuracy aim is then not met. */
+void pfd_rate_warn_capped(int unit, const pfd_rate *r);
 
 /** Measure @p s's CPU time per controller step (this thread's CPU clock,
  *  the median of a few rounds with a mid-scale input) into
@@ -43,21 +55,40 @@ void pfd_rate_measure(pfd_slot *s);
  *  exchange that switches a commit in (both sets step once). */
 double pfd_rate_exchange_ns(const pfd_rate *r);
 
+/** CPU time, ns, that one wake-up of the loop costs the loop's thread:
+ *  an absolute clock_nanosleep and the switch back (median of a few
+ *  rounds of short sleeps; about 20 ms). On this project's test machine
+ *  a wake-up costs 12-17 us, more than a hundred controller steps. */
+double pfd_rate_measure_wakeup(void);
+
 /** The loop's load, accumulated over its instances (pfd_load_add), as a
- *  fraction of one core: utilisation, sum of fs x exchange cost, plus the
- *  blocking term, the longest exchange over the shortest period (an
- *  exchange is never preempted by another instance's). */
+ *  fraction of one core. The loop wakes at every exchange instant;
+ *  instances of the same rate share their wake-ups (pfd_loop.c keeps
+ *  every schedule on the grid of its period), so a rate costs one
+ *  wake-up per period however many instances run at it. */
 typedef struct pfd_load {
-    double util;      /**< sum of fs x exchange cost */
+    double wake_ns;   /**< one wake-up, pfd_rate_measure_wakeup() */
+    double util;      /**< sum of fs x exchange cost, and of each distinct
+                           rate x wake_ns */
     double cost_max;  /**< longest exchange, s */
     double fs_max;    /**< fastest exchange rate, Hz */
+    unsigned n_periods;
+    uint64_t periods[PFD_MAX_INSTANCES]; /**< the distinct periods, ns */
 } pfd_load;
 
+/** Start an empty load. */
+void pfd_load_init(pfd_load *l, double wake_ns);
+
+/** Add an instance exchanging at @p fs (at most PFD_MAX_INSTANCES). */
 void pfd_load_add(pfd_load *l, double fs, const pfd_rate *r);
 
-/** util + cost_max x fs_max: the fraction of one core the loop needs for
- *  every sample to meet its deadline (a sufficient condition for the
- *  earliest-deadline-first loop without preemption). */
+/** util + cost_max x fs_max: the share of one core the loop needs so that
+ *  every exchange starts within its period. Over any interval of length
+ *  L of at least the shortest period, the loop has at most L x util of
+ *  work due, plus one exchange already under way (the loop never
+ *  interrupts an exchange for another instance's): util + cost_max /
+ *  T_min <= 1 is enough. Wake-up latency is not in it; the budget's
+ *  headroom is for that (docs/pneufracd.md, "Loop budget"). */
 double pfd_load_total(const pfd_load *l);
 
 #endif

@@ -132,6 +132,8 @@ typedef struct pfd_daemon {
     pthread_mutex_t regs_mx;
     pthread_mutex_t commit_mx;
     pf_ctrl_design *scratch; /* design scratch, under commit_mx */
+    double wake_ns;          /* CPU cost of one loop wake-up, measured at start
+                                (pfd_rate_measure_wakeup); 0 = not measured */
     int stop;                /* atomic */
     /* lockstep hand-shake */
     pthread_mutex_t tick_mx;

@@ -147,10 +147,12 @@ static void substeps_are_checked(void **state)
     assert_int_equal(pfd_slot_build(s, &ip, scratch, &why), 0);
     assert_int_equal(s->rate.k, 20);
     assert_true(s->rate.internal_fs == 20000.0);
+    assert_true(s->rate.wanted_fs == 20000.0);
     assert_true(s->rate.step_ns == 0.0);
     ip.substeps = 200; /* 200 kHz: the limit */
     assert_int_equal(pfd_slot_build(s, &ip, scratch, &why), 0);
     assert_int_equal(s->rate.k, 200);
+    assert_true(s->rate.wanted_fs == 0.0); /* given, not chosen */
     ip.substeps = 201;
     assert_int_equal(pfd_slot_build(s, &ip, scratch, &why), -1);
     assert_int_equal(why.param, PFD_P_SUBSTEPS);
@@ -272,22 +274,37 @@ static void measure_leaves_the_slot_at_rest(void **state)
     free(scratch);
 }
 
-/* Load: the sum of fs x (k + 1) x step, plus the longest exchange over the
- * shortest period. */
+/* Load: the sum of fs x (k + 1) x step, one wake-up per period of each
+ * distinct rate, plus the longest exchange over the shortest period. */
 static void load_is_utilisation_plus_blocking(void **state)
 {
-    const pfd_rate slow = {200, 20000.0, 50.0}; /* 100 Hz: 10.05 us an exchange */
-    const pfd_rate fast = {1, 50000.0, 100.0};  /* 50 kHz: 200 ns an exchange */
-    pfd_load l = {0.0, 0.0, 0.0};
+    const pfd_rate slow = {200, 20000.0, 50.0, 0.0}; /* 100 Hz: 10.05 us an exchange */
+    const pfd_rate fast = {1, 50000.0, 100.0, 0.0};  /* 50 kHz: 200 ns an exchange */
+    const double wake = 10e-6;                        /* 10 us a wake-up */
+    pfd_load l;
     (void)state;
 
     assert_true(fabs(pfd_rate_exchange_ns(&slow) - 10050.0) < 1e-9);
+    pfd_load_init(&l, 1e9 * wake);
     pfd_load_add(&l, 100.0, &slow);
-    assert_true(fabs(pfd_load_total(&l) - 2.0 * 100.0 * 10050e-9) < 1e-12);
+    assert_true(fabs(pfd_load_total(&l) - (2.0 * 100.0 * 10050e-9 + 100.0 * wake)) < 1e-12);
+    /* A second instance at the same rate shares the wake-ups. */
+    pfd_load_add(&l, 100.0, &slow);
+    assert_true(fabs(pfd_load_total(&l) - (3.0 * 100.0 * 10050e-9 + 100.0 * wake)) < 1e-12);
     pfd_load_add(&l, 50000.0, &fast);
-    /* 0.1005 % + 1 %, and 10.05 us against 20 us: 50.25 % */
-    assert_true(fabs(pfd_load_total(&l) - (100.0 * 10050e-9 + 50000.0 * 200e-9 +
+    /* 0.201 % + 0.1 % of exchanges at 100 Hz, 1 % + 50 % at 50 kHz, and
+     * 10.05 us against 20 us: 50.25 % */
+    assert_true(fabs(pfd_load_total(&l) - (2.0 * 100.0 * 10050e-9 + 100.0 * wake +
+                                           50000.0 * 200e-9 + 50000.0 * wake +
                                            10050e-9 * 50000.0)) < 1e-12);
+}
+
+/* A wake-up costs something, and far less than the 200 us it sleeps. */
+static void wakeup_is_measured(void **state)
+{
+    double w = pfd_rate_measure_wakeup();
+    (void)state;
+    assert_true(w > 0.0 && w < 200000.0);
 }
 
 int main(void)
@@ -301,6 +318,7 @@ int main(void)
         cmocka_unit_test(exchange_is_the_internal_run_decimated),
         cmocka_unit_test(measure_leaves_the_slot_at_rest),
         cmocka_unit_test(load_is_utilisation_plus_blocking),
+        cmocka_unit_test(wakeup_is_measured),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
