@@ -14,10 +14,10 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "pf_accuracy.h"
-#include "pf_ref_cases.h"
+#include "pfh_accuracy.h"
+#include "pfh_ref_cases.h"
 
-static pf_ref_cases cases;
+static pfh_ref_cases cases;
 
 static const double rates[] = {5000.0, 20000.0, 100000.0};
 
@@ -63,9 +63,9 @@ static int grid(const char *csv_path)
     for (i = 0; i < cases.n; i++) {
         const pf_params *p = &cases.p[i];
         for (r = 0; r < NR; r++) {
-            pf_acc_ref ref;
+            pfh_acc_ref ref;
             fprintf(stderr, "[bench] grid: %s at %.0f Hz\n", cases.name[i], rates[r]);
-            if (pf_acc_ref_make(&ref, p, rates[r], 1e-3, 2.0) != 0)
+            if (pfh_acc_ref_make(&ref, p, rates[r], 1e-3, 2.0) != 0)
                 return 1;
             for (b = 0; b < NB; b++)
                 for (n = 0; n < NN; n++) {
@@ -76,7 +76,7 @@ static int grid(const char *csv_path)
                     o.order = orders[n];
                     for (a = 0; a < 3; a++) {
                         pf_design_opts res;
-                        double e = pf_acc_error(&ref, &o, (pf_acc_arith)a, NULL);
+                        double e = pfh_acc_error(&ref, &o, (pf_arith)a, NULL);
                         err[r][b][n][a] = e;
                         if (pf_design_opts_resolve(&o, &res) != PF_OK)
                             res.wb = res.wh = 0.0;
@@ -85,7 +85,7 @@ static int grid(const char *csv_path)
                                 res.wh, orders[n], arith_name[a], e);
                     }
                 }
-            pf_acc_ref_free(&ref);
+            pfh_acc_ref_free(&ref);
         }
         printf("\n### %s\n\n| band | N | 5 kHz | 20 kHz | 100 kHz |\n"
                "|---|---|---|---|---|\n", cases.name[i]);
@@ -115,34 +115,34 @@ static void toolbox_example(void)
     static pf_ctrl_f64 c;
     pf_params p;
     pf_design_opts o;
-    pf_acc_ref ref;
+    pfh_acc_ref ref;
     long n;
     double y = 0.0, ex, worst;
-    pf_params_default(&p, PF_CFG_P);
+    pf_params_default(&p, PF_TOPO_P);
     pf_design_opts_default(&o, 10000.0);
     o.wb = 1e-3;
     o.wh = 1e3;
     o.order = 5;
     if (pf_ctrl_design_make(&d, &p, NULL, &o) != PF_OK ||
-        pf_acc_ref_make(&ref, &p, 10000.0, 1e-3, 2.0) != 0)
+        pfh_acc_ref_make(&ref, &p, 10000.0, 1e-3, 2.0) != 0)
         return;
     pf_ctrl_init_f64(&c, &d.rt, NULL, 0);
     for (n = 0; n <= 10; n++) /* t = 1 ms is sample 10 */
         y = pf_ctrl_step_f64(&c, 1.0);
     ex = ref.y[0];
-    worst = pf_acc_error(&ref, &o, PF_ACC_F64, NULL);
+    worst = pfh_acc_error(&ref, &o, PF_ARITH_F64, NULL);
     printf("toolbox band [1e-3, 1e3] rad/s, N = 5, 10 kHz, Example 4 (beta 0.8, "
            "q 0.9), double: %.2f %% of the local value at t = 1 ms; worst %.2f %% "
            "of the peak over [1 ms, 2 s]\n", 100 * fabs(y - ex) / fabs(ex), 100 * worst);
-    pf_acc_ref_free(&ref);
+    pfh_acc_ref_free(&ref);
 }
 
 int main(int argc, char **argv)
 {
     int quick = argc > 1 && strcmp(argv[1], "--quick") == 0;
-    if (pf_ref_cases_load(PF_REF_DIR "/paper_step_cases.json", &cases) != 0) {
+    if (pfh_ref_cases_load(REF_DATA_DIR "/paper_step_cases.json", &cases) != 0) {
         fprintf(stderr, "bench_accuracy: cannot read %s\n",
-                PF_REF_DIR "/paper_step_cases.json");
+                REF_DATA_DIR "/paper_step_cases.json");
         return 1;
     }
     if (argc > 2 && strcmp(argv[1], "--grid") == 0) {
@@ -157,22 +157,22 @@ int main(int argc, char **argv)
     for (r = quick ? 1 : 0; r < (quick ? 2 : 3); r++) {
         for (i = 0; i < cases.n; i++) {
             pf_design_opts o, res;
-            pf_acc_ref ref;
+            pfh_acc_ref ref;
             double e[3];
             fprintf(stderr, "[bench] %s at %.0f Hz\n", cases.name[i], rates[r]);
-            if (pf_acc_ref_make(&ref, &cases.p[i], rates[r], 1e-3, 2.0) != 0)
+            if (pfh_acc_ref_make(&ref, &cases.p[i], rates[r], 1e-3, 2.0) != 0)
                 return 1;
             pf_design_opts_default(&o, rates[r]);
             pf_design_opts_resolve(&o, &res);
             for (a = 0; a < 3; a++) {
-                e[a] = pf_acc_error(&ref, &o, (pf_acc_arith)a, NULL);
+                e[a] = pfh_acc_error(&ref, &o, (pf_arith)a, NULL);
                 if (e[a] > worst[r][a])
                     worst[r][a] = e[a];
             }
             printf("| %s | %.0f kHz | [%.3g, %.3g] | %d | %.4f %% | %.4f %% | %.4f %% |\n",
                    cases.name[i], rates[r] / 1000, res.wb, res.wh, res.order,
                    100 * e[0], 100 * e[1], 100 * e[2]);
-            pf_acc_ref_free(&ref);
+            pfh_acc_ref_free(&ref);
         }
     }
     printf("\n| fs | worst double | worst float | worst Q15 |\n|---|---|---|---|\n");

@@ -26,9 +26,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "pf_accuracy.h"
-#include "pf_ref.h"
-#include "pf_ref_cases.h"
+#include "pfh_accuracy.h"
+#include "pfh_ref.h"
+#include "pfh_ref_cases.h"
 #include "pfd_accuracy.h"
 #include "pfd_commit.h"
 #include "pfd_parse.h"
@@ -41,7 +41,7 @@ static double pct(double x)
 }
 
 /* 1. The paper's cases, before and after. */
-static int paper_table(const pf_ref_cases *cs)
+static int paper_table(const pfh_ref_cases *cs)
 {
     static const double rates[] = {100.0, 1000.0, 2000.0, 10000.0, 50000.0};
     const unsigned nr = sizeof rates / sizeof rates[0];
@@ -59,9 +59,9 @@ static int paper_table(const pf_ref_cases *cs)
     for (c = 0; c < cs->n; c++) {
         printf("| %s |", cs->name[c]);
         for (i = 0; i < nr; i++) {
-            pf_acc_ref r;
+            pfh_acc_ref r;
             pfd_acc_result b, f, q;
-            if (pf_acc_ref_make(&r, &cs->p[c], rates[i], 1e-3, 2.0) != 0 ||
+            if (pfh_acc_ref_make(&r, &cs->p[c], rates[i], 1e-3, 2.0) != 0 ||
                 pfd_acc_error(&r, PFD_ARITH_FLOAT, 1, &b) != 0 ||
                 pfd_acc_error(&r, PFD_ARITH_FLOAT, 0, &f) != 0 ||
                 pfd_acc_error(&r, PFD_ARITH_Q15, 0, &q) != 0) {
@@ -72,7 +72,7 @@ static int paper_table(const pf_ref_cases *cs)
             worst[0][i] = fmax(worst[0][i], b.err);
             worst[1][i] = fmax(worst[1][i], f.err);
             worst[2][i] = fmax(worst[2][i], q.err);
-            pf_acc_ref_free(&r);
+            pfh_acc_ref_free(&r);
         }
         printf("\n");
     }
@@ -95,24 +95,24 @@ typedef struct sweep_point {
 static int sweep_error(const pf_params *p, double fs, unsigned substeps, double t0, double t1,
                        sweep_point *sp)
 {
-    pf_acc_ref r;
+    pfh_acc_ref r;
     pfd_acc_result f;
     long n;
 
-    if (pf_acc_ref_make(&r, p, fs, t0, t1) != 0)
+    if (pfh_acc_ref_make(&r, p, fs, t0, t1) != 0)
         return -1;
     sp->ref_dev = 0.0;
     for (n = r.n0; n <= r.n1; n += (r.n1 - r.n0) / 40 + 1)
-        sp->ref_dev = fmax(sp->ref_dev, fabs(pf_ref_step_n(p, (double)n / fs, 48) -
+        sp->ref_dev = fmax(sp->ref_dev, fabs(pfh_ref_step_n(p, (double)n / fs, 48) -
                                               r.y[n - r.n0]) / r.peak);
     if (pfd_acc_error(&r, PFD_ARITH_FLOAT, substeps, &f) != 0) {
-        pf_acc_ref_free(&r);
+        pfh_acc_ref_free(&r);
         return -1;
     }
     sp->err = f.err;
     sp->t_worst = f.t_worst;
     sp->k = f.k;
-    pf_acc_ref_free(&r);
+    pfh_acc_ref_free(&r);
     return 0;
 }
 
@@ -133,7 +133,7 @@ static void constant_table(void)
         for (j = 0; j < sizeof ratios / sizeof ratios[0]; j++) {
             pf_params p;
             sweep_point a, b;
-            pf_params_default(&p, PF_CFG_P);
+            pf_params_default(&p, PF_TOPO_P);
             p.beta = betas[i];
             p.pmax = 10.0;
             p.pmin = 10.0 * ratios[j];
@@ -176,7 +176,7 @@ static void random_table(unsigned n_sets, double k_lo, double k_hi, unsigned see
         pf_params p;
         sweep_point sp;
         double tf;
-        pf_params_default(&p, (pf_config)(rand() % PF_CFG_COUNT));
+        pf_params_default(&p, (pf_topology)(rand() % PF_TOPO_COUNT));
         p.tau = lu(1e-4, 1e-2);
         p.beta = un(0.3, 1.0);
         p.pmin = lu(0.1, 10.0);
@@ -206,7 +206,7 @@ static void random_table(unsigned n_sets, double k_lo, double k_hi, unsigned see
             snprintf(worst_row, sizeof worst_row,
                      "%s, tau %.3g s, beta %.2f, pmin/pmax %.3f, q %.2f, loop gain %.3g, "
                      "tau_fast %.3g s, k %u at 10 kHz: %.4f %% at t = %.3g s",
-                     pf_config_name(p.config), p.tau, p.beta, p.pmin / p.pmax, p.q,
+                     pf_topology_name(p.topology), p.tau, p.beta, p.pmin / p.pmax, p.q,
                      loop_gain_dc(&p), tf, sp.k, pct(sp.err), sp.t_worst);
         }
     }
@@ -216,7 +216,7 @@ static void random_table(unsigned n_sets, double k_lo, double k_hi, unsigned see
 
 /* Example 6's error at 1 kHz exchanges with k steps each, run on the
  * library directly (the daemon refuses more than 200 kHz inside). */
-static double library_error(const pf_acc_ref *r, unsigned k, int q15)
+static double library_error(const pfh_acc_ref *r, unsigned k, int q15)
 {
     static pf_ctrl_design d;
     static pf_ctrl_coeffs_f32 cf;
@@ -256,28 +256,28 @@ static double library_error(const pf_acc_ref *r, unsigned k, int q15)
 
 /* 4. Example 6 at 1 kHz exchanges, the internal rate raised past the
  * limit: float's resolution against the slowest leaks. */
-static void limit_table(const pf_ref_cases *cs)
+static void limit_table(const pfh_ref_cases *cs)
 {
     static const unsigned ks[] = {20, 50, 100, 200, 500, 1000};
-    const pf_params *p = pf_ref_cases_find(cs, "ex6_q0.9");
-    pf_acc_ref r;
+    const pf_params *p = pfh_ref_cases_find(cs, "ex6_q0.9");
+    pfh_acc_ref r;
     unsigned i;
 
-    if (p == NULL || pf_acc_ref_make(&r, p, 1000.0, 1e-3, 2.0) != 0)
+    if (p == NULL || pfh_acc_ref_make(&r, p, 1000.0, 1e-3, 2.0) != 0)
         return;
     printf("| internal rate | float | Q15 |\n|---|---|---|\n");
     for (i = 0; i < sizeof ks / sizeof ks[0]; i++)
         printf("| %u kHz | %.4f %% | %.4f %% |\n", ks[i], pct(library_error(&r, ks[i], 0)),
                pct(library_error(&r, ks[i], 1)));
-    pf_acc_ref_free(&r);
+    pfh_acc_ref_free(&r);
     printf("\n");
 }
 
 static int accuracy(void)
 {
-    pf_ref_cases cs;
+    pfh_ref_cases cs;
 
-    if (pf_ref_cases_load(PF_REF_DIR "/paper_step_cases.json", &cs) != 0) {
+    if (pfh_ref_cases_load(REF_DATA_DIR "/paper_step_cases.json", &cs) != 0) {
         fprintf(stderr, "bench_rate: cannot read the reference cases\n");
         return 1;
     }
@@ -307,7 +307,7 @@ static int run(const char *config, const char *arith, const char *fs_text, const
     pfd_fail why;
     double fs;
     long n, i;
-    int cfg = pfd_parse_name(config, pfd_topology_name, PF_CFG_COUNT);
+    int cfg = pfd_parse_name(config, pfd_topology_name, PF_TOPO_COUNT);
     int ar = pfd_parse_name(arith, pfd_arith_name, PFD_ARITH_COUNT);
 
     if (d == NULL || cfg < 0 || ar < 0 || pfd_parse_number(fs_text, &fs) != 0 ||
@@ -320,7 +320,7 @@ static int run(const char *config, const char *arith, const char *fs_text, const
     if (pfd_daemon_init(d, &set) != 0)
         return 1;
     pfd_config_inst_default(&ci, 1);
-    pf_params_default(&ci.ip.p, (pf_config)cfg);
+    pf_params_default(&ci.ip.p, (pf_topology)cfg);
     ci.ip.arith = ar;
     ci.ip.fs = fs;
     ci.ip.out_fs = 16.0;

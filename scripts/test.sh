@@ -59,7 +59,7 @@ step_asan() {
 # Static analysis of the C sources that ship: library, tools and port. Any
 # finding fails the step (--error-exitcode).
 step_lint() {
-  local dirs=(lib/src tools/cli)
+  local dirs=(lib/src tools/host tools/cli)
   [[ -d port/posix ]] && dirs+=(port/posix)
   cppcheck --std=c99 --enable=warning,performance,portability --inline-suppr \
     --quiet --error-exitcode=1 -UPF_CONFIG_HEADER -Ilib/include -Ilib/src \

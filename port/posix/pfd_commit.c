@@ -115,8 +115,9 @@ void pfd_publish_live(pfd_inst *in)
 static int iparams_equal(const pfd_iparams *a, const pfd_iparams *b)
 {
     int k;
-    if (a->p.config != b->p.config || a->arith != b->arith || a->fs != b->fs ||
-        a->substeps != b->substeps || a->in_fs != b->in_fs || a->out_fs != b->out_fs || a->bump_tau != b->bump_tau)
+    if (a->p.topology != b->p.topology || a->arith != b->arith || a->fs != b->fs ||
+        a->substeps != b->substeps || a->in_fs != b->in_fs || a->out_fs != b->out_fs ||
+        a->bump_tau != b->bump_tau)
         return 0;
     for (k = PF_P_A; k <= PF_P_RCI; k++)
         if (pf_params_get(&a->p, (pf_param_id)k) != pf_params_get(&b->p, (pf_param_id)k))
@@ -313,7 +314,7 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
 
     pfd_log(PFD_LOG_INFO, "commit",
             "unit=%d config=%s arith=%s fs=%.9g substeps=%u internal_fs=%.9g load_pct=%.1f",
-            in->unit, pf_config_name(ip.p.config), pfd_arith_name(ip.arith), ip.fs,
+            in->unit, pf_topology_name(ip.p.topology), pfd_arith_name(ip.arith), ip.fs,
             slot->rate.k, slot->rate.internal_fs, 100.0 * load);
     pfd_rate_warn_capped(in->unit, &slot->rate);
     /* Answered only once the file is on disk; if it cannot be written the

@@ -24,7 +24,7 @@ static const struct {
     const char *key;
     const char *(*name)(int);
     int n;
-} named[] = {{"config", pfd_topology_name, PF_CFG_COUNT},
+} named[] = {{"config", pfd_topology_name, PF_TOPO_COUNT},
              {"arith", pfd_arith_name, PFD_ARITH_COUNT}};
 #define N_NAMED (sizeof named / sizeof named[0])
 
@@ -128,7 +128,7 @@ static void finish_instance(loader *ld)
         return;
     for (i = 0; i < ld->keys.n; i++)
         if (!strcmp(ld->keys.w[i].r->name, "config"))
-            pf_params_default(&ci->ip.p, (pf_config)(int)ld->keys.w[i].v);
+            pf_params_default(&ci->ip.p, (pf_topology)(int)ld->keys.w[i].v);
     memset(&h, 0, sizeof h);
     h.live = ci->live;
     h.staged = ci->ip;
@@ -256,7 +256,7 @@ static void print_instance(FILE *f, const pfd_config_inst *ci)
             continue;
         id = pf_param_lookup(r->name);
         /* A paper parameter that this configuration does not use. */
-        if (id < PF_P_CONFIG && !pf_param_used(ci->ip.p.config, id))
+        if (id < PF_P_CONFIG && !pf_param_used(ci->ip.p.topology, id))
             continue;
         print_value(f, r, pfd_regmap_hold_value(r, &h, &ci->ip));
     }

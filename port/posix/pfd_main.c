@@ -94,7 +94,7 @@ static int add_instances(pfd_daemon *d, const pfd_config *c, const char *path)
         const pfd_rate *r = &d->inst[i]->rate;
         pfd_log(PFD_LOG_INFO, "instance",
                 "unit=%d config=%s arith=%s fs=%.9g substeps=%u internal_fs=%.9g step_ns=%.0f",
-                d->inst[i]->unit, pf_config_name(ip->p.config),
+                d->inst[i]->unit, pf_topology_name(ip->p.topology),
                 pfd_arith_name(ip->arith), ip->fs, r->k, r->internal_fs, r->step_ns);
         pfd_rate_warn_capped(d->inst[i]->unit, r);
     }

@@ -34,15 +34,15 @@ static double loop_gain(const pf_params *p, double w)
     const double complex bellows = (p->A / p->ks) / jpow(1.0, w, p->q);
     double complex m = 1.0, rd, ri;
 
-    switch (p->config) {
-    case PF_CFG_DD:
+    switch (p->topology) {
+    case PF_TOPO_DD:
         m = 1.0 / (p->RC * jpow(1.0, w, p->nu) + 1.0);
         break;
-    case PF_CFG_ID:
+    case PF_TOPO_ID:
         ri = p->RC * jpow(1.0, w, p->w);
         m = ri / (ri + 1.0);
         break;
-    case PF_CFG_PID:
+    case PF_TOPO_PID:
         rd = p->RCd * jpow(1.0, w, p->nu);
         ri = p->RCi * jpow(1.0, w, p->w);
         m = (ri - rd) / ((rd + 1.0) * (ri + 1.0));
@@ -60,7 +60,7 @@ static double loop_gain(const pf_params *p, double w)
  * time constant. */
 static double loop_time(const pf_params *p)
 {
-    const int static_loop = p->q == 0.0 && (p->config == PF_CFG_P || p->config == PF_CFG_ID);
+    const int static_loop = p->q == 0.0 && (p->topology == PF_TOPO_P || p->topology == PF_TOPO_ID);
     double lw = log10(SCAN_W_TOP), lo, hi;
     int i;
 
@@ -92,14 +92,14 @@ double pfd_rate_fastest(const pf_params *p)
 {
     double t = p->tau;
 
-    switch (p->config) {
-    case PF_CFG_DD:
+    switch (p->topology) {
+    case PF_TOPO_DD:
         t = fmin(t, restrictor_time(p->RC, p->nu));
         break;
-    case PF_CFG_ID:
+    case PF_TOPO_ID:
         t = fmin(t, restrictor_time(p->RC, p->w));
         break;
-    case PF_CFG_PID:
+    case PF_TOPO_PID:
         t = fmin(t, fmin(restrictor_time(p->RCd, p->nu), restrictor_time(p->RCi, p->w)));
         break;
     default:

@@ -102,7 +102,7 @@ static uint16_t select_output(pfd_inst *in, const pfd_live *l, pfd_sig *sig)
         /* Without an offset the controller's output goes out untouched, so
          * lockstep runs match `pneufrac simulate` bit for bit. */
         sig->pc = (float)out;
-        sig->pc_q15 = pfd_to_q15(out, in->rt.active->inv_out_fs);
+        sig->pc_q15 = pf_q15_quantize(out, in->rt.active->ip.out_fs);
         if (in->rt.offset != 0.0)
             flags |= PFD_SNAP_TRANSFER;
     }

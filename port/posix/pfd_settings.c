@@ -61,7 +61,7 @@ const pfd_setting pfd_settings_table[] = {
      .hi = PFD_MAX_INSTANCES, IN_RUN(instances), .metavar = "N",
      .help = "N instances, unit ids 1..N"},
     {.flag = "--controller", .type = PFD_ST_CHOICE, .group = PFD_SG_INSTANCES, .lo = 0,
-     .hi = PF_CFG_COUNT - 1, .choice = pfd_topology_name, IN_RUN(controller),
+     .hi = PF_TOPO_COUNT - 1, .choice = pfd_topology_name, IN_RUN(controller),
      .help = "their configuration"},
     {.flag = "--fs", .type = PFD_ST_REAL, .group = PFD_SG_INSTANCES, .lo = PFD_FS_MIN,
      .hi = PFD_FS_MAX, IN_RUN(fs), .metavar = "HZ",
@@ -300,7 +300,7 @@ void pfd_run_default(pfd_run *run)
     memset(run, 0, sizeof *run);
     pfd_iparams_default(&ip);
     run->instances = 1;
-    run->controller = (int)ip.p.config;
+    run->controller = (int)ip.p.topology;
     run->fs = ip.fs;
     run->substeps = (int)ip.substeps;
     run->arith = ip.arith;

@@ -35,7 +35,7 @@ typedef struct pfd_run {
     int fallback;        /**< --config-fallback-defaults */
     /* the default instances, without --config */
     int instances;
-    int controller;      /**< pf_config */
+    int controller;      /**< pf_topology */
     double fs;
     int substeps;        /**< 0 = the rule's (pfd_rate_substeps) */
     int arith;           /**< enum pfd_arith */

@@ -21,7 +21,7 @@ are (shortest round-trip form), so a reader in double sees the value of p_c
 at exactly that t, correct to the last digit written.
 
 This code is independent of the C library and of the C reference
-(tests/ref/pf_ref.c, Talbot on Weideman's cotangent contour in double):
+(tools/host/pfh_ref.c, Talbot on Weideman's cotangent contour in double):
 tests/unit/test_reference.c checks the C reference against this table, and
 tests/python/test_reference_table.py checks that the table is what this
 script makes.

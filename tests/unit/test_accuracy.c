@@ -3,7 +3,7 @@
  * Every case of the exact reference (tests/ref/paper_step_cases.json: the
  * paper's Examples 4, 6, 7 and a pid) at fs = 20 kHz with the default band
  * and order, against the exact response computed here by numerical inverse
- * Laplace (pf_ref.c, itself validated by test_reference against the
+ * Laplace (pfh_ref.c, itself validated by test_reference against the
  * committed mpmath table): max error over t in [1 ms, 2 s]
  * relative to the peak |response|, in double and float. The requirement is
  * 0.5 %; the test holds the design to its aim, 0.1 %.
@@ -16,18 +16,18 @@
 
 #include <stdio.h>
 
-#include "pf_accuracy.h"
-#include "pf_ref_cases.h"
+#include "pfh_accuracy.h"
+#include "pfh_ref_cases.h"
 
 #define FS 20000.0
 #define AIM 1e-3
 
-static pf_ref_cases cases;
+static pfh_ref_cases cases;
 
 static int setup_cases(void **state)
 {
     (void)state;
-    return pf_ref_cases_load(PF_REF_DIR "/paper_step_cases.json", &cases);
+    return pfh_ref_cases_load(REF_DATA_DIR "/paper_step_cases.json", &cases);
 }
 
 static void test_reference_cases_20khz(void **state)
@@ -38,16 +38,16 @@ static void test_reference_cases_20khz(void **state)
     printf("case          double    float   (max |error|/peak, t in [1 ms, 2 s], 20 kHz)\n");
     for (i = 0; i < cases.n; i++) {
         pf_design_opts o;
-        pf_acc_ref r;
+        pfh_acc_ref r;
         double e64, e32;
-        assert_int_equal(pf_acc_ref_make(&r, &cases.p[i], FS, 1e-3, 2.0), 0);
+        assert_int_equal(pfh_acc_ref_make(&r, &cases.p[i], FS, 1e-3, 2.0), 0);
         pf_design_opts_default(&o, FS);
-        e64 = pf_acc_error(&r, &o, PF_ACC_F64, NULL);
-        e32 = pf_acc_error(&r, &o, PF_ACC_F32, NULL);
+        e64 = pfh_acc_error(&r, &o, PF_ARITH_F64, NULL);
+        e32 = pfh_acc_error(&r, &o, PF_ARITH_F32, NULL);
         printf("%-12s  %.4f %%  %.4f %%\n", cases.name[i], 100 * e64, 100 * e32);
         assert_true(e64 >= 0 && e64 <= AIM);
         assert_true(e32 >= 0 && e32 <= AIM);
-        pf_acc_ref_free(&r);
+        pfh_acc_ref_free(&r);
     }
 }
 
@@ -57,21 +57,21 @@ static void test_reference_cases_20khz(void **state)
  * t = 1 ms, in line with the reference README's warning). */
 static void test_toolbox_band_is_off(void **state)
 {
-    const pf_params *p = pf_ref_cases_find(&cases, "ex4_q0.9");
+    const pf_params *p = pfh_ref_cases_find(&cases, "ex4_q0.9");
     pf_design_opts o;
-    pf_acc_ref r;
+    pfh_acc_ref r;
     double e;
     (void)state;
     assert_non_null(p);
-    assert_int_equal(pf_acc_ref_make(&r, p, 10000.0, 1e-3, 2.0), 0);
+    assert_int_equal(pfh_acc_ref_make(&r, p, 10000.0, 1e-3, 2.0), 0);
     pf_design_opts_default(&o, 10000.0);
     o.wb = 1e-3;
     o.wh = 1e3;
     o.order = 5;
-    e = pf_acc_error(&r, &o, PF_ACC_F64, NULL);
+    e = pfh_acc_error(&r, &o, PF_ARITH_F64, NULL);
     printf("toolbox band [1e-3, 1e3], N = 5, 10 kHz: %.2f %%\n", 100 * e);
     assert_true(e > 5e-3);
-    pf_acc_ref_free(&r);
+    pfh_acc_ref_free(&r);
 }
 
 int main(void)

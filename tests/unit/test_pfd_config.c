@@ -191,6 +191,30 @@ static pfd_config *load(const char *name, const char *text, char *err, size_t n)
     return pfd_config_load(path_of(name), &c, 0, err, n) == 0 ? &c : NULL;
 }
 
+/* A register of a library parameter has the parameter's name (the config
+ * key and the register name are the library's), staged and committed. */
+static void parameter_registers_have_library_names(void **state)
+{
+    char want[64];
+    unsigned i;
+    int staged = 0, committed = 0;
+    (void)state;
+    for (i = 0; i < pfd_nregs; i++) {
+        const pfd_reg *r = &pfd_regs[i];
+        if (r->param == PFD_NO_PARAM)
+            continue;
+        snprintf(want, sizeof want, "%s%s", r->space == PFD_HOLD ? "" : "committed_",
+                 pf_param_name((pf_param_id)r->param));
+        assert_string_equal(r->name, want);
+        assert_true(pf_param_info((pf_param_id)r->param) != NULL);
+        staged += r->space == PFD_HOLD;
+        committed += r->space == PFD_INPUT;
+    }
+    /* config, in_fs, out_fs and the paper's 16 */
+    assert_int_equal(staged, 19);
+    assert_int_equal(committed, 19);
+}
+
 /* Every instance key is a staged or a kept live holding register, read
  * with that register's range. */
 static void instance_keys_have_register_ranges(void **state)
@@ -204,14 +228,15 @@ static void instance_keys_have_register_ranges(void **state)
         if (r->space != PFD_HOLD || !(r->flags & PFD_F_STAGED) || (r->flags & PFD_F_ACTION) ||
             !strcmp(r->name, "config") || !strcmp(r->name, "arith"))
             continue;
-        snprintf(text, sizeof text, "[instance 1]\n%s = %.17g\n", r->name, r->max);
+        snprintf(text, sizeof text, "[instance 1]\n%s = %.17g\n", r->name, pfd_reg_max(r));
         if (load("k.conf", text, err, sizeof err) == NULL)
             fail_msg("%s at its maximum: %s", r->name, err);
-        snprintf(text, sizeof text, "[instance 1]\n%s = %.17g\n", r->name, r->max * 2 + 1);
+        snprintf(text, sizeof text, "[instance 1]\n%s = %.17g\n", r->name,
+                 pfd_reg_max(r) * 2 + 1);
         assert_null(load("k.conf", text, err, sizeof err));
         assert_non_null(strstr(err, "out of range"));
-        if (r->flags & PFD_F_MIN_EXCL) {
-            snprintf(text, sizeof text, "[instance 1]\n%s = %.17g\n", r->name, r->min);
+        if (pfd_reg_min_excl(r)) {
+            snprintf(text, sizeof text, "[instance 1]\n%s = %.17g\n", r->name, pfd_reg_min(r));
             assert_null(load("k.conf", text, err, sizeof err));
         }
         tried++;
@@ -251,7 +276,7 @@ static void write_read_back(void **state)
                  pfd_setting_bit(pfd_setting_by_key("allow"));
     c.n = 2;
     pfd_config_inst_default(&c.inst[0], 3);
-    pf_params_default(&c.inst[0].ip.p, PF_CFG_PID);
+    pf_params_default(&c.inst[0].ip.p, PF_TOPO_PID);
     c.inst[0].ip.arith = PFD_ARITH_Q15;
     c.inst[0].ip.fs = 2000.0 / 3.0;
     c.inst[0].ip.p.q = 0.1;
@@ -290,6 +315,7 @@ int main(void)
         cmocka_unit_test(crc32_check_value),
         cmocka_unit_test(ini_format),
         cmocka_unit_test(every_byte_is_sealed),
+        cmocka_unit_test(parameter_registers_have_library_names),
         cmocka_unit_test(instance_keys_have_register_ranges),
         cmocka_unit_test(write_read_back),
     };

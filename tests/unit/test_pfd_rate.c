@@ -15,20 +15,20 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "pf_accuracy.h"
-#include "pf_ref_cases.h"
+#include "pfh_accuracy.h"
+#include "pfh_ref_cases.h"
 #include "pfd_accuracy.h"
 #include "pfd_commit.h"
 #include "pfd_rate.h"
 #include "pfd_sample.h"
 #include "pneufrac/pneufrac.h"
-#include "pf_test_util.h"
+#include "test_util.h"
 
-static const pf_params *paper_case(pf_ref_cases *cs, const char *name)
+static const pf_params *paper_case(pfh_ref_cases *cs, const char *name)
 {
     const pf_params *p;
-    assert_int_equal(pf_ref_cases_load(PF_REF_DIR "/paper_step_cases.json", cs), 0);
-    p = pf_ref_cases_find(cs, name);
+    assert_int_equal(pfh_ref_cases_load(REF_DATA_DIR "/paper_step_cases.json", cs), 0);
+    p = pfh_ref_cases_find(cs, name);
     assert_non_null(p);
     return p;
 }
@@ -41,23 +41,23 @@ static const pf_params *paper_case(pf_ref_cases *cs, const char *name)
 static void paper_cases_within_0p1_percent(void **state)
 {
     static const double rates[] = {100.0, 1000.0, 3000.0, 10000.0};
-    pf_ref_cases cs;
+    pfh_ref_cases cs;
     unsigned i, c;
     (void)state;
 
-    assert_int_equal(pf_ref_cases_load(PF_REF_DIR "/paper_step_cases.json", &cs), 0);
+    assert_int_equal(pfh_ref_cases_load(REF_DATA_DIR "/paper_step_cases.json", &cs), 0);
     for (c = 0; c < (unsigned)cs.n; c++)
         for (i = 0; i < sizeof rates / sizeof rates[0]; i++) {
-            pf_acc_ref r;
+            pfh_acc_ref r;
             pfd_acc_result f, q;
-            assert_int_equal(pf_acc_ref_make(&r, &cs.p[c], rates[i], 1e-3, 2.0), 0);
+            assert_int_equal(pfh_acc_ref_make(&r, &cs.p[c], rates[i], 1e-3, 2.0), 0);
             assert_int_equal(pfd_acc_error(&r, PFD_ARITH_FLOAT, 0, &f), 0);
             assert_int_equal(pfd_acc_error(&r, PFD_ARITH_Q15, 0, &q), 0);
             EXPECT(f.err <= 1e-3, "%s at %g Hz, float, k = %u: %.4f %% at t = %g s",
                    cs.name[c], rates[i], f.k, 100.0 * f.err, f.t_worst);
             EXPECT(q.err <= 1e-3, "%s at %g Hz, q15, k = %u: %.4f %% at t = %g s",
                    cs.name[c], rates[i], q.k, 100.0 * q.err, q.t_worst);
-            pf_acc_ref_free(&r);
+            pfh_acc_ref_free(&r);
         }
     END_SOFT();
 }
@@ -66,20 +66,20 @@ static void paper_cases_within_0p1_percent(void **state)
  * at 1 kHz (0.89 % of the peak) and 100 Hz, so the check above can fail. */
 static void one_step_per_exchange_is_not_enough(void **state)
 {
-    pf_ref_cases cs;
+    pfh_ref_cases cs;
     const pf_params *p = paper_case(&cs, "ex6_q0.9");
-    pf_acc_ref r;
+    pfh_acc_ref r;
     pfd_acc_result f;
     (void)state;
 
-    assert_int_equal(pf_acc_ref_make(&r, p, 1000.0, 1e-3, 2.0), 0);
+    assert_int_equal(pfh_acc_ref_make(&r, p, 1000.0, 1e-3, 2.0), 0);
     assert_int_equal(pfd_acc_error(&r, PFD_ARITH_FLOAT, 1, &f), 0);
     assert_int_equal(f.k, 1);
     assert_true(f.err > 5e-3);
     assert_int_equal(pfd_acc_error(&r, PFD_ARITH_FLOAT, 0, &f), 0);
     assert_int_equal(f.k, 20);
     assert_true(f.err < 5e-4);
-    pf_acc_ref_free(&r);
+    pfh_acc_ref_free(&r);
 }
 
 /* Example 6: the relay (tau = 1 ms) is the fastest; 20 kHz internally. */
@@ -94,7 +94,7 @@ static void rule_for_the_paper_relay(void **state)
     unsigned i;
     (void)state;
 
-    pf_params_default(&p, PF_CFG_DD);
+    pf_params_default(&p, PF_TOPO_DD);
     assert_true(fabs(pfd_rate_fastest(&p) - p.tau) <= 1e-15);
     for (i = 0; i < sizeof want / sizeof want[0]; i++)
         assert_int_equal(pfd_rate_substeps(&p, want[i].fs), want[i].k);
@@ -109,7 +109,7 @@ static void rule_restrictor_and_loop(void **state)
     pf_params p;
     (void)state;
 
-    pf_params_default(&p, PF_CFG_DD);
+    pf_params_default(&p, PF_TOPO_DD);
     p.RC = 1e-4;
     p.nu = 1.0;
     assert_true(fabs(pfd_rate_fastest(&p) - 1e-4) <= 1e-12);
@@ -118,7 +118,7 @@ static void rule_restrictor_and_loop(void **state)
 
     /* pmin = pmax makes the relay exactly 1; with q = 1 the loop gain is
      * a/(a+b) k1 k2 (A/ks) / w, 1e4/w here: w_c = 1e4 rad/s. */
-    pf_params_default(&p, PF_CFG_P);
+    pf_params_default(&p, PF_TOPO_P);
     p.pmin = p.pmax = 1.0;
     p.k1 = p.k2 = 1000.0;
     p.q = 1.0;
@@ -172,7 +172,8 @@ static void substeps_are_checked(void **state)
 
 /* An exchange is the internal-rate run with the input held for k steps,
  * sampled at its first: bit for bit, float and Q15, with an input that
- * changes at every exchange. */
+ * changes at every exchange. The reference is the library's runtime, as
+ * `pneufrac simulate` runs it. */
 static void exchange_is_the_internal_run_decimated(void **state)
 {
     enum { K = 5, N = 400 };
@@ -183,10 +184,7 @@ static void exchange_is_the_internal_run_decimated(void **state)
     for (arith = 0; arith < PFD_ARITH_COUNT; arith++) {
         pfd_daemon *d = malloc(sizeof *d);
         pf_ctrl_design *des = malloc(sizeof *des);
-        pf_ctrl_coeffs_f32 cf;
-        pf_ctrl_f32 f;
-        pf_ctrl_coeffs_q15 cq;
-        pf_ctrl_q15 q;
+        pf_runtime *rt = malloc(sizeof *rt);
         pf_design_opts o;
         pfd_settings set;
         pfd_config_inst ci;
@@ -196,6 +194,7 @@ static void exchange_is_the_internal_run_decimated(void **state)
 
         assert_non_null(d);
         assert_non_null(des);
+        assert_non_null(rt);
         pfd_settings_default(&set);
         assert_int_equal(pfd_daemon_init(d, &set), 0);
         pfd_config_inst_default(&ci, 1);
@@ -208,36 +207,30 @@ static void exchange_is_the_internal_run_decimated(void **state)
         memset(&o, 0, sizeof o);
         o.fs = fs * K;
         assert_int_equal(pf_ctrl_design_make(des, &ci.ip.p, NULL, &o), PF_OK);
-        pf_ctrl_coeffs_f32_make(&cf, &des->rt);
-        assert_int_equal(pf_ctrl_init_f32(&f, &cf, NULL, 0), PF_OK);
-        assert_int_equal(pf_ctrl_coeffs_q15_make(&cq, des, ci.ip.in_fs, ci.ip.out_fs), PF_OK);
-        assert_int_equal(pf_ctrl_init_q15(&q, &cq, NULL, 0), PF_OK);
+        assert_int_equal(pf_runtime_init(rt, des, pfd_arith_lib(arith), ci.ip.in_fs,
+                                         ci.ip.out_fs, NULL, 0), PF_OK);
 
         for (n = 0; n < N; n++) {
             const float e = (float)(0.6 * sin(0.05 * n) + (n % 7 == 0 ? 0.3 : 0.0));
             const pfd_snap *s;
+            float first;
             in->hold.live.e = e;
             in->hold.live.refresh++;
             pfd_publish_live(in);
             pfd_sample_run(in, &d->loop.jitter, 0, -1);
             s = (const pfd_snap *)pfd_tbuf_latest(&in->out_tb);
-            if (arith == PFD_ARITH_Q15) {
-                const int16_t eq = pfd_to_q15((double)e, 1.0 / ci.ip.in_fs);
-                int16_t first = pf_ctrl_step_q15(&q, eq);
-                for (j = 1; j < K; j++)
-                    (void)pf_ctrl_step_q15(&q, eq);
-                assert_int_equal(s->sig.pc_q15, first);
-            } else {
-                float first = pf_ctrl_step_f32(&f, e);
-                for (j = 1; j < K; j++)
-                    (void)pf_ctrl_step_f32(&f, e);
-                assert_memory_equal(&s->sig.pc, &first, sizeof first);
-            }
+            first = (float)pf_runtime_step(rt, (double)e);
+            if (arith == PFD_ARITH_Q15)
+                assert_int_equal(s->sig.pc_q15, rt->out_q15);
+            assert_memory_equal(&s->sig.pc, &first, sizeof first);
+            for (j = 1; j < K; j++)
+                (void)pf_runtime_step(rt, (double)e);
         }
         assert_int_equal(((const pfd_snap *)pfd_tbuf_latest(&in->out_tb))->samples, N);
         pfd_daemon_free(d);
         free(d);
         free(des);
+        free(rt);
     }
 }
 

@@ -271,7 +271,7 @@ static void command_line(void **state)
     assert_int_equal(a.set.mlock, 0);
     assert_int_equal(a.set.external_clock, 1);
     assert_true(a.run.fs == 2500.0);
-    assert_int_equal(a.run.controller, PF_CFG_PID);
+    assert_int_equal(a.run.controller, PF_TOPO_PID);
     assert_int_equal(a.run.help, 1); /* and parsing stopped there */
     assert_int_equal(a.given, pfd_setting_bit(pfd_setting_by_key("listen")) |
                                   pfd_setting_bit(pfd_setting_by_key("mlock")) |

@@ -6,7 +6,7 @@
  * its transfer functions against the paper's own expanded forms (eq. 17,
  * 18, 20), and the pid structure, which has no published form, through
  * identities that a wrong formula breaks. When the project's shared
- * reference sits beside the clone (PF_SHARED_REF_DIR), it is an extra
+ * reference sits beside the clone (SHARED_REF_DIR), it is an extra
  * cross-check; a plain clone skips it with one line.
  */
 #include <stdarg.h>
@@ -19,18 +19,18 @@
 #include <math.h>
 #include <stdio.h>
 
-#include "pf_ref.h"
-#include "pf_ref_cases.h"
-#include "pf_ref_csv.h"
+#include "pfh_ref.h"
+#include "pfh_ref_cases.h"
+#include "pfh_ref_csv.h"
 
-#ifndef PF_REF_DIR
-#error "define PF_REF_DIR as the directory holding paper_step_exact.csv"
+#ifndef REF_DATA_DIR
+#error "define REF_DATA_DIR as the directory holding paper_step_exact.csv"
 #endif
 
 /* Required pointwise agreement |ref - table| <= STEP_TOL |table| with the
  * committed table, whose times are exact doubles and whose values carry 15
  * significant digits. Measured: 8.3e-14 at worst (rounding in the double
- * Talbot sum, see pf_ref.c), so 1e-11 still fails any formula or contour
+ * Talbot sum, see pfh_ref.c), so 1e-11 still fails any formula or contour
  * error while leaving margin for other compilers' libm. */
 #define STEP_TOL 1e-11
 /* The shared table rounds t to 10 significant digits, which alone moves
@@ -38,18 +38,18 @@
 #define SHARED_STEP_TOL 1e-8
 #define TF_TOL 1e-12
 
-static pf_ref_csv tab;     /* ~26 kB: static, not on the stack */
-static pf_ref_cases cases; /* loaded once by setup_cases */
+static pfh_ref_csv tab;     /* ~26 kB: static, not on the stack */
+static pfh_ref_cases cases; /* loaded once by setup_cases */
 
 static int setup_cases(void **state)
 {
     (void)state;
-    return pf_ref_cases_load(PF_REF_DIR "/paper_step_cases.json", &cases);
+    return pfh_ref_cases_load(REF_DATA_DIR "/paper_step_cases.json", &cases);
 }
 
 static const pf_params *case_params(const char *name)
 {
-    const pf_params *p = pf_ref_cases_find(&cases, name);
+    const pf_params *p = pfh_ref_cases_find(&cases, name);
 
     if (p == NULL)
         fail_msg("no case '%s' in paper_step_cases.json", name);
@@ -63,13 +63,13 @@ static double rel(double complex x, double complex ref)
 
 static void test_csv_missing_file_fails(void **state)
 {
-    pf_ref_csv *t = test_malloc(sizeof *t);
-    pf_ref_cases c;
+    pfh_ref_csv *t = test_malloc(sizeof *t);
+    pfh_ref_cases c;
 
     (void)state;
-    assert_int_not_equal(pf_ref_csv_load(PF_REF_DIR "/no_such_file.csv", t),
+    assert_int_not_equal(pfh_ref_csv_load(REF_DATA_DIR "/no_such_file.csv", t),
                          0);
-    assert_int_not_equal(pf_ref_cases_load(PF_REF_DIR "/no_such_file.json",
+    assert_int_not_equal(pfh_ref_cases_load(REF_DATA_DIR "/no_such_file.json",
                                            &c), 0);
     test_free(t);
 }
@@ -88,29 +88,29 @@ static void test_cases_reader_refuses_bad_text(void **state)
         "{\"x\": {\"config\": \"p\", \"params\": {}}} trailing",
         "{\"x\": {\"config\": \"p\"}, \"x\": {\"config\": \"p\"}}",
     };
-    pf_ref_cases c;
+    pfh_ref_cases c;
     size_t i;
 
     (void)state;
     for (i = 0; i < sizeof bad / sizeof bad[0]; i++)
-        if (pf_ref_cases_parse(bad[i], &c) == 0)
+        if (pfh_ref_cases_parse(bad[i], &c) == 0)
             fail_msg("accepted bad case text #%d: %s", (int)i, bad[i]);
-    assert_int_equal(pf_ref_cases_parse(
+    assert_int_equal(pfh_ref_cases_parse(
         "{\"x\": {\"config\": \"dd\", \"params\": {\"RC\": 0.5}}}", &c), 0);
     assert_int_equal(c.n, 1);
-    assert_int_equal(c.p[0].config, PF_CFG_DD);
+    assert_int_equal(c.p[0].topology, PF_TOPO_DD);
     assert_true(c.p[0].RC == 0.5 && c.p[0].a == 0.0);
 }
 
 /* Every column of the table at @p path that names a case, against
- * pf_ref_step; prints the worst error per case. @return the name of the
+ * pfh_ref_step; prints the worst error per case. @return the name of the
  * first case over @p tol, or NULL. */
 static const char *compare_table(const char *path, double tol)
 {
     const char *first_bad = NULL;
     int i, j;
 
-    if (pf_ref_csv_load(path, &tab) != 0)
+    if (pfh_ref_csv_load(path, &tab) != 0)
         fail_msg("cannot read %s", path);
     assert_true(tab.ncols >= 2);
     assert_string_equal(tab.name[0], "t");
@@ -122,7 +122,7 @@ static const char *compare_table(const char *path, double tol)
 
         for (i = 0; i < tab.nrows; ++i) {
             const double t = tab.col[0][i], want = tab.col[j][i];
-            const double e = fabs(pf_ref_step(p, t) - want) / fabs(want);
+            const double e = fabs(pfh_ref_step(p, t) - want) / fabs(want);
 
             assert_true(want != 0.0);
             if (!(e <= emax)) { /* also catches NaN */
@@ -143,7 +143,7 @@ static void test_step_matches_table(void **state)
     const char *bad;
 
     (void)state;
-    bad = compare_table(PF_REF_DIR "/paper_step_exact.csv", STEP_TOL);
+    bad = compare_table(REF_DATA_DIR "/paper_step_exact.csv", STEP_TOL);
     /* Every case is a column, so that no case is silently skipped. */
     assert_int_equal(tab.ncols - 1, cases.n);
     if (bad)
@@ -153,8 +153,8 @@ static void test_step_matches_table(void **state)
 
 static void test_step_matches_shared_reference(void **state)
 {
-#ifdef PF_SHARED_REF_DIR
-    const char *path = PF_SHARED_REF_DIR "/paper_step_exact.csv";
+#ifdef SHARED_REF_DIR
+    const char *path = SHARED_REF_DIR "/paper_step_exact.csv";
     FILE *f = fopen(path, "r");
     const char *bad;
 
@@ -176,7 +176,7 @@ static void test_step_matches_shared_reference(void **state)
 }
 
 /* The paper's expanded forms, typed from the paper with its monomials
- * tau^beta s^x and s^(x+y) (cpow), independent of pf_ref_tf's factored form
+ * tau^beta s^x and s^(x+y) (cpow), independent of pfh_ref_tf's factored form
  * with (tau s)^beta. */
 static double complex eq17(const pf_params *p, double complex s)
 {
@@ -234,7 +234,7 @@ static void check_tf(const char *name,
 
     for (k = 0; k < NPTS; ++k) {
         const double complex want = paper(p, pts[k]);
-        const double e = rel(pf_ref_tf(p, pts[k]), want);
+        const double e = rel(pfh_ref_tf(p, pts[k]), want);
 
         if (!(e <= TF_TOL))
             fail_msg("%s at s = %g%+gi: rel. error %.3e", name,
@@ -262,7 +262,7 @@ static pf_params pid_params(double RCd)
 {
     pf_params p = *case_params("ex7");
 
-    p.config = PF_CFG_PID;
+    p.topology = PF_TOPO_PID;
     p.nu = 0.7;
     p.w = 0.94;
     p.RCd = RCd;
@@ -283,17 +283,17 @@ static void test_pid_is_dd_plus_id(void **state)
     int k;
 
     (void)state;
-    pp.config = PF_CFG_P;
-    dd.config = PF_CFG_DD;
+    pp.topology = PF_TOPO_P;
+    dd.topology = PF_TOPO_DD;
     dd.RC = pid.RCd;
-    id.config = PF_CFG_ID;
+    id.topology = PF_TOPO_ID;
     id.RC = pid.RCi;
     for (k = 0; k < NPTS; ++k) {
         const double complex s = pts[k];
-        const double complex lhs = 1.0 / pf_ref_tf(&pid, s);
-        const double complex rhs = 1.0 / pf_ref_tf(&dd, s) +
-                                   1.0 / pf_ref_tf(&id, s) -
-                                   1.0 / pf_ref_tf(&pp, s);
+        const double complex lhs = 1.0 / pfh_ref_tf(&pid, s);
+        const double complex rhs = 1.0 / pfh_ref_tf(&dd, s) +
+                                   1.0 / pfh_ref_tf(&id, s) -
+                                   1.0 / pfh_ref_tf(&pp, s);
         const double e = rel(rhs, lhs);
 
         if (!(e <= TF_TOL))
@@ -314,13 +314,13 @@ static void test_pid_rcd_to_zero_is_id(void **state)
     int k;
 
     (void)state;
-    id.config = PF_CFG_ID;
+    id.topology = PF_TOPO_ID;
     id.RC = id.RCi;
     for (k = 0; k < NPTS; ++k) {
         const pf_params p1 = pid_params(1e-6), p2 = pid_params(1e-9);
-        const double complex h = pf_ref_tf(&id, pts[k]);
-        const double e1 = rel(pf_ref_tf(&p1, pts[k]), h);
-        const double e2 = rel(pf_ref_tf(&p2, pts[k]), h);
+        const double complex h = pfh_ref_tf(&id, pts[k]);
+        const double e1 = rel(pfh_ref_tf(&p1, pts[k]), h);
+        const double e2 = rel(pfh_ref_tf(&p2, pts[k]), h);
 
         /* rel. change is ~|RCd s^nu| times a loop factor <= 1 */
         assert_true(e1 <= 1e-6 * pow(cabs(pts[k]), 0.7) + 1e-14);
@@ -328,9 +328,9 @@ static void test_pid_rcd_to_zero_is_id(void **state)
     }
     for (k = 0; k < (int)(sizeof ts / sizeof ts[0]); ++k) {
         const pf_params p = pid_params(1e-9);
-        const double want = pf_ref_step(&id, ts[k]);
+        const double want = pfh_ref_step(&id, ts[k]);
 
-        assert_true(fabs(pf_ref_step(&p, ts[k]) - want) <= 1e-7 * fabs(want));
+        assert_true(fabs(pfh_ref_step(&p, ts[k]) - want) <= 1e-7 * fabs(want));
     }
 }
 

@@ -7,7 +7,7 @@
 #include "pfd_commit.h"
 #include "pfd_sample.h"
 
-int pfd_acc_error(const pf_acc_ref *r, int arith, unsigned substeps, pfd_acc_result *out)
+int pfd_acc_error(const pfh_acc_ref *r, int arith, unsigned substeps, pfd_acc_result *out)
 {
     pfd_daemon *d = malloc(sizeof *d);
     pfd_settings set;

@@ -1,13 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Reader for paper_step_cases.json (see pf_ref_cases.h). The file's shape is
+ * Reader for paper_step_cases.json (see pfh_ref_cases.h). The file's shape is
  * fixed (an object of cases, each an object with "config" and "params"), so
  * this is a small recursive-descent reader of exactly that shape, not a
  * general JSON parser: strings without escapes, numbers by strtod.
  * Parameter names map to pf_params fields here, not through the library's
  * name table, so that a mistake there cannot hide in the reference.
  */
-#include "pf_ref_cases.h"
+#include "pfh_ref_cases.h"
 
 #include <ctype.h>
 #include <stddef.h>
@@ -86,7 +86,7 @@ static int number(reader *r, double *v)
 static int object(reader *r, int (*member)(reader *, const char *, void *),
                   void *ctx)
 {
-    char key[PF_REF_CASE_NAME_LEN];
+    char key[PFH_REF_CASE_NAME_LEN];
 
     if (eat(r, '{') != 0)
         return -1;
@@ -109,6 +109,8 @@ static int param_member(reader *r, const char *key, void *ctx)
 
     for (i = 0; i < sizeof fields / sizeof fields[0]; i++)
         if (strcmp(key, fields[i].name) == 0)
+            /* offsetof of a double member: the cast lands on that double */
+            /* cppcheck-suppress invalidPointerCast */
             return number(r, (double *)((char *)ctx + fields[i].offset));
     return -1;
 }
@@ -125,7 +127,7 @@ static int case_member(reader *r, const char *key, void *ctx)
         return -1;
     for (i = 0; i < sizeof configs / sizeof configs[0]; i++)
         if (strcmp(cfg, configs[i]) == 0) {
-            p->config = (pf_config)i;
+            p->topology = (pf_topology)i;
             return 0;
         }
     return -1;
@@ -133,22 +135,22 @@ static int case_member(reader *r, const char *key, void *ctx)
 
 static int top_member(reader *r, const char *key, void *ctx)
 {
-    pf_ref_cases *c = ctx;
+    pfh_ref_cases *c = ctx;
     pf_params *p;
 
-    if (c->n >= PF_REF_MAX_CASES || pf_ref_cases_find(c, key) != NULL)
+    if (c->n >= PFH_REF_MAX_CASES || pfh_ref_cases_find(c, key) != NULL)
         return -1;
     p = &c->p[c->n];
     memset(p, 0, sizeof *p);
-    p->config = PF_CFG_COUNT; /* "config" is required */
-    if (object(r, case_member, p) != 0 || p->config == PF_CFG_COUNT)
+    p->topology = PF_TOPO_COUNT; /* "config" is required */
+    if (object(r, case_member, p) != 0 || p->topology == PF_TOPO_COUNT)
         return -1;
     strcpy(c->name[c->n], key); /* fits: string() bounded it */
     c->n++;
     return 0;
 }
 
-int pf_ref_cases_parse(const char *text, pf_ref_cases *out)
+int pfh_ref_cases_parse(const char *text, pfh_ref_cases *out)
 {
     reader r;
 
@@ -162,9 +164,9 @@ int pf_ref_cases_parse(const char *text, pf_ref_cases *out)
     return *r.s == '\0' ? 0 : -1;
 }
 
-int pf_ref_cases_load(const char *path, pf_ref_cases *out)
+int pfh_ref_cases_load(const char *path, pfh_ref_cases *out)
 {
-    static char text[PF_REF_CASES_MAX_BYTES + 1];
+    static char text[PFH_REF_CASES_MAX_BYTES + 1];
     FILE *f;
     size_t n;
 
@@ -172,13 +174,13 @@ int pf_ref_cases_load(const char *path, pf_ref_cases *out)
         return -1;
     n = fread(text, 1, sizeof text, f);
     fclose(f);
-    if (n == 0 || n > PF_REF_CASES_MAX_BYTES || memchr(text, '\0', n))
+    if (n == 0 || n > PFH_REF_CASES_MAX_BYTES || memchr(text, '\0', n))
         return -1;
     text[n] = '\0';
-    return pf_ref_cases_parse(text, out);
+    return pfh_ref_cases_parse(text, out);
 }
 
-const pf_params *pf_ref_cases_find(const pf_ref_cases *c, const char *name)
+const pf_params *pfh_ref_cases_find(const pfh_ref_cases *c, const char *name)
 {
     int i;
 

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* CSV loader for the exact reference table (see pf_ref_csv.h). */
-#include "pf_ref_csv.h"
+/* CSV loader for the exact reference table (see pfh_ref_csv.h). */
+#include "pfh_ref_csv.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -25,7 +25,7 @@ static int read_line(FILE *f, char *buf, size_t len)
     return 1;
 }
 
-static int parse_header(char *line, pf_ref_csv *out)
+static int parse_header(char *line, pfh_ref_csv *out)
 {
     char *tok = line;
 
@@ -34,8 +34,8 @@ static int parse_header(char *line, pf_ref_csv *out)
         char *comma = strchr(tok, ',');
         size_t n = comma ? (size_t)(comma - tok) : strlen(tok);
 
-        if (out->ncols >= PF_REF_CSV_MAX_COLS || n == 0 ||
-            n >= PF_REF_CSV_NAME_LEN)
+        if (out->ncols >= PFH_REF_CSV_MAX_COLS || n == 0 ||
+            n >= PFH_REF_CSV_NAME_LEN)
             return -1;
         memcpy(out->name[out->ncols], tok, n);
         out->name[out->ncols][n] = '\0';
@@ -46,12 +46,12 @@ static int parse_header(char *line, pf_ref_csv *out)
     }
 }
 
-static int parse_row(const char *line, pf_ref_csv *out)
+static int parse_row(const char *line, pfh_ref_csv *out)
 {
     const char *s = line;
     int j;
 
-    if (out->nrows >= PF_REF_CSV_MAX_ROWS)
+    if (out->nrows >= PFH_REF_CSV_MAX_ROWS)
         return -1;
     for (j = 0; j < out->ncols; ++j) {
         char *end;
@@ -68,7 +68,7 @@ static int parse_row(const char *line, pf_ref_csv *out)
     return 0;
 }
 
-int pf_ref_csv_load(const char *path, pf_ref_csv *out)
+int pfh_ref_csv_load(const char *path, pfh_ref_csv *out)
 {
     char line[LINE_MAX_LEN];
     FILE *f;
