@@ -287,13 +287,31 @@ static int accuracy(void)
     if (paper_table(&cs) != 0)
         return 1;
     printf("### The rule's constant\n\n");
+    printf("p controllers with Example 4's gains (a negligible loop: the relay is the "
+           "fastest), tau = 1 ms, every relay order beta and ratio pmin/pmax, exchanging at "
+           "10 kHz with the rule's 2 substeps (f tau = 20) and with one (f tau = 10); error "
+           "over [tau, 2 s]. Where the worst error is at t = tau it halves as the rate "
+           "doubles; where it is near 2 s it does not depend on the rate (the band's low "
+           "edge and Oustaloup's ripple).\n\n");
     constant_table();
     printf("### Beyond the paper's cases\n\n");
+    printf("Random sets (fixed seeds): every configuration, tau log-uniform in [0.1, 10] ms, "
+           "beta in [0.3, 1], pmin log-uniform in [0.1, 10] and pmax/pmin in [1, 100], q = 0 "
+           "for a quarter and else in [0.2, 1], nu in [0.5, 1], w in [nu, 1], RC in [1 ms, "
+           "1 s], RCd in [1, 100] ms and RCi/RCd in [1.5, 100], k1 and k2 log-uniform in the "
+           "range given; invalid sets are skipped. Float, 10 kHz exchanges with the "
+           "rule's substeps, error over [max(tau_fast, 0.1 ms), max(0.2 s, 200 tau_fast)]. "
+           "Sets whose exact reference moves by more than 1e-4 of the peak between 32 and 48 "
+           "quadrature nodes are left out. Loop gain: a/(a+b) k1 k2 A/ks; the paper's are "
+           "1e-4 to 0.1.\n\n");
     printf("| gains | sets | over 0.1 %% | worst | reference not converged (skipped) | "
            "worst set |\n|---|---|---|---|---|---|\n");
     random_table(150, 0.1, 100.0, 1);
     random_table(150, 1.0, 3000.0, 2);
     printf("\n### The internal-rate limit\n\n");
+    printf("Example 6 exchanging at 1 kHz with ever more steps inside, on the library "
+           "directly (the daemon stops at 200 kHz): float's error grows again past 200 kHz, "
+           "where the slowest leaks approach float's resolution.\n\n");
     limit_table(&cs);
     return 0;
 }
