@@ -181,14 +181,15 @@ void pfd_loop_load(const pfd_daemon *d, const pfd_inst *in, double fs, const pfd
 }
 
 /* Under commit_mx: whether the loop could run @p s in place of @p in's
- * committed set within the budget. */
+ * committed set within the budget. In lockstep nothing runs in real
+ * time: the client's ticks set the pace, so the budget does not apply. */
 static int affordable(const pfd_daemon *d, const pfd_inst *in, const pfd_slot *s,
                       double *load)
 {
     pfd_load l;
     pfd_loop_load(d, in, s->ip.fs, &s->rate, &l);
     *load = pfd_load_total(&l);
-    return *load <= d->set.loop_budget / 100.0;
+    return d->set.external_clock || *load <= d->set.loop_budget / 100.0;
 }
 
 static int refuse(pfd_daemon *d, pfd_inst *in, uint16_t result, int param)

@@ -47,7 +47,9 @@ static void housekeeping(pfd_daemon *d, watch *w)
 }
 
 /* Refuse to start instances that the loop could not run within the
- * budget, naming the costliest. @return 0, or -1 after a fatal message. */
+ * budget, naming the costliest; in lockstep the client's ticks set the
+ * pace, and the load is only logged. @return 0, or -1 after a fatal
+ * message. */
 static int check_load(const pfd_daemon *d)
 {
     const pfd_inst *worst = d->inst[0];
@@ -59,7 +61,7 @@ static int check_load(const pfd_daemon *d)
     load = pfd_load_total(&l);
     pfd_log(PFD_LOG_INFO, "loop-load", "util_pct=%.2f load_pct=%.2f budget_pct=%d wake_us=%.2f",
             100.0 * l.util, 100.0 * load, d->set.loop_budget, d->wake_ns / 1000.0);
-    if (load <= d->set.loop_budget / 100.0)
+    if (d->set.external_clock || load <= d->set.loop_budget / 100.0)
         return 0;
     for (i = 1; i < d->n; i++)
         if (d->inst[i]->committed.fs * pfd_rate_exchange_ns(&d->inst[i]->rate) >

@@ -45,8 +45,9 @@ const pfd_setting pfd_settings_table[] = {
     {.flag = "--loop-budget", .key = "loop_budget", .type = PFD_ST_INT,
      .group = PFD_SG_DAEMON, .lo = 1, .hi = 95, IN_SETTINGS(loop_budget),
      .metavar = "PERCENT",
-     .help = "share of one core the loop may need, by the per-step costs measured at "
-             "start and at each commit; a start or commit that needs more is refused"},
+     .help = "share of one core the loop may need, by the costs measured at start and "
+             "at each commit; a start or commit that needs more is refused (internal "
+             "clock)"},
     {.flag = "--no-mlock", .key = "mlock", .type = PFD_ST_BOOL, .group = PFD_SG_DAEMON,
      .flag_value = 0, IN_SETTINGS(mlock), .help = "do not mlockall()"},
     {.flag = "--byte-timeout-ms", .key = "byte_timeout_ms", .type = PFD_ST_INT,

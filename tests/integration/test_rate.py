@@ -12,7 +12,7 @@ import subprocess
 
 import pytest
 
-from pfd import DAEMON, REG, Raw, Regs, exception_code
+from pfd import DAEMON, REG, Raw, Regs, exception_code, wait_until
 
 LOAD_REFUSED = 6
 
@@ -56,9 +56,9 @@ def test_substeps_beyond_the_internal_limit(daemon):
 
 
 def test_commit_over_the_budget_is_refused(daemon):
-    """Budget 1 %; the instance starts light (20 Hz, one substep)."""
-    d = daemon("--clock", "external", "--arith", "q15", "--fs", "20", "--substeps", "1",
-               "--loop-budget", "1")
+    """Budget 1 %, free-running; the instance starts light (20 Hz, one
+    substep)."""
+    d = daemon("--arith", "q15", "--fs", "20", "--substeps", "1", "--loop-budget", "1")
     r, raw = Regs(d.client()), Raw(d.port)
     wake = wake_us(d)
     # pid in q15: the costliest step. Measured on a light set first.
@@ -85,8 +85,22 @@ def test_commit_over_the_budget_is_refused(daemon):
     assert predicted_pct(40.0, 1, step, wake) < 0.25
     assert commit(r, raw, fs=40.0, substeps=1) is None
     assert r.read("commit_result") == 0
-    r.tick(3)
-    assert r.read("committed_fs") == 40.0 and r.read("samples") == 3
+    assert r.read("committed_fs") == 40.0
+    wait_until(lambda: not r.read("status") & (1 << 8), 5, "the set switched in")
+    s0 = r.read("samples")
+    wait_until(lambda: r.read("samples") >= s0 + 3, 5, "samples at 40 Hz")
+
+
+def test_lockstep_has_no_budget(daemon):
+    """With --clock external the client's ticks set the pace: the same
+    heavy set is accepted, and runs."""
+    d = daemon("--clock", "external", "--arith", "q15", "--fs", "20", "--substeps", "1",
+               "--loop-budget", "1")
+    r, raw = Regs(d.client()), Raw(d.port)
+    assert commit(r, raw, config=3, out_fs=16.0, fs=50000.0, substeps=4) is None
+    r.tick(10)
+    assert r.read("samples") == 10 and r.read("substeps_used") == 4
+    assert r.read("load_pct") > 0
 
 
 def test_start_over_the_budget_is_refused():
