@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """The model at its own rate: substeps beyond the internal-rate limit are
 refused as an invalid parameter; a set the loop could not run within
---loop-budget is refused at commit (exception 03, commit_result 6,
+--loop-budget is refused at commit (exception 03, commit_result 7,
 commit_err_addr naming substeps or fs) and at start (exit status 2).
 The loads are predicted from the per-step and per-wake-up costs the
 daemon itself measured, so each case is decided with a wide margin
@@ -12,13 +12,9 @@ import subprocess
 
 import pytest
 
-from pfd import DAEMON, REG, Raw, Regs, exception_code, wait_until
+from pfd import DAEMON, REG, Regs, wait_until
 
-LOAD_REFUSED = 6
-
-
-def fc06(addr, value):
-    return bytes([6]) + addr.to_bytes(2, "big") + (value & 0xFFFF).to_bytes(2, "big")
+LOAD_REFUSED = 7
 
 
 def wake_us(d):
@@ -32,10 +28,13 @@ def predicted_pct(fs, k, step_ns, wake):
     return 100 * fs * (2 * (k + 1) * step_ns * 1e-9 + wake * 1e-6)
 
 
-def commit(r, raw, **staged):
+def commit(r, **staged):
+    """Stage and commit over one connection (staging is the connection's
+    own); the exception code, or None."""
     for name, value in staged.items():
         r.write(name, value)
-    return exception_code(raw.request(1, fc06(REG["commit"][1], 1)))
+    resp = r.write_raw("commit", 1)
+    return resp.exception_code if resp.isError() else None
 
 
 def committed_image(r):
@@ -45,13 +44,13 @@ def committed_image(r):
 
 def test_substeps_beyond_the_internal_limit(daemon):
     d = daemon("--clock", "external")
-    r, raw = Regs(d.client()), Raw(d.port)
+    r = Regs(d.client())
     before = committed_image(r)
-    assert commit(r, raw, fs=1000.0, substeps=201) == 3  # 201 kHz
+    assert commit(r, fs=1000.0, substeps=201) == 3  # 201 kHz
     assert r.read("commit_result") == 1
     assert r.read("commit_err_addr") == REG["substeps"][1]
     assert committed_image(r) == before
-    assert commit(r, raw, substeps=200) is None
+    assert commit(r, substeps=200) is None
     assert r.read("substeps_used") == 200 and r.read("internal_fs") == 200000.0
 
 
@@ -59,10 +58,10 @@ def test_commit_over_the_budget_is_refused(daemon):
     """Budget 1 %, free-running; the instance starts light (20 Hz, one
     substep)."""
     d = daemon("--arith", "q15", "--fs", "20", "--substeps", "1", "--loop-budget", "1")
-    r, raw = Regs(d.client()), Raw(d.port)
+    r = Regs(d.client())
     wake = wake_us(d)
     # pid in q15: the costliest step. Measured on a light set first.
-    assert commit(r, raw, config=3, out_fs=16.0) is None
+    assert commit(r, config=3, out_fs=16.0) is None
     step = r.read("step_cost_ns")
     assert step > 0
     assert r.read("load_pct") == pytest.approx(100 * 20.0 * 2 * step * 1e-9, rel=1e-6)
@@ -71,19 +70,19 @@ def test_commit_over_the_budget_is_refused(daemon):
                     "1 % by 4x")
     before = committed_image(r)
     # 50 kHz x 4 substeps: refused, and the substeps are to blame.
-    assert commit(r, raw, fs=50000.0, substeps=4) == 3
+    assert commit(r, fs=50000.0, substeps=4) == 3
     assert r.read("commit_result") == LOAD_REFUSED
     assert r.read("commit_err_addr") == REG["substeps"][1]
     assert r.read("status") & (1 << 2)
     assert committed_image(r) == before
     # One step per exchange at 50 kHz: the exchange rate is to blame.
     if predicted_pct(50000.0, 1, step, wake) >= 4:
-        assert commit(r, raw, substeps=1) == 3
+        assert commit(r, substeps=1) == 3
         assert r.read("commit_result") == LOAD_REFUSED
         assert r.read("commit_err_addr") == REG["fs"][1]
     # A set far below the budget goes through, and runs.
     assert predicted_pct(40.0, 1, step, wake) < 0.25
-    assert commit(r, raw, fs=40.0, substeps=1) is None
+    assert commit(r, fs=40.0, substeps=1) is None
     assert r.read("commit_result") == 0
     assert r.read("committed_fs") == 40.0
     wait_until(lambda: not r.read("status") & (1 << 8), 5, "the set switched in")
@@ -96,8 +95,8 @@ def test_lockstep_has_no_budget(daemon):
     heavy set is accepted, and runs."""
     d = daemon("--clock", "external", "--arith", "q15", "--fs", "20", "--substeps", "1",
                "--loop-budget", "1")
-    r, raw = Regs(d.client()), Raw(d.port)
-    assert commit(r, raw, config=3, out_fs=16.0, fs=50000.0, substeps=4) is None
+    r = Regs(d.client())
+    assert commit(r, config=3, out_fs=16.0, fs=50000.0, substeps=4) is None
     r.tick(10)
     assert r.read("samples") == 10 and r.read("substeps_used") == 4
     assert r.read("load_pct") > 0

@@ -214,8 +214,8 @@ static void exchange_is_the_internal_run_decimated(void **state)
             const float e = (float)(0.6 * sin(0.05 * n) + (n % 7 == 0 ? 0.3 : 0.0));
             const pfd_snap *s;
             float first;
-            in->hold.live.e = e;
-            in->hold.live.refresh++;
+            in->live.e = e;
+            in->live.refresh++;
             pfd_publish_live(in);
             pfd_sample_run(in, &d->loop.jitter, 0, -1);
             s = (const pfd_snap *)pfd_tbuf_latest(&in->out_tb);

@@ -27,7 +27,8 @@ static void rows_are_complete(void **state)
 {
     unsigned i, j;
     (void)state;
-    assert_true(pfd_settings_count > 0 && pfd_settings_count <= 32);
+    /* One bit each in a pfd_mask (pfd_setting_bit). */
+    assert_true(pfd_settings_count > 0 && pfd_settings_count <= 8 * sizeof(pfd_mask));
     for (i = 0; i < pfd_settings_count; i++) {
         const pfd_setting *r = &pfd_settings_table[i];
         const size_t whole = r->group == PFD_SG_DAEMON ? sizeof(pfd_settings) : sizeof(pfd_run);
@@ -104,7 +105,8 @@ static void defaults_read_back(void **state)
             continue; /* "off", outside the range on purpose */
         if (pfd_setting_parse(r, text, &s1, &run1, msg, sizeof msg) != 0)
             fail_msg("%s: default '%s' does not parse: %s", r->flag, text, msg);
-        if (r->type == PFD_ST_NETS || r->type == PFD_ST_ENDPOINT) {
+        if (r->type == PFD_ST_NETS || r->type == PFD_ST_ENDPOINT || r->type == PFD_ST_FILE ||
+            r->type == PFD_ST_ROLES) {
             /* text fields: what follows the string's end is not the value */
             char again[600];
             pfd_setting_format(r, &s1, &run1, again, sizeof again);
