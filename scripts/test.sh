@@ -8,6 +8,8 @@
 #   asan      the same tests built with ASan + UBSan in build-asan/
 #   lint      cppcheck over lib/, tools/ and port/
 #   firmware  cross builds for Cortex-M0+/M4 and their symbol rules
+#   target    the cross builds on emulated Cortex-M0+/M4 cores: golden vectors
+#             bit-exact with the host build, and the cycle budgets
 #   pytest    Python tests in tests/python/, when there are any
 set -euo pipefail
 
@@ -68,6 +70,10 @@ step_firmware() {
   ./scripts/firmware-check.sh
 }
 
+step_target() {
+  PNEUFRAC_BUILD_DIR="$PWD/build" .venv/bin/python -m pytest -q tests/target
+}
+
 step_pytest() {
   if [[ ! -d tests/python ]] ||
      [[ -z $(find tests/python -name 'test_*.py' -o -name '*_test.py' | head -n 1) ]]; then
@@ -84,6 +90,7 @@ run_step ctest step_ctest
 run_step asan step_asan
 run_step lint step_lint
 run_step firmware step_firmware
+run_step target step_target
 run_step pytest step_pytest
 
 log "=== summary ==="

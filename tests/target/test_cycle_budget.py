@@ -1,0 +1,25 @@
+# SPDX-License-Identifier: MIT
+"""Cycle budgets of the paper's Example 6 (dd, default design, 20 kHz) in
+the firmware build (-Os), like the flash budget of
+scripts/firmware-check.sh. Instruction counts on the emulated core are
+deterministic, so this is a check of the code, not of a clock; the cycles
+are the TRM-table estimate of bench/mcu_cycles.py, whose table
+(docs/benchmarks.md) has every configuration and -O2."""
+from __future__ import annotations
+
+import pytest
+
+from mcuemu.runner import step_costs
+
+from target_cases import CASES
+
+# Estimated cycles per sample, at most (zero wait states).
+BUDGET = {("m0plus", "q15"): 18_000, ("m4", "q15"): 6_200, ("m4", "float"): 2_600}
+
+
+@pytest.mark.parametrize("core,arith", list(BUDGET))
+def test_example6_cycles_within_budget(target_of, core, arith):
+    costs = step_costs(target_of(core), arith, CASES.index("dd"), samples=20)
+    worst = max(c.cycles for c in costs)
+    assert worst <= BUDGET[(core, arith)], (
+        f"{core} {arith}: {worst} cycles per sample, budget {BUDGET[(core, arith)]}")
