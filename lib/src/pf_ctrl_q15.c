@@ -30,7 +30,7 @@ static int16_t output_line(pf_ctrl_q15 *in, int32_t pc)
     const pf_ctrl_coeffs_q15 *c = in->c;
     int16_t o;
     if (c->lag_m > 0) {
-        in->lag = pf_q_advance(in->lag, c->lag_m, (int64_t)pc - pf_q_state(in->lag),
+        in->lag = pf_q_advance(in->lag, c->lag_m, pf_q_sat32((int64_t)pc - pf_q_state(in->lag)),
                                c->lag_sh);
         pc = pf_q_state(in->lag);
     }

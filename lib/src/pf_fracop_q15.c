@@ -20,6 +20,7 @@ void pf_fracop_reset_q15(pf_fracop_q15 *in)
         return;
     memset(in->s, 0, sizeof in->s);
     memset(in->si, 0, sizeof in->si);
+    in->sv = 0;
     in->u1 = 0;
 }
 

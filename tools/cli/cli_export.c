@@ -17,6 +17,15 @@ static void qc(FILE *f, const char *field, pf_qc q)
     fprintf(f, "    .%s = {%ld, %u},\n", field, (long)q.m, (unsigned)q.sh);
 }
 
+static void i16_array(FILE *f, const char *field, const int16_t *v, int n)
+{
+    int i;
+    fprintf(f, "    .%s = {", field);
+    for (i = 0; i < n; i++)
+        fprintf(f, "%s%d", i ? ", " : "", (int)v[i]);
+    fprintf(f, "},\n");
+}
+
 static void i32_array(FILE *f, const char *field, const int32_t *v, int n)
 {
     int i;
@@ -48,11 +57,11 @@ static void op_q15(FILE *f, const char *field, const pf_fracop_coeffs_q15 *o)
 {
     int k, n = o->n_int < 0 ? -o->n_int : o->n_int;
     fprintf(f, "  .%s = {\n", field);
-    fprintf(f, "    .n_int = %d, .int_rho = %d, .n_sec = %u, .hold = %u, .G_sh = %u,\n",
-            o->n_int, o->int_rho, (unsigned)o->n_sec, (unsigned)o->hold,
-            (unsigned)o->G_sh);
+    fprintf(f, "    .n_int = %d, .int_rho = %d, .n_sec = %u, .hold = %u, .n_slow = %u, "
+            ".G_sh = %u,\n", o->n_int, o->int_rho, (unsigned)o->n_sec, (unsigned)o->hold,
+            (unsigned)o->n_slow, (unsigned)o->G_sh);
     qc(f, "d", o->d);
-    i32_array(f, "lam_m", o->lam_m, o->n_sec);
+    i16_array(f, "lam_m", o->lam_m, o->n_sec);
     u8_array(f, "lam_sh", o->lam_sh, o->n_sec);
     i32_array(f, "G_m", o->G_m, o->n_sec);
     for (k = 0; k < n; k++) {
