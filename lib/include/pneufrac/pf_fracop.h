@@ -140,6 +140,7 @@ void pf_fracop_freqresp(const pf_fracop_design *op, double omega, double *re,
 typedef struct pf_fracop_f64 {
     const pf_fracop_design *c;
     double u1;     /**< previous input (held-input model) */
+    double sum;    /**< sum_k G_k s_k of the current states */
     double s[PF_MAX_SEC];
     double si[PF_MAX_INT];
 } pf_fracop_f64;
@@ -157,6 +158,7 @@ typedef struct pf_fracop_coeffs_f32 {
 typedef struct pf_fracop_f32 {
     const pf_fracop_coeffs_f32 *c;
     float u1;
+    float sum;     /**< sum_k G_k s_k of the current states */
     float s[PF_MAX_SEC];
     float si[PF_MAX_INT];
 } pf_fracop_f32;
