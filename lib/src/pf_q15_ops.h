@@ -61,26 +61,36 @@ static inline int32_t pf_q_op_update(pf_fracop_q15 *in, int32_t u, int64_t sf)
     int32_t y = pf_q_sat(pf_round_shift(pf_q_mul64(c->d.m, u), c->d.sh) + sf);
     int32_t u2 = u >> 1;
     int64_t sv = 0;
-    int k, n = c->n_int < 0 ? -c->n_int : c->n_int;
-    for (k = 0; k < c->n_slow; k++) {
-        pf_q15_sec *s = &in->s[k];
+    int k, n = c->n_int < 0 ? -c->n_int : c->n_int, n_slow = c->n_slow, n_sec = c->n_sec;
+    for (k = 0; k < n_slow; k++) {
+        uint32_t lo = in->s[k].lo;
+        int32_t hi = in->s[k].hi;
         unsigned v = 49u - c->lam_sh[k]; /* in [5, 31] */
-        int32_t p = pf_q_mul16(c->lam_m[k], u2 - (s->hi >> 1));
-        uint32_t lo = s->lo + ((uint32_t)p << v);
-        uint32_t carry = lo < s->lo;
-        /* the sum fits (a convex combination); the words may wrap on the way */
-        int32_t hi = (int32_t)((uint32_t)s->hi + (uint32_t)(p >> (32u - v)) + carry);
-        s->lo = lo;
-        s->hi = hi;
+        int32_t p = pf_q_mul16(c->lam_m[k], u2 - (hi >> 1));
+        /* the sum fits (a convex combination); the words may wrap on the
+         * way. The carry written two ways that GCC compiles best on each
+         * kind of core (measured): the same integer. */
+#if PF_Q15_NARROW_MUL
+        uint32_t inc = (uint32_t)p << v, carry;
+        lo += inc;
+        carry = lo < inc;
+#else
+        uint64_t t = (uint64_t)lo + ((uint32_t)p << v);
+        uint32_t carry = (uint32_t)(t >> 32);
+        lo = (uint32_t)t;
+#endif
+        hi = (int32_t)((uint32_t)hi + (uint32_t)(p >> (32u - v)) + carry);
+        in->s[k].lo = lo;
+        in->s[k].hi = hi;
         sv += pf_q_mul64(c->G_m[k], hi);
     }
-    for (; k < c->n_sec; k++) {
-        pf_q15_sec *s = &in->s[k];
-        int32_t p = pf_q_mul16(c->lam_m[k], u2 - (s->hi >> 1));
+    for (; k < n_sec; k++) {
+        int32_t hi = in->s[k].hi;
+        int32_t p = pf_q_mul16(c->lam_m[k], u2 - (hi >> 1));
         /* lam_sh in [14, 17]: the increment is p 2^(17 - lam_sh) units */
-        int64_t h = (int64_t)s->hi + (int64_t)p * ((int32_t)1 << (17u - c->lam_sh[k]));
-        int32_t hi = h > PF_Q_SEC_MAX ? PF_Q_SEC_MAX : (h < -PF_Q_SEC_MAX ? -PF_Q_SEC_MAX : (int32_t)h);
-        s->hi = hi;
+        int64_t h = (int64_t)hi + (int64_t)p * ((int32_t)1 << (17u - c->lam_sh[k]));
+        hi = h > PF_Q_SEC_MAX ? PF_Q_SEC_MAX : (h < -PF_Q_SEC_MAX ? -PF_Q_SEC_MAX : (int32_t)h);
+        in->s[k].hi = hi;
         sv += pf_q_mul64(c->G_m[k], hi);
     }
     in->sv = sv;

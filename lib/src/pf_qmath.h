@@ -115,10 +115,12 @@ PF_QINLINE int64_t pf_q_asr64(int64_t v, unsigned sh)
 #endif
 }
 
-/* round-half-up(p / 2^sh), |p| < 2^62, 0 <= sh <= 62. */
+/* round-half-up(p / 2^sh), |p| < 2^62, 0 <= sh <= 62, as
+ * floor((floor(p / 2^(sh-1)) + 1) / 2): the same integer (the bits below
+ * 2^(sh-1) cannot carry past the half), without a 64-bit constant. */
 PF_QINLINE int64_t pf_round_shift(int64_t p, unsigned sh)
 {
-    return sh == 0 ? p : pf_q_asr64(p + ((int64_t)1 << (sh - 1)), sh);
+    return sh == 0 ? p : (pf_q_asr64(p, sh - 1) + 1) >> 1;
 }
 
 /* c * x rounded half up, NOT saturated: one term of a node formed as a

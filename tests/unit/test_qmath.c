@@ -84,12 +84,30 @@ static void test_asr64(void **state)
     assert_true(pf_q_asr64(INT64_MAX, 63) == 0);
 }
 
+/* round half up, written as its definition in 128-bit-free terms: the
+ * sum p + 2^(sh-1) fits int64 for |p| < 2^62 */
+static void test_round_shift(void **state)
+{
+    uint32_t s = 4242;
+    unsigned sh;
+    long n;
+    (void)state;
+    for (n = 0; n < 200000; n++) {
+        int64_t p = (int64_t)((uint64_t)next(&s) << 32 | next(&s)) >> (2 + n % 40);
+        for (sh = 0; sh <= 62; sh++) {
+            int64_t want = sh == 0 ? p : (p + ((int64_t)1 << (sh - 1))) >> sh;
+            assert_true(pf_round_shift(p, sh) == want);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mul64),
         cmocka_unit_test(test_mul16),
         cmocka_unit_test(test_asr64),
+        cmocka_unit_test(test_round_shift),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
