@@ -4,7 +4,7 @@ Cortex-M4 cores (tools/mcuemu), against the host build, bit for bit.
 
 The designs: every configuration at the library's defaults at 20 kHz
 (dd is the paper's Example 6), and a dd with the Q15-capable effects
-(saturation, output lag, dead time). Q15 runs on both cores, float on the
+(backlash, saturation, output lag, dead time). Q15 runs on both cores, float on the
 M4 (the M0+ has no FPU and its build holds only the Q15 runtime).
 """
 from __future__ import annotations
@@ -16,7 +16,8 @@ CONFIGS = ("p", "dd", "id", "pid")
 # Output full scales that keep each configuration's step response inside
 # Q15 for most of the stimulus, yet let the large steps saturate it.
 OUT_FS = {"p": 0.02, "dd": 0.02, "id": 20.0, "pid": 20.0}
-EFFECTS = ("saturation:lo=-0.01,hi=0.012", "lag:tau=0.002", "deadtime:t=0.001")
+EFFECTS = ("backlash:width=0.06", "saturation:lo=-0.01,hi=0.012", "lag:tau=0.002",
+           "deadtime:t=0.001")
 
 
 def designs(arith: str) -> list[Design]:

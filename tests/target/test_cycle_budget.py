@@ -13,8 +13,11 @@ from mcuemu.runner import step_costs
 
 from target_cases import CASES
 
-# Estimated cycles per sample, at most (zero wait states).
-BUDGET = {("m0plus", "q15"): 18_000, ("m4", "q15"): 6_200, ("m4", "float"): 2_600}
+# Estimated cycles per sample, at most (zero wait states): a few percent
+# above what the code measures (docs/benchmarks.md), so that a change that
+# slows the step fails here. Issue 9's goals (M0+ 2,400; M4 1,500 Q15, 800
+# float) are not met yet; the table says by how much.
+BUDGET = {("m0plus", "q15"): 12_500, ("m4", "q15"): 3_600, ("m4", "float"): 2_100}
 
 
 @pytest.mark.parametrize("core,arith", list(BUDGET))
