@@ -30,13 +30,16 @@ BUILDS = [("m0plus", "q15"), ("m4", "q15"), ("m4", "float")]
 OPTS = ("-Os", "-O2")
 CLOCKS_MHZ = (48, 168)
 CORE_NAME = {"m0plus": "Cortex-M0+", "m4": "Cortex-M4"}
+# The fewest sections that keep Example 6 within 0.1 % of the exact
+# response at 20 kHz (bench_accuracy --orders: 0.035 %, N = 4 gives 0.12 %).
+EX6_ORDER = 5
 
 
 def designs(core: str) -> list[Design]:
     ds = []
     for arith in ("q15", "float") if core == "m4" else ("q15",):
         for c in CONFIGS:
-            for order in (None, 1):
+            for order in (None, 1) + ((EX6_ORDER,) if c == "dd" else ()):
                 ds.append(Design(f"b_{c}_{arith}_{order or 'def'}", c, arith,
                                  out_fs=OUT_FS[c], order=order))
     return ds
@@ -110,6 +113,21 @@ def table(res, samples: int) -> str:
     return "\n".join(lines)
 
 
+def reduced(res) -> str:
+    """Example 6 at the default order and at EX6_ORDER, every build."""
+    lines = ["| core | arithmetic | build | N = 8 (51 sections) | "
+             f"N = {EX6_ORDER} ({3 * (2 * EX6_ORDER + 1)} sections) "
+             + "".join(f"| max rate at {m} MHz, N = {EX6_ORDER} " for m in CLOCKS_MHZ) + "|",
+             "|---" * (5 + len(CLOCKS_MHZ)) + "|"]
+    for core, arith in BUILDS:
+        for opt in OPTS:
+            a, b = res[(core, arith, opt, "dd", None)], res[(core, arith, opt, "dd", EX6_ORDER)]
+            rates = "".join(f"| {m * 1e3 / b['max_cycles']:.1f} kHz " for m in CLOCKS_MHZ)
+            lines.append(f"| {CORE_NAME[core]} | {'Q15' if arith == 'q15' else 'float'} | {opt} "
+                         f"| {a['max_cycles']:,} | {b['max_cycles']:,} {rates}|")
+    return "\n".join(lines)
+
+
 def breakdown(res) -> str:
     """Where Example 6's cycles go, per function, in each build."""
     lines = ["| core | arithmetic | build | function | cycles/sample | share |",
@@ -140,6 +158,10 @@ def main() -> int:
     print(f"Input: a step of {STEP['q15']} (Q15) or {STEP['float']} (float, in_fs = 1) "
           f"from rest, {args.samples} samples; mean and maximum over them.\n")
     print(table(res, args.samples))
+    print(f"\nExample 6 (dd) at N = {EX6_ORDER}, the fewest sections that keep it within "
+          "0.1 % of the exact response at 20 kHz (docs/accuracy.md), against the "
+          "default N = 8; cycles per sample, maximum over the run:\n")
+    print(reduced(res))
     print("\nWhere Example 6 (dd, default design) spends its cycles, by function "
           "(inlined code counts in its caller):\n")
     print(breakdown(res))
