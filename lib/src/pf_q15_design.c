@@ -119,6 +119,8 @@ pf_status pf_q15_op_make(pf_fracop_coeffs_q15 *cq, const pf_fracop_design *op,
     int k, j, n = abs(op->n_int), order[PF_MAX_SEC];
     double prev = s_frac;
     memset(cq, 0, sizeof *cq);
+    if (op->n_sec > PF_Q15_MAX_SEC)
+        return PF_E_UNSUPPORTED; /* the refined approximant's extra sections */
     cq->n_int = (int8_t)op->n_int;
     cq->int_rho = (int8_t)op->int_rho;
     cq->n_sec = (uint8_t)op->n_sec;

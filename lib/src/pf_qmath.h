@@ -38,22 +38,13 @@ typedef char pf_qmath_needs_twos_complement[(int32_t)(uint32_t)0xFFFFFFFFu == -1
 #endif
 #endif
 
-/* The primitives below are a few instructions each and sit in the
- * per-sample loops: a call would cost more than they do, and -Os would
- * otherwise keep some out of line. */
-#if defined(__GNUC__)
-#define PF_QINLINE static inline __attribute__((always_inline))
-#else
-#define PF_QINLINE static inline
-#endif
-
 #define PF_Q_MAX ((int32_t)1 << 30)
 /* Fractional bits of an integer-stage or lag state: s * 2^30 in an int64. */
 #define PF_Q_FRAC 30
 #define PF_Q_STATE_MAX ((int64_t)PF_Q_MAX << PF_Q_FRAC)
 
 /* Clamp to the internal range +-2^30. */
-PF_QINLINE int32_t pf_q_sat(int64_t v)
+static inline int32_t pf_q_sat(int64_t v)
 {
     if (v > PF_Q_MAX)
         return PF_Q_MAX;
@@ -63,13 +54,13 @@ PF_QINLINE int32_t pf_q_sat(int64_t v)
 }
 
 /* Clamp to the int32 range: the operand of a 32 x 32 product. */
-PF_QINLINE int32_t pf_q_sat32(int64_t v)
+static inline int32_t pf_q_sat32(int64_t v)
 {
     return v > INT32_MAX ? INT32_MAX : (v < -INT32_MAX ? -INT32_MAX : (int32_t)v);
 }
 
 /* a * b, exact. */
-PF_QINLINE int64_t pf_q_mul64(int32_t a, int32_t b)
+static inline int64_t pf_q_mul64(int32_t a, int32_t b)
 {
 #if PF_Q15_NARROW_MUL
     /* Four 16 x 16 products; the two cross terms are below 2^31 each. */
@@ -86,7 +77,7 @@ PF_QINLINE int64_t pf_q_mul64(int32_t a, int32_t b)
 /* floor(c * x / 2^16) for |c| < 2^15: the product of the section kernel
  * (a leak or a branch gain times a state or an input), exact, |result| <
  * 2^30. */
-PF_QINLINE int32_t pf_q_mul16(int32_t c, int32_t x)
+static inline int32_t pf_q_mul16(int32_t c, int32_t x)
 {
 #if PF_Q15_NARROW_MUL
     /* c (x_hi 2^16 + x_lo) / 2^16: both products stay below 2^31. */
@@ -97,7 +88,7 @@ PF_QINLINE int32_t pf_q_mul16(int32_t c, int32_t x)
 }
 
 /* v >> sh (arithmetic), 0 <= sh <= 63. */
-PF_QINLINE int64_t pf_q_asr64(int64_t v, unsigned sh)
+static inline int64_t pf_q_asr64(int64_t v, unsigned sh)
 {
 #if PF_Q15_NARROW_MUL
     uint32_t lo = (uint32_t)(uint64_t)v;
@@ -118,7 +109,7 @@ PF_QINLINE int64_t pf_q_asr64(int64_t v, unsigned sh)
 /* round-half-up(p / 2^sh), |p| < 2^62, 0 <= sh <= 62, as
  * floor((floor(p / 2^(sh-1)) + 1) / 2): the same integer (the bits below
  * 2^(sh-1) cannot carry past the half), without a 64-bit constant. */
-PF_QINLINE int64_t pf_round_shift(int64_t p, unsigned sh)
+static inline int64_t pf_round_shift(int64_t p, unsigned sh)
 {
     return sh == 0 ? p : (pf_q_asr64(p, sh - 1) + 1) >> 1;
 }
@@ -127,7 +118,7 @@ PF_QINLINE int64_t pf_round_shift(int64_t p, unsigned sh)
  * sum and saturated once, so that a small difference of large terms keeps
  * its precision. |c| < 2^28 (pf_qc_make) and |x| < 2^31 keep the term
  * below 2^59, so a sum of eight cannot wrap. */
-PF_QINLINE int64_t pf_mulw(pf_qc c, int32_t x)
+static inline int64_t pf_mulw(pf_qc c, int32_t x)
 {
     return pf_round_shift(pf_q_mul64(c.m, x), c.sh);
 }
@@ -135,7 +126,7 @@ PF_QINLINE int64_t pf_mulw(pf_qc c, int32_t x)
 /* pf_mulw for an operand beyond the int32 range (a wide intermediate): the
  * operand gives up low bits and the shift as many, so the product stays in
  * range; it loses only bits far below the operand's own magnitude. */
-PF_QINLINE int64_t pf_mulw_wide(pf_qc c, int64_t x)
+static inline int64_t pf_mulw_wide(pf_qc c, int64_t x)
 {
     while ((x > INT32_MAX || x < -INT32_MAX) && c.sh > 0) {
         x >>= 1;
@@ -145,13 +136,13 @@ PF_QINLINE int64_t pf_mulw_wide(pf_qc c, int64_t x)
 }
 
 /* c * x, rounded half up and saturated to the internal range. */
-PF_QINLINE int32_t pf_mulc(pf_qc c, int32_t x)
+static inline int32_t pf_mulc(pf_qc c, int32_t x)
 {
     return pf_q_sat(pf_mulw(c, x));
 }
 
 /* The integer part of a state (floor), in the internal range. */
-PF_QINLINE int32_t pf_q_state(int64_t S)
+static inline int32_t pf_q_state(int64_t S)
 {
     return (int32_t)(S >> PF_Q_FRAC);
 }
@@ -162,7 +153,7 @@ PF_QINLINE int32_t pf_q_state(int64_t S)
  * |k| < 2^31 and sh >= 30 (a gain below 2: the leak format, checked at
  * design), |x| < 2^31: the increment stays below 2^62 and the sum, with
  * S within +-2^60, cannot wrap before it is clamped. */
-PF_QINLINE int64_t pf_q_advance(int64_t S, int32_t k, int32_t x, unsigned sh)
+static inline int64_t pf_q_advance(int64_t S, int32_t k, int32_t x, unsigned sh)
 {
     S += pf_q_asr64(pf_q_mul64(k, x), sh - PF_Q_FRAC);
     if (S > PF_Q_STATE_MAX)
@@ -174,7 +165,7 @@ PF_QINLINE int64_t pf_q_advance(int64_t S, int32_t k, int32_t x, unsigned sh)
 
 /* Round an internal value to Q15 with the output coefficient, saturating
  * to the int16 range (not to +-2^30). */
-PF_QINLINE int16_t pf_q_to_q15(pf_qc c, int32_t x)
+static inline int16_t pf_q_to_q15(pf_qc c, int32_t x)
 {
     int64_t v = pf_round_shift(pf_q_mul64(c.m, x), c.sh);
     if (v > 32767)

@@ -17,7 +17,7 @@ from target_cases import CASES
 # above what the code measures (docs/benchmarks.md), so that a change that
 # slows the step fails here. Issue 9's goals (M0+ 2,400; M4 1,500 Q15, 800
 # float) are not met yet; the table says by how much.
-BUDGET = {("m0plus", "q15"): 12_500, ("m4", "q15"): 3_600, ("m4", "float"): 2_100}
+BUDGET = {("m0plus", "q15"): 12_200, ("m4", "q15"): 4_000, ("m4", "float"): 2_100}
 
 
 @pytest.mark.parametrize("core,arith", list(BUDGET))

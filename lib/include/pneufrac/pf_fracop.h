@@ -197,9 +197,9 @@ typedef struct pf_fracop_coeffs_q15 {
     uint8_t n_slow;                   /**< sections 0..n_slow-1: lam_sh >= 18 */
     pf_qc d;                          /**< u -> frac output */
     uint8_t G_sh;                     /**< common shift of the G_m products */
-    int16_t lam_m[PF_MAX_SEC];        /**< leak mantissas in [2^14, 2^15) */
-    uint8_t lam_sh[PF_MAX_SEC];       /**< leak shifts in [14, 44] */
-    int32_t G_m[PF_MAX_SEC];          /**< branch gains, |G_m| < 2^26 */
+    int16_t lam_m[PF_Q15_MAX_SEC];    /**< leak mantissas in [2^14, 2^15) */
+    uint8_t lam_sh[PF_Q15_MAX_SEC];   /**< leak shifts in [14, 44] */
+    int32_t G_m[PF_Q15_MAX_SEC];      /**< branch gains, |G_m| < 2^26 */
     pf_qc int_d[PF_MAX_INT];          /**< per integer stage feedthrough */
     pf_qc int_k[PF_MAX_INT];          /**< per integer stage state gain, |.| < 2 */
     pf_qc in_q, out_q;                /**< Q15 in -> internal, internal -> Q15 out */
@@ -218,7 +218,7 @@ typedef struct pf_fracop_q15 {
     const pf_fracop_coeffs_q15 *c;
     int16_t u1;                  /**< previous Q15 input (held-input model) */
     int64_t sv;                  /**< sum_k G_m[k] hi_k, for the next sample */
-    pf_q15_sec s[PF_MAX_SEC];
+    pf_q15_sec s[PF_Q15_MAX_SEC];
     int64_t si[PF_MAX_INT];      /**< integer stages: s * 2^30 */
 } pf_fracop_q15;
 
