@@ -93,11 +93,13 @@ static inline int64_t pf_q_asr64(int64_t v, unsigned sh)
 #if PF_Q15_NARROW_MUL
     uint32_t lo = (uint32_t)(uint64_t)v;
     int32_t hi = (int32_t)(v >> 32);
+    /* Arithmetic shifts of negative values: required, and checked, above. */
     if (sh >= 32) {
         lo = (uint32_t)(hi >> (sh - 32));
-        hi >>= 31;
+        hi = hi < 0 ? -1 : 0;
     } else if (sh > 0) {
         lo = (lo >> sh) | ((uint32_t)hi << (32 - sh));
+        /* cppcheck-suppress shiftTooManyBitsSigned */
         hi >>= sh;
     }
     return (int64_t)(((uint64_t)(uint32_t)hi << 32) | lo);
