@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Accuracy benchmark: every case of the shared reference against the exact
+ * Accuracy benchmark: every case of the exact reference (tests/ref/
+ * paper_step_cases.json) against the exact
  * response (tests/ref, Talbot inverse Laplace), max |error| over
  * t in [1 ms, 2 s] relative to the peak |response|, at 5, 20 and 100 kHz,
  * in double, float and Q15, with the default band and order. Prints a
@@ -17,8 +18,10 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "pf_accuracy.h"
-#include "pf_ref_csv.h"
+#include "pfh_accuracy.h"
+#include "pfh_ref_cases.h"
+
+static pfh_ref_cases cases;
 
 static const double rates[] = {5000.0, 20000.0, 100000.0};
 
@@ -54,20 +57,19 @@ static void cell(double e)
 static int grid(const char *csv_path)
 {
     static double err[NR][NB][NN][3];
-    int i, r, b, n, a, ncase = pf_ref_case_count();
+    int i, r, b, n, a;
     FILE *csv = fopen(csv_path, "w");
     if (csv == NULL) {
         perror(csv_path);
         return 1;
     }
     fprintf(csv, "case,fs,band,wb,wh,N,arith,error\n");
-    for (i = 0; i < ncase; i++) {
-        pf_params p;
-        pf_ref_case(pf_ref_case_name(i), &p);
+    for (i = 0; i < cases.n; i++) {
+        const pf_params *p = &cases.p[i];
         for (r = 0; r < NR; r++) {
-            pf_acc_ref ref;
-            fprintf(stderr, "[bench] grid: %s at %.0f Hz\n", pf_ref_case_name(i), rates[r]);
-            if (pf_acc_ref_make(&ref, &p, rates[r], 1e-3, 2.0) != 0)
+            pfh_acc_ref ref;
+            fprintf(stderr, "[bench] grid: %s at %.0f Hz\n", cases.name[i], rates[r]);
+            if (pfh_acc_ref_make(&ref, p, rates[r], 1e-3, 2.0) != 0)
                 return 1;
             for (b = 0; b < NB; b++)
                 for (n = 0; n < NN; n++) {
@@ -78,19 +80,19 @@ static int grid(const char *csv_path)
                     o.order = orders[n];
                     for (a = 0; a < 3; a++) {
                         pf_design_opts res;
-                        double e = pf_acc_error(&ref, &o, (pf_acc_arith)a, NULL);
+                        double e = pfh_acc_error(&ref, &o, (pf_arith)a, NULL);
                         err[r][b][n][a] = e;
                         if (pf_design_opts_resolve(&o, &res) != PF_OK)
                             res.wb = res.wh = 0.0;
                         fprintf(csv, "%s,%.0f,\"%s\",%.6g,%.6g,%d,%s,%.6g\n",
-                                pf_ref_case_name(i), rates[r], bands[b].name, res.wb,
+                                cases.name[i], rates[r], bands[b].name, res.wb,
                                 res.wh, orders[n], arith_name[a], e);
                     }
                 }
-            pf_acc_ref_free(&ref);
+            pfh_acc_ref_free(&ref);
         }
         printf("\n### %s\n\n| band | N | 5 kHz | 20 kHz | 100 kHz |\n"
-               "|---|---|---|---|---|\n", pf_ref_case_name(i));
+               "|---|---|---|---|---|\n", cases.name[i]);
         for (b = 0; b < NB; b++)
             for (n = 0; n < NN; n++) {
                 printf("| %s | %d |", bands[b].name, orders[n]);
@@ -132,7 +134,7 @@ static int order_sweep(void)
 {
     const double fs = 20000.0;
     static double ybuf[40001];
-    int i, n, ncase = pf_ref_case_count();
+    int i, n;
     printf("| case |");
     for (n = 1; n <= PF_MAX_ORDER; n++)
         printf(" N = %d (%d sections per operator) |", n, 2 * n + 1);
@@ -140,30 +142,29 @@ static int order_sweep(void)
     for (n = 1; n <= PF_MAX_ORDER; n++)
         printf("---|");
     printf("\n");
-    for (i = 0; i < ncase; i++) {
-        pf_params p;
-        pf_acc_ref ref;
-        pf_ref_case(pf_ref_case_name(i), &p);
-        fprintf(stderr, "[bench] orders: %s\n", pf_ref_case_name(i));
-        if (pf_acc_ref_make(&ref, &p, fs, 1e-3, 2.0) != 0)
+    for (i = 0; i < cases.n; i++) {
+        const pf_params *p = &cases.p[i];
+        pfh_acc_ref ref;
+        fprintf(stderr, "[bench] orders: %s\n", cases.name[i]);
+        if (pfh_acc_ref_make(&ref, p, fs, 1e-3, 2.0) != 0)
             return 1;
-        printf("| %s |", pf_ref_case_name(i));
+        printf("| %s |", cases.name[i]);
         for (n = 1; n <= PF_MAX_ORDER; n++) {
             pf_design_opts o;
             double e64, eq;
-            /* Q15 as pf_acc_error runs it: half-scale step, out_fs = 1.25 peak */
+            /* Q15 as pfh_acc_error runs it: half-scale step, out_fs = 1.25 peak */
             lsb_ctx c = {ybuf, 40001, 0.0, 1.25 * ref.peak / 32768.0};
             pf_design_opts_default(&o, fs);
             o.order = n;
-            e64 = pf_acc_error(&ref, &o, PF_ACC_F64, NULL);
-            eq = pf_acc_error(&ref, &o, PF_ACC_Q15, NULL);
-            if (pf_acc_run(&p, &o, PF_ACC_F64, 0.0, c.n - 1, keep_f64, &c) != 0 ||
-                pf_acc_run(&p, &o, PF_ACC_Q15, 1.25 * ref.peak, c.n - 1, cmp_q15, &c) != 0)
+            e64 = pfh_acc_error(&ref, &o, PF_ARITH_F64, NULL);
+            eq = pfh_acc_error(&ref, &o, PF_ARITH_Q15, NULL);
+            if (pfh_acc_run(p, &o, PF_ARITH_F64, 0.0, c.n - 1, keep_f64, &c) != 0 ||
+                pfh_acc_run(p, &o, PF_ARITH_Q15, 1.25 * ref.peak, c.n - 1, cmp_q15, &c) != 0)
                 c.worst = -1.0;
             printf(" %.3g %% / %.3g %% / %.2f LSB |", 100 * e64, 100 * eq, c.worst);
         }
         printf("\n");
-        pf_acc_ref_free(&ref);
+        pfh_acc_ref_free(&ref);
     }
     return 0;
 }
@@ -178,63 +179,66 @@ static void toolbox_example(void)
     static pf_ctrl_f64 c;
     pf_params p;
     pf_design_opts o;
-    pf_acc_ref ref;
+    pfh_acc_ref ref;
     long n;
     double y = 0.0, ex, worst;
-    pf_params_default(&p, PF_CFG_P);
+    pf_params_default(&p, PF_TOPO_P);
     pf_design_opts_default(&o, 10000.0);
     o.wb = 1e-3;
     o.wh = 1e3;
     o.order = 5;
     if (pf_ctrl_design_make(&d, &p, NULL, &o) != PF_OK ||
-        pf_acc_ref_make(&ref, &p, 10000.0, 1e-3, 2.0) != 0)
+        pfh_acc_ref_make(&ref, &p, 10000.0, 1e-3, 2.0) != 0)
         return;
     pf_ctrl_init_f64(&c, &d.rt, NULL, 0);
     for (n = 0; n <= 10; n++) /* t = 1 ms is sample 10 */
         y = pf_ctrl_step_f64(&c, 1.0);
     ex = ref.y[0];
-    worst = pf_acc_error(&ref, &o, PF_ACC_F64, NULL);
+    worst = pfh_acc_error(&ref, &o, PF_ARITH_F64, NULL);
     printf("toolbox band [1e-3, 1e3] rad/s, N = 5, 10 kHz, Example 4 (beta 0.8, "
            "q 0.9), double: %.2f %% of the local value at t = 1 ms; worst %.2f %% "
            "of the peak over [1 ms, 2 s]\n", 100 * fabs(y - ex) / fabs(ex), 100 * worst);
-    pf_acc_ref_free(&ref);
+    pfh_acc_ref_free(&ref);
 }
 
 int main(int argc, char **argv)
 {
     int quick = argc > 1 && strcmp(argv[1], "--quick") == 0;
+    if (pfh_ref_cases_load(REF_DATA_DIR "/paper_step_cases.json", &cases) != 0) {
+        fprintf(stderr, "bench_accuracy: cannot read %s\n",
+                REF_DATA_DIR "/paper_step_cases.json");
+        return 1;
+    }
     if (argc > 1 && strcmp(argv[1], "--orders") == 0)
         return order_sweep();
     if (argc > 2 && strcmp(argv[1], "--grid") == 0) {
         toolbox_example();
         return grid(argv[2]);
     }
-    int i, r, a, ncase = pf_ref_case_count();
+    int i, r, a;
     double worst[3][3] = {{0}};
 
     printf("| case | fs | band (rad/s) | N | double | float | Q15 |\n");
     printf("|---|---|---|---|---|---|---|\n");
     for (r = quick ? 1 : 0; r < (quick ? 2 : 3); r++) {
-        for (i = 0; i < ncase; i++) {
-            pf_params p;
+        for (i = 0; i < cases.n; i++) {
             pf_design_opts o, res;
-            pf_acc_ref ref;
+            pfh_acc_ref ref;
             double e[3];
-            pf_ref_case(pf_ref_case_name(i), &p);
-            fprintf(stderr, "[bench] %s at %.0f Hz\n", pf_ref_case_name(i), rates[r]);
-            if (pf_acc_ref_make(&ref, &p, rates[r], 1e-3, 2.0) != 0)
+            fprintf(stderr, "[bench] %s at %.0f Hz\n", cases.name[i], rates[r]);
+            if (pfh_acc_ref_make(&ref, &cases.p[i], rates[r], 1e-3, 2.0) != 0)
                 return 1;
             pf_design_opts_default(&o, rates[r]);
             pf_design_opts_resolve(&o, &res);
             for (a = 0; a < 3; a++) {
-                e[a] = pf_acc_error(&ref, &o, (pf_acc_arith)a, NULL);
+                e[a] = pfh_acc_error(&ref, &o, (pf_arith)a, NULL);
                 if (e[a] > worst[r][a])
                     worst[r][a] = e[a];
             }
             printf("| %s | %.0f kHz | [%.3g, %.3g] | %d | %.4f %% | %.4f %% | %.4f %% |\n",
-                   pf_ref_case_name(i), rates[r] / 1000, res.wb, res.wh, res.order,
+                   cases.name[i], rates[r] / 1000, res.wb, res.wh, res.order,
                    100 * e[0], 100 * e[1], 100 * e[2]);
-            pf_acc_ref_free(&ref);
+            pfh_acc_ref_free(&ref);
         }
     }
     printf("\n| fs | worst double | worst float | worst Q15 |\n|---|---|---|---|\n");

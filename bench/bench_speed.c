@@ -8,8 +8,8 @@
  *                                     op-{relay,bellows,restrictor}-{ours,df1}-{f32,q15};
  *                                     N = Oustaloup order (0: default)
  * The alternative to the library's parallel leaky form is a direct-form-I
- * biquad cascade of the same design and total order (cli_sos.c, run with
- * CMSIS's DF1 semantics by pf_df1.c), in float and in CMSIS-style Q15.
+ * biquad cascade of the same design and total order (pfh_sos.c, run with
+ * CMSIS's DF1 semantics by pfh_df1.c), in float and in CMSIS-style Q15.
  */
 #include <math.h>
 #include <stdio.h>
@@ -17,8 +17,8 @@
 #include <string.h>
 #include <time.h>
 
-#include "cli_sos.h"
-#include "pf_df1.h"
+#include "pfh_sos.h"
+#include "pfh_df1.h"
 #include "pneufrac/pneufrac.h"
 
 #define FS 20000.0
@@ -68,7 +68,7 @@ static double peak_f64(const pf_ctrl_design *d)
     return peak;
 }
 
-static int ctrl_setup(pf_config cfg, int order)
+static int ctrl_setup(pf_topology cfg, int order)
 {
     pf_params p;
     pf_design_opts o;
@@ -134,9 +134,9 @@ typedef struct op_work {
     pf_design_opts opt;
     pf_fracop_coeffs_f32 cf;
     pf_fracop_coeffs_q15 cq;
-    cli_sos sos_f, sos_q;
-    float df1_f[5 * CLI_SOS_MAX];
-    cli_sos_q15 df1_q;
+    pfh_sos sos_f, sos_q;
+    float df1_f[5 * PFH_SOS_MAX];
+    pfh_sos_q15 df1_q;
 } op_work;
 
 static op_work ow;
@@ -169,11 +169,11 @@ static int op_setup(const char *name, int order)
     pf_fracop_coeffs_f32_make(&ow.cf, &ow.d);
     if (pf_fracop_coeffs_q15_make(&ow.cq, &ow.d, 2.0, out_fs) != PF_OK)
         return -1;
-    if (cli_sos_from_op(&ow.sos_f, &ow.d, &ow.opt, 1.0) != PF_OK ||
-        cli_sos_from_op(&ow.sos_q, &ow.d, &ow.opt, 2.0 / out_fs) != PF_OK ||
-        cli_sos_q15_make(&ow.sos_q, &ow.df1_q) != PF_OK)
+    if (pfh_sos_from_op(&ow.sos_f, &ow.d, &ow.opt, 1.0) != PF_OK ||
+        pfh_sos_from_op(&ow.sos_q, &ow.d, &ow.opt, 2.0 / out_fs) != PF_OK ||
+        pfh_sos_q15_make(&ow.sos_q, &ow.df1_q) != PF_OK)
         return -1;
-    cli_sos_f32(&ow.sos_f, ow.df1_f);
+    pfh_sos_f32(&ow.sos_f, ow.df1_f);
     return 0;
 }
 
@@ -186,10 +186,10 @@ static void op_run(int impl, long len, double *y)
     static int16_t xq[LEN], yq[LEN];
     static pf_fracop_f32 f;
     static pf_fracop_q15 q;
-    float stf[4 * CLI_SOS_MAX];
-    int16_t stq[4 * CLI_SOS_MAX];
-    pf_df1_f32 df = {ow.sos_f.n, ow.df1_f, stf};
-    pf_df1_q15 dq = {ow.df1_q.n, ow.df1_q.post_shift, ow.df1_q.c, stq};
+    float stf[4 * PFH_SOS_MAX];
+    int16_t stq[4 * PFH_SOS_MAX];
+    pfh_df1_f32 df = {ow.sos_f.n, ow.df1_f, stf};
+    pfh_df1_q15 dq = {ow.df1_q.n, ow.df1_q.post_shift, ow.df1_q.c, stq};
     double acc = 0.0, out_fs = 1.25 * ow.peak;
     long n = 0, i;
 
@@ -217,9 +217,9 @@ static void op_run(int impl, long len, double *y)
             }
         }
         if (impl == IMPL_DF1_F32)
-            pf_df1_run_f32(&df, xf, yf, (size_t)blk);
+            pfh_df1_run_f32(&df, xf, yf, (size_t)blk);
         else if (impl == IMPL_DF1_Q15)
-            pf_df1_run_q15(&dq, xq, yq, (size_t)blk);
+            pfh_df1_run_q15(&dq, xq, yq, (size_t)blk);
         if (impl >= IMPL_DF1_F32)
             for (i = 0; i < blk; i++) {
                 double v = impl == IMPL_DF1_F32 ? yf[i] : yq[i] * out_fs / 32768.0;
@@ -283,7 +283,7 @@ static void table_configs(void)
     printf("| config | sections | MACs/sample | float ns/sample | Q15 ns/sample |\n");
     printf("|---|---|---|---|---|\n");
     for (c = 0; c < 4; c++) {
-        if (ctrl_setup((pf_config)c, 0) != 0) {
+        if (ctrl_setup((pf_topology)c, 0) != 0) {
             printf("| %s | design refused | | | |\n", cfg_names[c]);
             continue;
         }
@@ -300,8 +300,8 @@ static void table_alternative(void)
                           "DF1 biquads float", "DF1 biquads Q15 (CMSIS style)"};
     printf("\n## The obvious alternative: a DF1 biquad cascade of the same design\n\n");
     printf("Example 6's operators alone at 20 kHz, default band and N = 8. The "
-           "cascade has the same poles and zeros (cli_sos.c) and runs with "
-           "CMSIS's arm_biquad_cascade_df1 semantics (pf_df1.c; Q15: 16-bit "
+           "cascade has the same poles and zeros (pfh_sos.c) and runs with "
+           "CMSIS's arm_biquad_cascade_df1 semantics (pfh_df1.c; Q15: 16-bit "
            "coefficients with postShift, 64-bit accumulator, 16-bit stage outputs). "
            "Error: max |y - exact| over t in [1 ms, 2 s], relative to the peak, "
            "for a step, exact = gain t^-alpha / Gamma(1 - alpha). Poles: first-order "
@@ -349,7 +349,7 @@ static void table_scale(void)
     printf("| N | sections | MACs/sample | float ns/sample | Q15 ns/sample |\n");
     printf("|---|---|---|---|---|\n");
     for (n = 1; n <= PF_MAX_ORDER; n++) {
-        if (ctrl_setup(PF_CFG_DD, n) != 0)
+        if (ctrl_setup(PF_TOPO_DD, n) != 0)
             continue;
         fprintf(stderr, "[bench] scale: N = %d\n", n);
         printf("| %d | %d | %d | %.1f | %.1f |\n", n, ctrl_sections(&cw.d.rt),
@@ -358,7 +358,7 @@ static void table_scale(void)
     printf("\n### Cost against the number of instances (dd, default N)\n\n");
     printf("| instances | float ns/sample/instance | Q15 ns/sample/instance |\n");
     printf("|---|---|---|\n");
-    if (ctrl_setup(PF_CFG_DD, 0) != 0)
+    if (ctrl_setup(PF_TOPO_DD, 0) != 0)
         return;
     for (i = 0; i < 5; i++) {
         fprintf(stderr, "[bench] scale: %d instances\n", insts[i]);
@@ -377,7 +377,7 @@ static int run_one(const char *what, int order, long len)
     if (sscanf(what, "ctrl-%15[a-z]-%7s", name, ar) == 2) {
         for (c = 0; c < 4 && strcmp(cfg_names[c], name) != 0; c++)
             ;
-        if (c == 4 || ctrl_setup((pf_config)c, order) != 0)
+        if (c == 4 || ctrl_setup((pf_topology)c, order) != 0)
             return 2;
         ctrl_run(strcmp(ar, "q15") == 0, 1, len);
         printf("macs=%d poles=%d\n", ctrl_macs(&cw.d.rt), ctrl_sections(&cw.d.rt));

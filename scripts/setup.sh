@@ -21,10 +21,11 @@ apt_packages=(
   python3 python3-venv
 )
 # Each of these imports under its own PyPI name.
-python_packages=(numpy scipy matplotlib pymodbus pytest)
+python_packages=(numpy scipy matplotlib pymodbus pytest mpmath)
 # pip requirements: the README's pymodbus example and the integration tests
 # use the 3.x client API (device_id=, convert_to_registers), tested with 3.16.
-pip_specs=(numpy scipy matplotlib "pymodbus>=3.16,<4" pytest)
+# mpmath: tests/ref/make_reference.py, and the test that checks its table.
+pip_specs=(numpy scipy matplotlib "pymodbus>=3.16,<4" pytest mpmath)
 
 # --- 1. Debian packages ------------------------------------------------------
 missing=()

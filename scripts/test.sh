@@ -11,6 +11,8 @@
 #   target    the cross builds on emulated Cortex-M0+/M4 cores: golden vectors
 #             bit-exact with the host build, and the cycle budgets
 #   pytest    Python tests in tests/python/, when there are any
+#   clone     a plain `git clone` of HEAD, alone in an empty folder, builds
+#             and passes test_reference: nothing beside the repository needed
 set -euo pipefail
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -59,7 +61,7 @@ step_asan() {
 # Static analysis of the C sources that ship: library, tools and port. Any
 # finding fails the step (--error-exitcode).
 step_lint() {
-  local dirs=(lib/src tools/cli)
+  local dirs=(lib/src tools/host tools/cli)
   [[ -d port/posix ]] && dirs+=(port/posix)
   cppcheck --std=c99 --enable=warning,performance,portability --inline-suppr \
     --quiet --error-exitcode=1 -UPF_CONFIG_HEADER -Ilib/include -Ilib/src \
@@ -86,12 +88,39 @@ step_pytest() {
     .venv/bin/python -m pytest -q tests/python
 }
 
+# A user's clone has nothing beside it (no ../shared): the reference test
+# must pass there on the repository's own files. Tests the committed HEAD.
+step_clone() {
+  local tmp rc=0
+  if ! git rev-parse --git-dir >/dev/null 2>&1; then
+    skip_reason="not a git checkout"
+    return 77
+  fi
+  [[ -z $(git status --porcelain --untracked-files=no) ]] ||
+    log "note: uncommitted changes are not in the clone; it tests HEAD"
+  tmp=$(mktemp -d)
+  {
+    git clone -q "$PWD" "$tmp/pneufrac" &&
+      cmake -S "$tmp/pneufrac" -B "$tmp/pneufrac/build" --log-level=WARNING \
+        -DPNEUFRAC_BUILD_TESTS=ON >/dev/null &&
+      cmake --build "$tmp/pneufrac/build" --parallel "$jobs" \
+        --target test_reference >/dev/null &&
+      ctest --test-dir "$tmp/pneufrac/build" -R '^test_reference$' \
+        --output-on-failure --no-tests=error -V >"$tmp/ctest.log" 2>&1 &&
+      grep -q 'skipped: no shared reference' "$tmp/ctest.log"
+  } || rc=$?
+  grep -E 'test_step_matches|skipped:|tests passed|FAILED' "$tmp/ctest.log" 2>/dev/null || true
+  rm -rf "$tmp"
+  return "$rc"
+}
+
 run_step ctest step_ctest
 run_step asan step_asan
 run_step lint step_lint
 run_step firmware step_firmware
 run_step target step_target
 run_step pytest step_pytest
+run_step clone step_clone
 
 log "=== summary ==="
 for line in "${summary[@]}"; do

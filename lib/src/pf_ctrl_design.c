@@ -34,12 +34,12 @@ static pf_status design_ops(pf_ctrl_coeffs_f64 *c, const pf_params *p,
                             const pf_design_opts *o)
 {
     pf_status st;
-    int pid = p->config == PF_CFG_PID;
+    int pid = p->topology == PF_TOPO_PID;
     double rcv = pid ? p->RCd : p->RC, rcw = pid ? p->RCi : p->RC;
 
     c->has_q = p->q > 0.0;
-    c->has_v = p->config == PF_CFG_DD || pid;
-    c->has_w = p->config == PF_CFG_ID || pid;
+    c->has_v = p->topology == PF_TOPO_DD || pid;
+    c->has_w = p->topology == PF_TOPO_ID || pid;
     /* Relay in integral form: w = (tau s)^-beta v (pf_controller.h). */
     st = op_make(&c->P, -p->beta, pow(p->tau, -p->beta), o, PF_P_BETA, PF_P_TAU);
     if (st == PF_OK && c->has_q)
@@ -88,7 +88,7 @@ static pf_status derive_loop(pf_ctrl_coeffs_f64 *c, const pf_params *p)
     if (!isfinite(loop))
         return PF_E_PARAM(PF_P_K1);
     if (!(1.0 + loop >= PF_LOOP_MIN))
-        return PF_E_PARAM(p->config == PF_CFG_PID ? PF_P_RCD : PF_P_RC);
+        return PF_E_PARAM(p->topology == PF_TOPO_PID ? PF_P_RCD : PF_P_RC);
     c->loop_inv = 1.0 / (1.0 + loop);
     c->slope_inv = 1.0 / (1.0 + fmin(0.0, loop));
     return PF_OK;

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* Float controller runtime. */
+/* Float controller runtime. The kernels are the float/double template
+ * (pf_ctrl_float.inc); the exported functions are written out here. */
 #include "pneufrac/pf_controller.h"
 
 #define PF_T float
@@ -11,3 +12,24 @@
 #define PF_BIG 1e30f
 #include "pf_float_ops.h"
 #include "pf_ctrl_float.inc"
+
+pf_status pf_ctrl_init_f32(pf_ctrl_f32 *S, const pf_ctrl_coeffs_f32 *c,
+                           float *dbuf, size_t dlen)
+{
+    return ctrl_init_f32(S, c, dbuf, dlen);
+}
+
+void pf_ctrl_reset_f32(pf_ctrl_f32 *S)
+{
+    ctrl_reset_f32(S);
+}
+
+float pf_ctrl_step_f32(pf_ctrl_f32 *S, float e)
+{
+    return ctrl_step_f32(S, e);
+}
+
+void pf_ctrl_run_f32(pf_ctrl_f32 *S, const float *e, float *pc, size_t n)
+{
+    ctrl_run_f32(S, e, pc, n);
+}

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* Double-precision controller runtime, and the double effect primitives. */
+/* Double-precision controller runtime. The kernels are the float/double template
+ * (pf_ctrl_float.inc); the exported functions are written out here. */
 #include "pneufrac/pf_controller.h"
 
 #define PF_T double
@@ -12,5 +13,23 @@
 #include "pf_float_ops.h"
 #include "pf_ctrl_float.inc"
 
-double pf_play(double prev, double x, double r) { return play_f64(prev, x, r); }
-double pf_nozzle(double x, double xh) { return nozzle_f64(x, xh, 1.0 / xh); }
+pf_status pf_ctrl_init_f64(pf_ctrl_f64 *S, const pf_ctrl_coeffs_f64 *c,
+                           double *dbuf, size_t dlen)
+{
+    return ctrl_init_f64(S, c, dbuf, dlen);
+}
+
+void pf_ctrl_reset_f64(pf_ctrl_f64 *S)
+{
+    ctrl_reset_f64(S);
+}
+
+double pf_ctrl_step_f64(pf_ctrl_f64 *S, double e)
+{
+    return ctrl_step_f64(S, e);
+}
+
+void pf_ctrl_run_f64(pf_ctrl_f64 *S, const double *e, double *pc, size_t n)
+{
+    ctrl_run_f64(S, e, pc, n);
+}

@@ -37,21 +37,21 @@ static int32_t clamp_pc(const pf_ctrl_coeffs_q15 *c, int32_t pc)
     return pc;
 }
 
-static int16_t output_line(pf_ctrl_q15 *in, int32_t pc)
+static int16_t output_line(pf_ctrl_q15 *S, int32_t pc)
 {
-    const pf_ctrl_coeffs_q15 *c = in->c;
+    const pf_ctrl_coeffs_q15 *c = S->c;
     int16_t o;
     if (c->lag_m > 0) {
-        in->lag = pf_q_advance(in->lag, c->lag_m, pf_q_sat32((int64_t)pc - pf_q_state(in->lag)),
+        S->lag = pf_q_advance(S->lag, c->lag_m, pf_q_sat32((int64_t)pc - pf_q_state(S->lag)),
                                c->lag_sh);
-        pc = pf_q_state(in->lag);
+        pc = pf_q_state(S->lag);
     }
     o = pf_q_to_q15(c->pc_out, pc);
     if (c->delay_len > 0) {
-        int16_t d = in->dbuf[in->didx];
-        in->dbuf[in->didx] = o;
-        if (++in->didx >= c->delay_len)
-            in->didx = 0;
+        int16_t d = S->dbuf[S->didx];
+        S->dbuf[S->didx] = o;
+        if (++S->didx >= c->delay_len)
+            S->didx = 0;
         o = d;
     }
     return o;
@@ -73,11 +73,11 @@ static int32_t pc_of_xe(const pf_ctrl_coeffs_q15 *c, int32_t xe, int32_t sP)
 
 /* The play's new output and x, from the linear solution x_lin (see the
  * head of the file). */
-static int32_t play_solve(const pf_ctrl_q15 *in, int32_t e, int32_t x_lin, int32_t sP,
+static int32_t play_solve(const pf_ctrl_q15 *S, int32_t e, int32_t x_lin, int32_t sP,
                           int32_t sQ, int32_t sV, int32_t sW, int32_t *x)
 {
-    const pf_ctrl_coeffs_q15 *c = in->c;
-    int32_t xb = in->xb, r = c->play_r, xe, pc;
+    const pf_ctrl_coeffs_q15 *c = S->c;
+    int32_t xb = S->xb, r = c->play_r, xe, pc;
     int32_t xs = x_of_pc(c, e, clamp_pc(c, pc_of_xe(c, xb, sP)), sQ, sV, sW);
     int dir = (int64_t)xs - xb > r ? 1 : ((int64_t)xs - xb < -(int64_t)r ? -1 : 0);
     if (dir == 0) {
@@ -93,29 +93,29 @@ static int32_t play_solve(const pf_ctrl_q15 *in, int32_t e, int32_t x_lin, int32
     return xe;
 }
 
-int16_t pf_ctrl_step_q15(pf_ctrl_q15 *in, int16_t e_q15)
+int16_t pf_ctrl_step_q15(pf_ctrl_q15 *S, int16_t e_q15)
 {
-    const pf_ctrl_coeffs_q15 *c = in->c;
+    const pf_ctrl_coeffs_q15 *c = S->c;
     int32_t e, sP, sQ = 0, sV = 0, sW = 0, x, xe, pb, v, w, pc, rv = 0, rw = 0, m;
     int64_t fP, fQ = 0, fV = 0, fW = 0;
 
-    e = pf_mulc(c->e_in, c->hold ? (int32_t)e_q15 + in->e1 : (int32_t)e_q15);
-    in->e1 = e_q15;
-    sP = pf_q_op_state(&in->P, &fP);
+    e = pf_mulc(c->e_in, c->hold ? (int32_t)e_q15 + S->e1 : (int32_t)e_q15);
+    S->e1 = e_q15;
+    sP = pf_q_op_state(&S->P, &fP);
     if (c->has_q)
-        sQ = pf_q_op_state(&in->Q, &fQ);
+        sQ = pf_q_op_state(&S->Q, &fQ);
     if (c->has_v)
-        sV = pf_q_op_state(&in->V, &fV);
+        sV = pf_q_op_state(&S->V, &fV);
     if (c->has_w)
-        sW = pf_q_op_state(&in->W, &fW);
+        sW = pf_q_op_state(&S->W, &fW);
 
     /* x straight from the states (pf_controller.h): one wide sum, one
      * saturation, however small x is against the terms that form it. */
     x = pf_q_sat(pf_mulw(c->x_e, e) - pf_mulw(c->x_q, sQ) - pf_mulw(c->x_v, sV) +
                  pf_mulw(c->x_w, sW) - pf_mulw(c->x_p, sP));
     if (c->play_r > 0) {
-        xe = play_solve(in, e, x, sP, sQ, sV, sW, &x);
-        in->xb = xe;
+        xe = play_solve(S, e, x, sP, sQ, sV, sW, &x);
+        S->xb = xe;
     } else if (c->saturate) {
         /* Saturation alone is monotone: if the linear solution's p_c is
          * beyond a limit, the true one sits on that limit, and x follows
@@ -130,78 +130,78 @@ int16_t pf_ctrl_step_q15(pf_ctrl_q15 *in, int16_t e_q15)
     }
     pb = pf_mulc(c->k1, xe);
     v = pf_q_sat(pf_mulw(c->relay_v_pb, pb) + pf_mulw(c->relay_v_s, sP));
-    w = pf_q_op_update(&in->P, v, fP);
+    w = pf_q_op_update(&S->P, v, fP);
     pc = clamp_pc(c, pf_q_sat(pf_mulw(c->relay_z_pb, pb) + pf_mulw(c->relay_z_w, w)));
     if (c->has_v) {
         rv = pf_q_sat(pf_mulw(c->v_a, pc) + pf_mulw(c->v_b, sV));
-        (void)pf_q_op_update(&in->V,
+        (void)pf_q_op_update(&S->V,
                              pf_q_sat(pf_mulw(c->dv_pc, pc) - pf_mulw(c->dv_r, rv)), fV);
     }
     if (c->has_w) {
         rw = pf_q_sat(pf_mulw(c->w_a, pc) + pf_mulw(c->w_b, sW));
-        (void)pf_q_op_update(&in->W,
+        (void)pf_q_op_update(&S->W,
                              pf_q_sat(pf_mulw(c->dw_pc, pc) - pf_mulw(c->dw_r, rw)), fW);
     }
     m = pf_q_sat((c->has_v ? pf_mulw(c->m_v, rv) : pf_mulw(c->m_pc, pc)) -
                  (c->has_w ? pf_mulw(c->m_w, rw) : 0));
-    in->x = x;
-    in->pb = pb;
-    in->y = c->has_q ? pf_q_op_update(&in->Q, m, fQ) : pf_mulc(c->kA_m, m);
-    in->pc = pc;
-    return output_line(in, pc);
+    S->x = x;
+    S->pb = pb;
+    S->y = c->has_q ? pf_q_op_update(&S->Q, m, fQ) : pf_mulc(c->kA_m, m);
+    S->pc = pc;
+    return output_line(S, pc);
 }
 
-void pf_ctrl_run_q15(pf_ctrl_q15 *in, const int16_t *e, int16_t *pc, size_t n)
+void pf_ctrl_run_q15(pf_ctrl_q15 *S, const int16_t *e, int16_t *pc, size_t n)
 {
     size_t i;
     for (i = 0; i < n; i++)
-        pc[i] = pf_ctrl_step_q15(in, e[i]);
+        pc[i] = pf_ctrl_step_q15(S, e[i]);
 }
 
-void pf_ctrl_reset_q15(pf_ctrl_q15 *in)
+void pf_ctrl_reset_q15(pf_ctrl_q15 *S)
 {
-    if (in == NULL || in->c == NULL)
+    if (S == NULL || S->c == NULL)
         return;
-    pf_fracop_reset_q15(&in->P);
-    pf_fracop_reset_q15(&in->Q);
-    pf_fracop_reset_q15(&in->V);
-    pf_fracop_reset_q15(&in->W);
-    in->x = in->pb = in->y = in->pc = in->xb = 0;
-    in->e1 = 0;
-    in->lag = 0;
-    in->didx = 0;
-    if (in->dbuf != NULL)
-        memset(in->dbuf, 0, sizeof(int16_t) * in->c->delay_len);
+    pf_fracop_reset_q15(&S->P);
+    pf_fracop_reset_q15(&S->Q);
+    pf_fracop_reset_q15(&S->V);
+    pf_fracop_reset_q15(&S->W);
+    S->x = S->pb = S->y = S->pc = S->xb = 0;
+    S->e1 = 0;
+    S->lag = 0;
+    S->didx = 0;
+    if (S->dbuf != NULL)
+        memset(S->dbuf, 0, sizeof(int16_t) * S->c->delay_len);
 }
 
-pf_status pf_ctrl_init_q15(pf_ctrl_q15 *in, const pf_ctrl_coeffs_q15 *c,
+pf_status pf_ctrl_init_q15(pf_ctrl_q15 *S, const pf_ctrl_coeffs_q15 *c,
                            int16_t *dbuf, size_t dlen)
 {
-    if (in == NULL || c == NULL)
+    if (S == NULL || c == NULL)
         return PF_E_NULL;
     if (c->delay_len > 0 && (dbuf == NULL || dlen < c->delay_len))
         return PF_E_BUFFER;
-    memset(in, 0, sizeof *in);
-    in->c = c;
-    in->dbuf = c->delay_len > 0 ? dbuf : NULL;
-    (void)pf_fracop_init_q15(&in->P, &c->P);
-    (void)pf_fracop_init_q15(&in->Q, &c->Q);
-    (void)pf_fracop_init_q15(&in->V, &c->V);
-    (void)pf_fracop_init_q15(&in->W, &c->W);
-    pf_ctrl_reset_q15(in);
+    memset(S, 0, sizeof *S);
+    S->c = c;
+    S->dbuf = c->delay_len > 0 ? dbuf : NULL;
+    (void)pf_fracop_init_q15(&S->P, &c->P);
+    (void)pf_fracop_init_q15(&S->Q, &c->Q);
+    (void)pf_fracop_init_q15(&S->V, &c->V);
+    (void)pf_fracop_init_q15(&S->W, &c->W);
+    pf_ctrl_reset_q15(S);
     return PF_OK;
 }
 
-void pf_ctrl_monitor_q15(const pf_ctrl_q15 *in, int16_t *x, int16_t *pb,
+void pf_ctrl_monitor_q15(const pf_ctrl_q15 *S, int16_t *x, int16_t *pb,
                          int16_t *y, int16_t *pc)
 {
-    const pf_ctrl_coeffs_q15 *c = in->c;
+    const pf_ctrl_coeffs_q15 *c = S->c;
     if (x != NULL)
-        *x = pf_q_to_q15(c->mon_x, in->x);
+        *x = pf_q_to_q15(c->mon_x, S->x);
     if (pb != NULL)
-        *pb = pf_q_to_q15(c->mon_pb, in->pb);
+        *pb = pf_q_to_q15(c->mon_pb, S->pb);
     if (y != NULL)
-        *y = pf_q_to_q15(c->mon_y, in->y);
+        *y = pf_q_to_q15(c->mon_y, S->y);
     if (pc != NULL)
-        *pc = pf_q_to_q15(c->pc_out, in->pc);
+        *pc = pf_q_to_q15(c->pc_out, S->pc);
 }

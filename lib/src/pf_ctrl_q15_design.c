@@ -73,10 +73,9 @@ pf_status pf_ctrl_coeffs_q15_make(pf_ctrl_coeffs_q15 *cq,
     pf_status st = PF_OK;
     if (cq == NULL || d == NULL)
         return PF_E_NULL;
-    if (!isfinite(in_fs) || !(in_fs > 0.0) || in_fs > 1e12)
-        return PF_E_PARAM(PF_P_IN_FS);
-    if (!isfinite(out_fs) || !(out_fs > 0.0) || out_fs > 1e12)
-        return PF_E_PARAM(PF_P_OUT_FS);
+    st = pf_q15_scales_check(in_fs, out_fs);
+    if (st != PF_OK)
+        return st;
     c = &d->rt;
     /* The nozzle curve needs the iterative loop solution; the refined
      * approximant's extra pole has a branch gain 1e6..1e13 times the

@@ -6,6 +6,23 @@
 
 #include <complex.h>
 #include "pneufrac/pf_fracop.h"
+#include "pneufrac/pf_param_info.h"
+
+/* Return from the calling function with the status of the first check
+ * that fails: PF_E_PARAM(id) when v is out of parameter id's range. */
+#define PF_RETURN_IF_OUT(id, v)                                                \
+    do {                                                                       \
+        pf_status pf_st_ = pf_param_check((id), (v));                          \
+        if (pf_st_ != PF_OK)                                                   \
+            return pf_st_;                                                     \
+    } while (0)
+
+/* The Q15 full scales of a coefficient set, each within its range. */
+static inline pf_status pf_q15_scales_check(double in_fs, double out_fs)
+{
+    pf_status st = pf_param_check(PF_P_IN_FS, in_fs);
+    return st != PF_OK ? st : pf_param_check(PF_P_OUT_FS, out_fs);
+}
 
 /* Discrete response of an operator at omega rad/s; *frac (if not NULL)
  * receives the fractional part alone (before the integer stages). */

@@ -13,36 +13,36 @@
  */
 #include "pf_tmpl.h"
 
-static inline PF_T PF_FN(op_state_)(const PF_OPI *in, PF_T *sf)
+static inline PF_T PF_FN(op_state_)(const PF_OPI *S, PF_T *sf)
 {
-    const PF_OPC *c = in->c;
-    PF_T s = in->sum;
+    const PF_OPC *c = S->c;
+    PF_T s = S->sum;
     int k;
     *sf = s;
     for (k = 0; k < (c->n_int < 0 ? -c->n_int : c->n_int); k++)
-        s = c->int_d * s + in->si[k];
+        s = c->int_d * s + S->si[k];
     return s;
 }
 
-static inline PF_T PF_FN(op_update_)(PF_OPI *in, PF_T u, PF_T sf)
+static inline PF_T PF_FN(op_update_)(PF_OPI *S, PF_T u, PF_T sf)
 {
-    const PF_OPC *c = in->c;
+    const PF_OPC *c = S->c;
     PF_T y = c->d * u + sf, sum = 0;
     int k;
     /* Leaky form: the state moves toward u by lam of the distance, so a pole
      * at 1 - 1e-7 costs no precision in lam itself. The branch sum the next
      * sample needs is formed here, while each new state is at hand. */
     for (k = 0; k < c->n_sec; k++) {
-        PF_T sk = in->s[k] + c->lam[k] * (u - in->s[k]);
-        in->s[k] = sk;
+        PF_T sk = S->s[k] + c->lam[k] * (u - S->s[k]);
+        S->s[k] = sk;
         sum += c->G[k] * sk;
     }
-    in->sum = sum;
+    S->sum = sum;
     for (k = 0; k < (c->n_int < 0 ? -c->n_int : c->n_int); k++) {
-        PF_T yk = c->int_d * y + in->si[k];
-        PF_T si = (c->int_rho > 0 ? in->si[k] : -in->si[k]) + c->int_k * y;
+        PF_T yk = c->int_d * y + S->si[k];
+        PF_T si = (c->int_rho > 0 ? S->si[k] : -S->si[k]) + c->int_k * y;
         /* an integrator saturates rather than overflow (see PF_BIG) */
-        in->si[k] = si < PF_BIG ? (si > -PF_BIG ? si : -PF_BIG) : PF_BIG;
+        S->si[k] = si < PF_BIG ? (si > -PF_BIG ? si : -PF_BIG) : PF_BIG;
         y = yk;
     }
     return y;

@@ -31,8 +31,7 @@ pf_status pf_fracop_design_make(pf_fracop_design *op, double alpha, double gain,
 
     if (op == NULL || opt == NULL)
         return PF_E_NULL;
-    if (!isfinite(gain) || gain == 0.0 || fabs(gain) > 1e12)
-        return PF_E_PARAM(PF_P_GAIN);
+    PF_RETURN_IF_OUT(PF_P_GAIN, gain);
     st = pf_design_opts_resolve(opt, &o);
     if (st == PF_OK)
         st = pf_fracop_zpk(alpha, &o, &m, &K, z, &nz, p, &np);

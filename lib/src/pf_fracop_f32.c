@@ -10,6 +10,21 @@
 #include "pf_float_ops.h"
 #include "pf_fracop_float.inc"
 
+pf_status pf_fracop_init_f32(pf_fracop_f32 *S, const pf_fracop_coeffs_f32 *c)
+{
+    return fracop_init_f32(S, c);
+}
+
+void pf_fracop_reset_f32(pf_fracop_f32 *S)
+{
+    fracop_reset_f32(S);
+}
+
+float pf_fracop_step_f32(pf_fracop_f32 *S, float u)
+{
+    return fracop_step_f32(S, u);
+}
+
 void pf_fracop_coeffs_f32_make(pf_fracop_coeffs_f32 *cf, const pf_fracop_design *op)
 {
     int k;

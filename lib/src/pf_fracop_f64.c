@@ -9,3 +9,18 @@
 #define PF_BIG 1e300
 #include "pf_float_ops.h"
 #include "pf_fracop_float.inc"
+
+pf_status pf_fracop_init_f64(pf_fracop_f64 *S, const pf_fracop_design *c)
+{
+    return fracop_init_f64(S, c);
+}
+
+void pf_fracop_reset_f64(pf_fracop_f64 *S)
+{
+    fracop_reset_f64(S);
+}
+
+double pf_fracop_step_f64(pf_fracop_f64 *S, double u)
+{
+    return fracop_step_f64(S, u);
+}

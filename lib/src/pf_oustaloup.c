@@ -15,13 +15,9 @@
 #include <math.h>
 #include <stddef.h>
 
-#include "pneufrac/pf_fracop.h"
+#include "pf_design_internal.h"
 
 #define PF_PI 3.14159265358979323846
-#define PF_FS_MAX 1e7
-/* Lowest wb/fs accepted: the slowest leak lam ~ wb/fs must stay above
- * 2^-32, the finest the Q15 runtime represents with a normalised mantissa. */
-#define PF_WB_FS_MIN 1e-9
 #define REF_B 10.0
 #define PF_REFINED_MARGIN 1e-3
 #define REF_D 9.0
@@ -47,36 +43,30 @@ pf_status pf_design_opts_resolve(const pf_design_opts *in, pf_design_opts *out)
     if (in == NULL || out == NULL)
         return PF_E_NULL;
     o = *in;
-    if (!isfinite(o.fs) || !(o.fs > 0.0) || o.fs > PF_FS_MAX)
-        return PF_E_PARAM(PF_P_FS);
+    PF_RETURN_IF_OUT(PF_P_FS, o.fs);
     nyq = PF_PI * o.fs;
-    if (!isfinite(o.t_slow) || o.t_slow < 0.0 || o.t_slow > 1e9)
-        return PF_E_PARAM(PF_P_TSLOW);
+    PF_RETURN_IF_OUT(PF_P_TSLOW, o.t_slow);
     if (o.t_slow == 0.0)
         o.t_slow = PF_DEFAULT_TSLOW;
     /* Default band: up to the Nyquist frequency (analog; Tustin compresses it to 0.64 of
      * Nyquist, so the approximant stays fractional across the usable band). */
-    if (!isfinite(o.wb) || o.wb < 0.0)
-        return PF_E_PARAM(PF_P_WB);
-    if (!isfinite(o.wh) || o.wh < 0.0)
-        return PF_E_PARAM(PF_P_WH);
+    PF_RETURN_IF_OUT(PF_P_WB, o.wb);
+    PF_RETURN_IF_OUT(PF_P_WH, o.wh);
     /* Two decades below 1/t_slow: the approximant's flattening at wb then
      * costs under 0.1 % at t = t_slow/5 even for |f| = 1/2 (measured in
      * docs/accuracy.md); kept above the lowest band the runtime resolves. */
     if (o.wb == 0.0)
-        o.wb = fmax(0.01 / o.t_slow, 2.0 * PF_WB_FS_MIN * o.fs);
+        o.wb = fmax(0.01 / o.t_slow, 2.0 * PF_WB_MIN_PER_FS * o.fs);
     if (o.wh == 0.0)
         o.wh = nyq;
     if (o.wh > nyq * (1.0 + 1e-12))
         return PF_E_PARAM(PF_P_WH);
-    if (o.wb / o.fs < PF_WB_FS_MIN)
+    if (o.wb / o.fs < PF_WB_MIN_PER_FS)
         return PF_E_PARAM(PF_P_WB);
     if (!(o.wb < o.wh))
         return PF_E_PARAM(PF_P_WB);
-    if ((int)o.input != PF_INPUT_HOLD && (int)o.input != PF_INPUT_LINEAR)
-        return PF_E_PARAM(PF_P_INPUT);
-    if ((int)o.approx != PF_APPROX_OUSTALOUP && (int)o.approx != PF_APPROX_REFINED)
-        return PF_E_PARAM(PF_P_APPROX);
+    PF_RETURN_IF_OUT(PF_P_INPUT, (double)o.input);
+    PF_RETURN_IF_OUT(PF_P_APPROX, (double)o.approx);
     if (o.order == 0) {
         /* Two zero/pole pairs per decade keep Oustaloup's phase ripple
          * small; measured in docs/accuracy.md. */
@@ -88,9 +78,9 @@ pf_status pf_design_opts_resolve(const pf_design_opts *in, pf_design_opts *out)
             n = PF_MAX_ORDER;
         o.order = n;
     }
-    if (o.order < 1 || o.order > PF_MAX_ORDER)
-        return PF_E_PARAM(PF_P_ORDER);
-    if (!isfinite(o.prewarp) || o.prewarp < 0.0 || o.prewarp >= 0.99 * nyq)
+    PF_RETURN_IF_OUT(PF_P_ORDER, (double)o.order);
+    PF_RETURN_IF_OUT(PF_P_PREWARP, o.prewarp);
+    if (o.prewarp >= 0.99 * nyq)
         return PF_E_PARAM(PF_P_PREWARP);
     if (o.approx == PF_APPROX_REFINED) {
         /* The correction factor's poles must be real: (b wh/(d(1-r)))^2 >
@@ -131,8 +121,7 @@ pf_status pf_fracop_zpk(double alpha, const pf_design_opts *opt, int *m,
     if (opt == NULL || m == NULL || k == NULL || zeros == NULL || nz == NULL ||
         poles == NULL || np == NULL)
         return PF_E_NULL;
-    if (!isfinite(alpha) || !(fabs(alpha) < 2.0) || alpha == 0.0)
-        return PF_E_PARAM(PF_P_ALPHA);
+    PF_RETURN_IF_OUT(PF_P_ALPHA, alpha);
     st = pf_design_opts_resolve(opt, &o);
     if (st != PF_OK)
         return st;

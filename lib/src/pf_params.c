@@ -6,21 +6,20 @@
 #include <stddef.h>
 #include <string.h>
 
-/* Positive parameters live in [PF_PARAM_MIN, PF_PARAM_MAX]: far wider than
- * any physical device in the paper's units, narrow enough that the products
- * formed in the design stay finite in double and in float. */
-#define PF_PARAM_MIN 1e-9
-#define PF_PARAM_MAX 1e9
+#include "pneufrac/pf_param_info.h"
+#include "pf_names.h"
+
 /* Bound on the bellows compliance A/ks, the one ratio of two free
- * parameters that becomes an operator gain. */
+ * parameters that becomes an operator gain (each on its own is bounded by
+ * the parameter table). */
 #define PF_KA_MAX 1e12
 
-void pf_params_default(pf_params *p, pf_config cfg)
+void pf_params_default(pf_params *p, pf_topology topo)
 {
     if (p == NULL)
         return;
     memset(p, 0, sizeof *p);
-    p->config = cfg;
+    p->topology = topo;
     /* Example 4 (shared by Examples 6 and 7 unless overridden). */
     p->b = 9.0;
     p->a = 1.0;
@@ -41,7 +40,7 @@ void pf_params_default(pf_params *p, pf_config cfg)
      * faster than the reset one, as in a commercial pneumatic PID. */
     p->RCd = 0.01;
     p->RCi = 0.1;
-    if (cfg == PF_CFG_ID || cfg == PF_CFG_PID) {
+    if (topo == PF_TOPO_ID || topo == PF_TOPO_PID) {
         /* Example 7 */
         p->k1 = 2.0;
         p->k2 = 5.0;
@@ -93,25 +92,12 @@ double pf_params_get(const pf_params *p, pf_param_id id)
     return f ? *f : NAN;
 }
 
-int pf_param_used(pf_config cfg, pf_param_id id)
+int pf_param_used(pf_topology topo, pf_param_id id)
 {
-    switch (id) {
-    case PF_P_NU: return cfg == PF_CFG_DD || cfg == PF_CFG_PID;
-    case PF_P_W: return cfg == PF_CFG_ID || cfg == PF_CFG_PID;
-    case PF_P_RC: return cfg == PF_CFG_DD || cfg == PF_CFG_ID;
-    case PF_P_RCD:
-    case PF_P_RCI: return cfg == PF_CFG_PID;
-    default: return id <= PF_P_RCI;
-    }
-}
-
-static int in_range(double v, double lo, int lo_open, double hi)
-{
-    if (!isfinite(v))
+    const pf_param_spec *s = pf_param_info(id);
+    if (s == NULL || (unsigned)topo >= (unsigned)PF_TOPO_COUNT)
         return 0;
-    if (lo_open ? !(v > lo) : !(v >= lo))
-        return 0;
-    return v <= hi;
+    return (s->topologies >> topo) & 1u;
 }
 
 pf_status pf_params_validate(const pf_params *p)
@@ -119,22 +105,12 @@ pf_status pf_params_validate(const pf_params *p)
     int i;
     if (p == NULL)
         return PF_E_NULL;
-    if ((unsigned)p->config >= (unsigned)PF_CFG_COUNT)
+    if (pf_param_check(PF_P_CONFIG, (double)p->topology) != PF_OK)
         return PF_E_PARAM(PF_P_CONFIG);
     for (i = 0; i <= (int)PF_P_RCI; i++) {
         pf_param_id id = (pf_param_id)i;
-        double v = pf_params_get(p, id);
-        int ok;
-        if (!pf_param_used(p->config, id))
-            continue;
-        switch (id) {
-        case PF_P_BETA:
-        case PF_P_NU:
-        case PF_P_W: ok = in_range(v, 0.0, 1, 1.0); break;
-        case PF_P_Q: ok = in_range(v, 0.0, 0, 1.0); break;
-        default: ok = in_range(v, PF_PARAM_MIN, 0, PF_PARAM_MAX); break;
-        }
-        if (!ok)
+        if (pf_param_used(p->topology, id) &&
+            pf_param_check(id, pf_params_get(p, id)) != PF_OK)
             return PF_E_PARAM(id);
     }
     /* Psi_max and Psi_min are the maximum and minimum stiffness (eq. 11). */
@@ -145,7 +121,7 @@ pf_status pf_params_validate(const pf_params *p)
     /* The pid's bellows feedback R_d - R_i must stay negative (docs/pid.md):
      * at high frequency that needs nu <= w (else R_i decays slower and the
      * net feedback turns positive), and then RCd < RCi. */
-    if (p->config == PF_CFG_PID) {
+    if (p->topology == PF_TOPO_PID) {
         if (!(p->nu <= p->w))
             return PF_E_PARAM(PF_P_W);
         if (!(p->RCd < p->RCi))
@@ -154,21 +130,14 @@ pf_status pf_params_validate(const pf_params *p)
     return PF_OK;
 }
 
-const char *pf_config_name(pf_config cfg)
+static const char *const topology_names[PF_TOPO_COUNT] = {"p", "dd", "id", "pid"};
+
+const char *pf_topology_name(pf_topology topo)
 {
-    static const char *const names[PF_CFG_COUNT] = {"p", "dd", "id", "pid"};
-    if ((unsigned)cfg >= (unsigned)PF_CFG_COUNT)
-        return "?";
-    return names[cfg];
+    return pf_name_of(topology_names, PF_TOPO_COUNT, (int)topo);
 }
 
-pf_config pf_config_lookup(const char *name)
+pf_topology pf_topology_lookup(const char *name)
 {
-    int i;
-    if (name == NULL)
-        return PF_CFG_COUNT;
-    for (i = 0; i < (int)PF_CFG_COUNT; i++)
-        if (strcmp(name, pf_config_name((pf_config)i)) == 0)
-            return (pf_config)i;
-    return PF_CFG_COUNT;
+    return (pf_topology)pf_name_find(topology_names, PF_TOPO_COUNT, name);
 }

@@ -177,10 +177,9 @@ pf_status pf_fracop_coeffs_q15_make(pf_fracop_coeffs_q15 *cq,
     int i;
     if (cq == NULL || op == NULL)
         return PF_E_NULL;
-    if (!isfinite(in_fs) || !(in_fs > 0.0))
-        return PF_E_PARAM(PF_P_IN_FS);
-    if (!isfinite(out_fs) || !(out_fs > 0.0))
-        return PF_E_PARAM(PF_P_OUT_FS);
+    st = pf_q15_scales_check(in_fs, out_fs);
+    if (st != PF_OK)
+        return st;
     /* The fractional part's peak gain: at DC (|d + sum G|) for an integrating
      * s^f, near Nyquist for a differentiating one, in between for neither;
      * the grid starts below the slowest pole, p = c lam/(2 - lam). */

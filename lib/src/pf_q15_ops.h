@@ -40,31 +40,31 @@
 /* *sf keeps the fractional part's sum unsaturated: for a differentiating
  * operator it nearly cancels the feedthrough d*u, and clamping either term
  * alone before the sum would be wrong. */
-static inline int32_t pf_q_op_state(const pf_fracop_q15 *in, int64_t *sf)
+static inline int32_t pf_q_op_state(const pf_fracop_q15 *S, int64_t *sf)
 {
-    const pf_fracop_coeffs_q15 *c = in->c;
+    const pf_fracop_coeffs_q15 *c = S->c;
     int64_t wide;
     int k, n = c->n_int < 0 ? -c->n_int : c->n_int;
-    *sf = pf_round_shift(in->sv, c->G_sh);
+    *sf = pf_round_shift(S->sv, c->G_sh);
     /* Through the integer stages wide as well: sf alone can exceed the
      * fractional output's range (it cancels against d*u), so it is
      * saturated only once, at the end. */
     wide = *sf;
     for (k = 0; k < n; k++)
-        wide = pf_mulw_wide(c->int_d[k], wide) + pf_q_state(in->si[k]);
+        wide = pf_mulw_wide(c->int_d[k], wide) + pf_q_state(S->si[k]);
     return pf_q_sat(wide);
 }
 
-static inline int32_t pf_q_op_update(pf_fracop_q15 *in, int32_t u, int64_t sf)
+static inline int32_t pf_q_op_update(pf_fracop_q15 *S, int32_t u, int64_t sf)
 {
-    const pf_fracop_coeffs_q15 *c = in->c;
+    const pf_fracop_coeffs_q15 *c = S->c;
     int32_t y = pf_q_sat(pf_round_shift(pf_q_mul64(c->d.m, u), c->d.sh) + sf);
     int32_t u2 = u >> 1;
     int64_t sv = 0;
     int k, n = c->n_int < 0 ? -c->n_int : c->n_int, n_slow = c->n_slow, n_sec = c->n_sec;
     for (k = 0; k < n_slow; k++) {
-        uint32_t lo = in->s[k].lo;
-        int32_t hi = in->s[k].hi;
+        uint32_t lo = S->s[k].lo;
+        int32_t hi = S->s[k].hi;
         unsigned v = 49u - c->lam_sh[k]; /* in [5, 31] */
         int32_t p = pf_q_mul16(c->lam_m[k], u2 - (hi >> 1));
         /* the sum fits (a convex combination); the words may wrap on the
@@ -80,24 +80,24 @@ static inline int32_t pf_q_op_update(pf_fracop_q15 *in, int32_t u, int64_t sf)
         lo = (uint32_t)t;
 #endif
         hi = (int32_t)((uint32_t)hi + (uint32_t)(p >> (32u - v)) + carry);
-        in->s[k].lo = lo;
-        in->s[k].hi = hi;
+        S->s[k].lo = lo;
+        S->s[k].hi = hi;
         sv += pf_q_mul64(c->G_m[k], hi);
     }
     for (; k < n_sec; k++) {
-        int32_t hi = in->s[k].hi;
+        int32_t hi = S->s[k].hi;
         int32_t p = pf_q_mul16(c->lam_m[k], u2 - (hi >> 1));
         /* lam_sh in [14, 17]: the increment is p 2^(17 - lam_sh) units */
         int64_t h = (int64_t)hi + (int64_t)p * ((int32_t)1 << (17u - c->lam_sh[k]));
         hi = h > PF_Q_SEC_MAX ? PF_Q_SEC_MAX : (h < -PF_Q_SEC_MAX ? -PF_Q_SEC_MAX : (int32_t)h);
-        in->s[k].hi = hi;
+        S->s[k].hi = hi;
         sv += pf_q_mul64(c->G_m[k], hi);
     }
-    in->sv = sv;
+    S->sv = sv;
     for (k = 0; k < n; k++) {
-        int32_t yk = pf_q_sat((int64_t)pf_mulc(c->int_d[k], y) + pf_q_state(in->si[k]));
+        int32_t yk = pf_q_sat((int64_t)pf_mulc(c->int_d[k], y) + pf_q_state(S->si[k]));
         /* an integrator keeps its state; a differentiator's alternates */
-        in->si[k] = pf_q_advance(c->int_rho > 0 ? in->si[k] : -in->si[k],
+        S->si[k] = pf_q_advance(c->int_rho > 0 ? S->si[k] : -S->si[k],
                                  c->int_k[k].m, y, c->int_k[k].sh);
         y = yk;
     }

@@ -1,13 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 #include "pfd_commit.h"
 
+#include <modbus/modbus.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
 #include "pfd_log.h"
-
-static int persist_failed;
 
 int pfd_daemon_init(pfd_daemon *d, const pfd_settings *set)
 {
@@ -15,10 +14,15 @@ int pfd_daemon_init(pfd_daemon *d, const pfd_settings *set)
 
     memset(d, 0, sizeof *d);
     d->set = *set;
+    d->server.listen_fd = -1;
     d->scratch = malloc(sizeof *d->scratch);
-    if (d->scratch == NULL)
+    d->persist_buf = malloc(sizeof *d->persist_buf);
+    if (d->scratch == NULL || d->persist_buf == NULL) {
+        pfd_daemon_free(d);
         return -1;
+    }
     pthread_mutex_init(&d->regs_mx, NULL);
+    pthread_mutex_init(&d->server.clients_mx, NULL);
     pthread_mutex_init(&d->commit_mx, NULL);
     pthread_mutex_init(&d->tick_mx, NULL);
     /* Timed waits use CLOCK_MONOTONIC, immune to clock steps. */
@@ -95,6 +99,8 @@ void pfd_daemon_free(pfd_daemon *d)
     d->n = 0;
     free(d->scratch);
     d->scratch = NULL;
+    free(d->persist_buf);
+    d->persist_buf = NULL;
 }
 
 void pfd_publish_live(pfd_inst *in)
@@ -107,7 +113,7 @@ void pfd_publish_live(pfd_inst *in)
 static int iparams_equal(const pfd_iparams *a, const pfd_iparams *b)
 {
     int k;
-    if (a->p.config != b->p.config || a->arith != b->arith || a->fs != b->fs ||
+    if (a->p.topology != b->p.topology || a->arith != b->arith || a->fs != b->fs ||
         a->in_fs != b->in_fs || a->out_fs != b->out_fs || a->bump_tau != b->bump_tau)
         return 0;
     for (k = PF_P_A; k <= PF_P_RCI; k++)
@@ -120,7 +126,7 @@ uint16_t pfd_status_bits(const pfd_daemon *d, const pfd_inst *in,
                          const pfd_snap *s)
 {
     uint16_t b = 0;
-    if (!__atomic_load_n(&d->stop, __ATOMIC_ACQUIRE))
+    if (!pfd_stopping(d))
         b |= 1u << 0;
     if (s->flags & PFD_SNAP_TRIPPED)
         b |= 1u << 1;
@@ -143,7 +149,7 @@ uint16_t pfd_status_bits(const pfd_daemon *d, const pfd_inst *in,
         b |= 1u << 9;
     if (s->flags & PFD_SNAP_TRANSFER)
         b |= 1u << 10;
-    if (__atomic_load_n(&persist_failed, __ATOMIC_RELAXED))
+    if (__atomic_load_n(&d->persist_failed, __ATOMIC_RELAXED))
         b |= 1u << 11;
     return b;
 }
@@ -157,13 +163,6 @@ unsigned pfd_settle_samples(double fs)
     return (unsigned)n;
 }
 
-/* Modbus exception codes pfd_commit() answers with (libmodbus's
- * MODBUS_EXCEPTION_*; this file does not otherwise need modbus.h). */
-#define EXC_ILLEGAL_FUNCTION 1
-#define EXC_ILLEGAL_VALUE 3
-#define EXC_DEVICE_FAILURE 4
-#define EXC_BUSY 6
-
 static int refuse(pfd_daemon *d, pfd_inst *in, uint16_t result, int param)
 {
     pthread_mutex_lock(&d->regs_mx);
@@ -171,9 +170,9 @@ static int refuse(pfd_daemon *d, pfd_inst *in, uint16_t result, int param)
     in->err_param = param == PF_P_COUNT ? 0xFFFFu : (uint16_t)param;
     in->err_addr = param == PF_P_COUNT ? 0xFFFFu : pfd_regmap_staged_addr(param);
     pthread_mutex_unlock(&d->regs_mx);
-    return result == PFD_COMMIT_BUSY     ? EXC_BUSY
-           : result == PFD_COMMIT_FAILED ? EXC_DEVICE_FAILURE
-                                         : EXC_ILLEGAL_VALUE;
+    return result == PFD_COMMIT_BUSY     ? MODBUS_EXCEPTION_SLAVE_OR_SERVER_BUSY
+           : result == PFD_COMMIT_FAILED ? MODBUS_EXCEPTION_SLAVE_OR_SERVER_FAILURE
+                                         : MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
 }
 
 /* Under commit_mx: a slot to build into, neither the loop's active one nor
@@ -249,7 +248,7 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
     if (in->hold.param_lock) {
         pthread_mutex_unlock(&d->regs_mx);
         pthread_mutex_unlock(&d->commit_mx);
-        return EXC_ILLEGAL_FUNCTION;
+        return MODBUS_EXCEPTION_ILLEGAL_FUNCTION;
     }
     pfd_regmap_apply(&in->hold, &in->committed, wl);
     if (wl->live)
@@ -269,8 +268,7 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
     pthread_mutex_unlock(&d->regs_mx);
 
     pfd_log(PFD_LOG_INFO, "commit", "unit=%d config=%s arith=%s fs=%.9g",
-            in->unit, pf_config_name(ip.p.config),
-            ip.arith == PFD_ARITH_Q15 ? "q15" : "float", ip.fs);
+            in->unit, pf_topology_name(ip.p.topology), pfd_arith_name(ip.arith), ip.fs);
     /* Answered only once the file is on disk; if it cannot be written the
      * set still runs (it was switched in above), and the client learns
      * that it would not survive a restart. */
@@ -279,7 +277,7 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
         in->commit_result = PFD_COMMIT_UNSAVED;
         pthread_mutex_unlock(&d->regs_mx);
         pthread_mutex_unlock(&d->commit_mx);
-        return EXC_DEVICE_FAILURE;
+        return MODBUS_EXCEPTION_SLAVE_OR_SERVER_FAILURE;
     }
     pthread_mutex_unlock(&d->commit_mx);
     return 0;
@@ -288,29 +286,29 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
 /* Under commit_mx. */
 static int persist_locked(pfd_daemon *d)
 {
-    static pfd_config c;
+    pfd_config *c = d->persist_buf;
     char err[512];
     int i, rc;
 
     if (d->config_path == NULL)
         return 0;
     pthread_mutex_lock(&d->regs_mx);
-    c = *(const pfd_config *)d->config_file;
-    c.n = d->n;
+    *c = *d->config_file;
+    c->n = d->n;
     for (i = 0; i < d->n; i++) {
         const pfd_inst *in = d->inst[i];
-        pfd_config_inst_default(&c.inst[i], in->unit);
-        c.inst[i].ip = in->committed;
-        c.inst[i].live = in->hold.live;
+        pfd_config_inst_default(&c->inst[i], in->unit);
+        c->inst[i].ip = in->committed;
+        c->inst[i].live = in->hold.live;
     }
     pthread_mutex_unlock(&d->regs_mx);
-    rc = pfd_config_write(d->config_path, &c, err, sizeof err);
+    rc = pfd_config_write(d->config_path, c, err, sizeof err);
     if (rc != 0) {
-        __atomic_store_n(&persist_failed, 1, __ATOMIC_RELAXED);
+        __atomic_store_n(&d->persist_failed, 1, __ATOMIC_RELAXED);
         pfd_log(PFD_LOG_ERROR, "persist-failed", "error=\"%s\"", err);
         return -1;
     }
-    __atomic_store_n(&persist_failed, 0, __ATOMIC_RELAXED);
+    __atomic_store_n(&d->persist_failed, 0, __ATOMIC_RELAXED);
     pfd_log(PFD_LOG_DEBUG, "persisted", "file=%s", d->config_path);
     return 0;
 }

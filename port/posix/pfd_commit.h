@@ -33,12 +33,13 @@ uint16_t pfd_status_bits(const pfd_daemon *d, const pfd_inst *in,
 
 /** Commit: the data writes of @p wl, then the staged set that results,
  *  switched in at the next sample; persisted if a config file is in use.
- *  Takes the locks it needs. @return 0 or a Modbus exception code: 1
- *  param_lock set meanwhile; 3 refused (commit_result and err_* say why);
- *  6 busy; 4 another library error. Nothing changes on any of these,
- *  and a set already pending stays pending. Except 4 with commit_result
- *  PFD_COMMIT_UNSAVED: the set was applied and runs, but the config file
- *  could not be written. */
+ *  Takes the locks it needs. @return 0 or a MODBUS_EXCEPTION_* code:
+ *  ILLEGAL_FUNCTION param_lock set meanwhile; ILLEGAL_DATA_VALUE refused
+ *  (commit_result and err_* say why); SLAVE_OR_SERVER_BUSY no free slot;
+ *  SLAVE_OR_SERVER_FAILURE another library error. Nothing changes on any
+ *  of these, and a set already pending stays pending. Except
+ *  SLAVE_OR_SERVER_FAILURE with commit_result PFD_COMMIT_UNSAVED: the set
+ *  was applied and runs, but the config file could not be written. */
 int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl);
 
 /** Write the config file (if any) from the committed and live state.

@@ -7,7 +7,7 @@
 void pfd_iparams_default(pfd_iparams *ip)
 {
     memset(ip, 0, sizeof *ip);
-    pf_params_default(&ip->p, PF_CFG_DD);
+    pf_params_default(&ip->p, PF_TOPO_DD);
     ip->arith = PFD_ARITH_FLOAT;
     ip->fs = 1000.0;
     ip->in_fs = 1.0;
@@ -32,15 +32,16 @@ int pfd_slot_build(pfd_slot *s, const pfd_iparams *ip, pf_ctrl_design *scratch,
     /* The daemon's own limits, before the library's. */
     if (!(ip->fs >= PFD_FS_MIN && ip->fs <= PFD_FS_MAX))
         return fail(why, PF_E_PARAM(PF_P_FS), PF_P_FS);
-    if (!(ip->in_fs >= PFD_FULLSCALE_MIN && ip->in_fs <= PFD_FULLSCALE_MAX))
+    /* The full scales matter in float too (the int16 mirrors). */
+    if (pf_param_check(PF_P_IN_FS, ip->in_fs) != PF_OK)
         return fail(why, PF_E_PARAM(PF_P_IN_FS), PF_P_IN_FS);
-    if (!(ip->out_fs >= PFD_FULLSCALE_MIN && ip->out_fs <= PFD_FULLSCALE_MAX))
+    if (pf_param_check(PF_P_OUT_FS, ip->out_fs) != PF_OK)
         return fail(why, PF_E_PARAM(PF_P_OUT_FS), PF_P_OUT_FS);
     if (!(ip->bump_tau >= 0.0 && ip->bump_tau <= PFD_BUMP_TAU_MAX))
         return fail(why, PFD_E_DAEMON, PFD_P_BUMP_TAU);
     if (ip->arith != PFD_ARITH_FLOAT && ip->arith != PFD_ARITH_Q15)
         return fail(why, PFD_E_DAEMON, PFD_P_ARITH);
-    if ((unsigned)ip->p.config >= (unsigned)PF_CFG_COUNT)
+    if (pf_param_check(PF_P_CONFIG, (double)ip->p.topology) != PF_OK)
         return fail(why, PF_E_PARAM(PF_P_CONFIG), PF_P_CONFIG);
 
     /* Zero fields ask the library for the same defaults as
@@ -51,84 +52,44 @@ int pfd_slot_build(pfd_slot *s, const pfd_iparams *ip, pf_ctrl_design *scratch,
     if (st != PF_OK)
         return fail(why, st, pf_status_param(st));
 
+    /* The float runtime copies its coefficients into the slot, so the
+     * scratch design may be reused once this returns. */
     memset(s, 0, sizeof *s);
     s->ip = *ip;
-    if (ip->arith == PFD_ARITH_Q15) {
-        st = pf_ctrl_coeffs_q15_make(&s->cq, scratch, ip->in_fs, ip->out_fs);
-        if (st == PF_OK)
-            st = pf_ctrl_init_q15(&s->q, &s->cq, NULL, 0);
-    } else {
-        pf_ctrl_coeffs_f32_make(&s->cf, &scratch->rt);
-        st = pf_ctrl_init_f32(&s->f, &s->cf, NULL, 0);
-    }
+    st = pf_runtime_init(&s->rt, scratch, pfd_arith_lib(ip->arith), ip->in_fs,
+                         ip->out_fs, NULL, 0);
     if (st != PF_OK)
         return fail(why, st, pf_status_param(st));
 
     s->period_ns = (uint64_t)llround(1e9 / ip->fs);
     s->decay = ip->bump_tau > 0.0 ? exp(-1.0 / (ip->fs * ip->bump_tau)) : 0.0;
-    s->inv_in_fs = 1.0 / ip->in_fs;
-    s->inv_out_fs = 1.0 / ip->out_fs;
-    s->inv_pb_fs = s->inv_in_fs / ip->p.k1;
     return 0;
 }
 
 void pfd_slot_reset(pfd_slot *s)
 {
-    if (s->ip.arith == PFD_ARITH_Q15)
-        pf_ctrl_reset_q15(&s->q);
-    else
-        pf_ctrl_reset_f32(&s->f);
+    pf_runtime_reset(&s->rt);
 }
 
-int16_t pfd_to_q15(double v, double inv_fullscale)
+pf_arith pfd_arith_lib(int arith)
 {
-    double x = v * inv_fullscale * 32768.0;
-    double r;
-
-    if (!(x < 32767.0))
-        return x != x ? 0 : INT16_MAX;
-    if (!(x > -32768.0))
-        return INT16_MIN;
-    /* Round half up without floor(): the cast truncates toward zero, so
-     * step back one for negative non-integers. */
-    r = (double)(long)x;
-    if (r > x)
-        r -= 1.0;
-    if (x - r >= 0.5)
-        r += 1.0;
-    return (int16_t)r;
+    return arith == PFD_ARITH_Q15 ? PF_ARITH_Q15 : PF_ARITH_F32;
 }
 
 void pfd_slot_step(pfd_slot *s, float e, pfd_sig *out)
 {
-    if (s->ip.arith == PFD_ARITH_Q15) {
-        const double sc_in = s->ip.in_fs / 32768.0;
-        int16_t eq = pfd_to_q15((double)e, s->inv_in_fs);
-        int16_t pq = pf_ctrl_step_q15(&s->q, eq);
-        int16_t xq, pbq, yq, pcq;
+    pf_runtime_signals sig;
 
-        pf_ctrl_monitor_q15(&s->q, &xq, &pbq, &yq, &pcq);
-        out->e = e;
-        out->pc_q15 = pq;
-        out->x_q15 = xq;
-        out->pb_q15 = pbq;
-        out->y_q15 = yq;
-        out->pc = (float)((double)pq * s->ip.out_fs / 32768.0);
-        out->x = (float)((double)xq * sc_in);
-        out->pb = (float)((double)pbq * sc_in * s->ip.p.k1);
-        out->y = (float)((double)yq * sc_in);
-    } else {
-        float pc = pf_ctrl_step_f32(&s->f, e);
-        out->e = e;
-        out->pc = pc;
-        out->x = s->f.sig.x;
-        out->pb = s->f.sig.pb;
-        out->y = s->f.sig.y;
-        out->pc_q15 = pfd_to_q15((double)pc, s->inv_out_fs);
-        out->x_q15 = pfd_to_q15((double)out->x, s->inv_in_fs);
-        out->pb_q15 = pfd_to_q15((double)out->pb, s->inv_pb_fs);
-        out->y_q15 = pfd_to_q15((double)out->y, s->inv_in_fs);
-    }
+    out->e = e;
+    out->pc = (float)pf_runtime_step(&s->rt, (double)e);
+    pf_runtime_signals_get(&s->rt, &sig);
+    out->x = (float)sig.x;
+    out->pb = (float)sig.pb;
+    out->y = (float)sig.y;
+    out->pc_q15 = sig.pc_q15;
+    out->x_q15 = sig.x_q15;
+    out->pb_q15 = sig.pb_q15;
+    out->y_q15 = sig.y_q15;
 }
 
 void pfd_slot_settle(pfd_slot *s, float e, uint32_t n)
@@ -147,4 +108,16 @@ const char *pfd_param_name(int id)
     if (id == PFD_P_ARITH)
         return "arith";
     return pf_param_name((pf_param_id)id);
+}
+
+const char *pfd_arith_name(int arith)
+{
+    if (arith != PFD_ARITH_FLOAT && arith != PFD_ARITH_Q15)
+        return "?";
+    return pf_arith_name(pfd_arith_lib(arith));
+}
+
+const char *pfd_topology_name(int config)
+{
+    return pf_topology_name((pf_topology)config);
 }

@@ -13,13 +13,23 @@
 
 #include "pneufrac/pneufrac.h"
 
+/* The daemon's own limits; the library's parameter table holds the rest.
+ * The real-time loop runs at most at 50 kHz, and at least at 1 Hz. */
 #define PFD_FS_MIN 1.0
 #define PFD_FS_MAX 50000.0
 #define PFD_BUMP_TAU_MAX 3600.0
-#define PFD_FULLSCALE_MIN 1e-9
-#define PFD_FULLSCALE_MAX 1e9
 
-enum pfd_arith { PFD_ARITH_FLOAT = 0, PFD_ARITH_Q15 = 1 };
+enum pfd_arith { PFD_ARITH_FLOAT = 0, PFD_ARITH_Q15 = 1, PFD_ARITH_COUNT };
+
+/** "float" or "q15" (the config file's and the command line's words). */
+const char *pfd_arith_name(int arith);
+
+/** The library's arithmetic of an enum pfd_arith value. */
+pf_arith pfd_arith_lib(int arith);
+
+/** "p", "dd", "id" or "pid": pf_topology_name() for an int, to go with
+ *  pfd_arith_name() wherever a name is looked up (pfd_parse_name). */
+const char *pfd_topology_name(int config);
 
 /** Everything a commit sets: configuration, the paper's parameters,
  *  arithmetic, sample rate, Q15 full scales and the bumpless time constant. */
@@ -58,18 +68,12 @@ typedef struct pfd_sig {
     int16_t x_q15, pb_q15, y_q15;
 } pfd_sig;
 
-/** A built runtime. Never moved once built: the runtimes point into it. */
+/** A built runtime. Never moved once built: the runtime points into it. */
 typedef struct pfd_slot {
     pfd_iparams ip;
-    pf_ctrl_coeffs_f32 cf;
-    pf_ctrl_f32 f;
-    pf_ctrl_coeffs_q15 cq;
-    pf_ctrl_q15 q;
+    pf_runtime rt;        /**< float or Q15, with its own coefficient set */
     uint64_t period_ns;   /**< round(1e9/fs) */
     double decay;         /**< per-sample factor of the bumpless offset */
-    double inv_in_fs, inv_out_fs; /**< for the int16 mirrors */
-    double inv_pb_fs;     /**< 1/(k1*in_fs): p_b's int16 mirror, without a
-                               division per sample */
     uint32_t gen;         /**< set by the commit that built it (pfd_inst.gen) */
 } pfd_slot;
 
@@ -85,11 +89,9 @@ void pfd_slot_settle(pfd_slot *s, float e, uint32_t n);
 /** Back to rest. */
 void pfd_slot_reset(pfd_slot *s);
 
-/** One sample. Real-time safe: no allocation, no locks, no libm. */
+/** One sample. Real-time safe: no allocation, no locks, no libm. The
+ *  int16 mirrors follow the library's rule (pf_q15_quantize), as
+ *  `pneufrac simulate` does. */
 void pfd_slot_step(pfd_slot *s, float e, pfd_sig *out);
-
-/** Round half up and saturate v/fullscale to Q15 (fullscale given as its
- *  reciprocal); the same rule as `pneufrac simulate`. */
-int16_t pfd_to_q15(double v, double inv_fullscale);
 
 #endif

@@ -11,153 +11,13 @@
 #include <unistd.h>
 
 #include "pfd_log.h"
-
-/* Period-jitter histogram over every sample of every instance, 1 us bins;
- * the last bin collects everything from HIST_N us up. Written by the loop
- * only, read after it stopped. */
-#define HIST_N 10000
-static uint32_t hist[HIST_N + 1];
-static uint64_t hist_total, hist_overruns;
-static int64_t hist_max_ns;
-
-static pthread_t loop_thread;
-static int loop_running;
+#include "pfd_sample.h"
 
 static int64_t mono_ns(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
-}
-
-static int stopping(const pfd_daemon *d)
-{
-    return __atomic_load_n(&d->stop, __ATOMIC_ACQUIRE);
-}
-
-static uint32_t ns_to_us(int64_t ns)
-{
-    int64_t us = (ns + 500) / 1000;
-    return us > (int64_t)UINT32_MAX ? UINT32_MAX : (uint32_t)us;
-}
-
-/* One sample of one instance. missed: periods skipped before it (they
- * count for the watchdog); jitter_ns < 0: none to record. */
-static void run_sample(pfd_inst *in, uint32_t missed, int64_t jitter_ns)
-{
-    const pfd_live *l = (const pfd_live *)pfd_tbuf_latest(&in->in_tb);
-    pfd_slot *p;
-    pfd_sig sig;
-    pfd_snap *s;
-    const float e = l->input_sel ? l->sp - l->pv : l->e;
-    uint32_t req;
-    double y, out, tiny;
-    uint16_t flags = 0;
-
-    req = __atomic_load_n(&in->reset_req, __ATOMIC_ACQUIRE);
-    if (req != in->rt.reset_seen) {
-        in->rt.reset_seen = req;
-        pfd_slot_reset(in->rt.active);
-        in->rt.offset = 0.0;
-    }
-    req = __atomic_load_n(&in->stats_req, __ATOMIC_ACQUIRE);
-    if (req != in->rt.stats_seen) {
-        in->rt.stats_seen = req;
-        in->rt.s.overruns = 0;
-        in->rt.s.jit_max_us = 0;
-        in->rt.s.wd_trips = 0;
-    }
-
-    p = __atomic_exchange_n(&in->pending, (pfd_slot *)NULL, __ATOMIC_ACQ_REL);
-    if (p != NULL) {
-        /* Bumpless switch: the old set runs this sample once more, and the
-         * offset makes the output exactly what it would have given. */
-        pfd_slot *old = in->rt.active;
-        int old_idx = in->rt.active_idx, k;
-        pfd_sig so;
-        double out_old;
-
-        pfd_slot_step(old, e, &so);
-        in->rt.offset *= old->decay;
-        out_old = (double)so.pc + in->rt.offset;
-        pfd_slot_step(p, e, &sig);
-        in->rt.offset = out_old - (double)sig.pc;
-        for (k = 0; k < PFD_NSLOTS; k++)
-            if (in->slot[k] == p)
-                in->rt.active_idx = k;
-        in->rt.active = p;
-        __atomic_store_n(&in->slot_state[in->rt.active_idx], PFD_SLOT_ACTIVE,
-                         __ATOMIC_RELEASE);
-        __atomic_store_n(&in->slot_state[old_idx], PFD_SLOT_FREE, __ATOMIC_RELEASE);
-    } else {
-        pfd_slot_step(in->rt.active, e, &sig);
-        in->rt.offset *= in->rt.active->decay;
-    }
-
-    /* Watchdog, counted in samples so that lockstep runs are exact. */
-    if (l->refresh != in->rt.last_refresh) {
-        in->rt.last_refresh = l->refresh;
-        in->rt.wd_count = 0;
-        in->rt.tripped = 0;
-    } else {
-        uint32_t add = missed + 1;
-        in->rt.wd_count = in->rt.wd_count > UINT32_MAX - add ? UINT32_MAX
-                                                             : in->rt.wd_count + add;
-    }
-    if (l->watchdog_ms > 0 && !in->rt.tripped) {
-        double lim = (double)l->watchdog_ms * in->rt.active->ip.fs / 1000.0;
-        if ((double)in->rt.wd_count >= (lim < 1.0 ? 1.0 : lim)) {
-            in->rt.tripped = 1;
-            in->rt.s.wd_trips++;
-        }
-    }
-
-    /* Output: fail-safe, manual, or the controller plus the transfer
-     * offset, which tracks the difference while overridden. */
-    y = (double)sig.pc;
-    tiny = 1e-9 * in->rt.active->ip.out_fs;
-    if (in->rt.tripped) {
-        out = (double)l->failsafe_out;
-        in->rt.offset = out - y;
-        flags |= PFD_SNAP_TRIPPED;
-    } else if (l->mode == 1) {
-        out = (double)l->manual_out;
-        in->rt.offset = out - y;
-        flags |= PFD_SNAP_MANUAL;
-    } else {
-        if (in->rt.offset < tiny && in->rt.offset > -tiny)
-            in->rt.offset = 0.0;
-        out = y + in->rt.offset;
-    }
-    if (in->rt.offset != 0.0 || (flags & (PFD_SNAP_TRIPPED | PFD_SNAP_MANUAL))) {
-        /* Without an offset the controller's output goes out untouched, so
-         * lockstep runs match `pneufrac simulate` bit for bit. */
-        sig.pc = (float)out;
-        sig.pc_q15 = pfd_to_q15(out, in->rt.active->inv_out_fs);
-        if (in->rt.offset != 0.0)
-            flags |= PFD_SNAP_TRANSFER;
-    }
-
-    in->rt.s.samples++;
-    in->rt.s.overruns += missed;
-    if (jitter_ns >= 0) {
-        uint32_t us = ns_to_us(jitter_ns);
-        in->rt.s.jit_last_us = us;
-        if (us > in->rt.s.jit_max_us)
-            in->rt.s.jit_max_us = us;
-        hist[us < HIST_N ? us : HIST_N]++;
-        hist_total++;
-        if (jitter_ns > hist_max_ns)
-            hist_max_ns = jitter_ns;
-    }
-    hist_overruns += missed;
-    in->rt.s.sig = sig;
-    in->rt.s.gen = in->rt.active->gen;
-    in->rt.s.e_used = e;
-    in->rt.s.flags = flags;
-    s = (pfd_snap *)pfd_tbuf_back(&in->out_tb);
-    *s = in->rt.s;
-    pfd_tbuf_publish(&in->out_tb);
 }
 
 static void sleep_until(int64_t t)
@@ -178,7 +38,7 @@ static void freerun(pfd_daemon *d)
         d->inst[i]->rt.next_ns = now + (int64_t)d->inst[i]->rt.active->period_ns;
         d->inst[i]->rt.last_ns = -1;
     }
-    while (!stopping(d)) {
+    while (!pfd_stopping(d)) {
         /* Wake at least every 100 ms so a stop request is seen. */
         int64_t t_next = mono_ns() + 100000000;
         for (i = 0; i < d->n; i++)
@@ -209,7 +69,7 @@ static void freerun(pfd_daemon *d)
                     jitter = -jitter;
             }
             in->rt.last_ns = t;
-            run_sample(in, missed, jitter);
+            pfd_sample_run(in, &d->loop.jitter, missed, jitter);
             if (in->rt.active != before &&
                 in->rt.active->period_ns != before->period_ns) {
                 /* New sample rate: restart the schedule from now. */
@@ -238,7 +98,7 @@ static void lockstep(pfd_daemon *d)
     int i;
 
     pthread_mutex_lock(&d->tick_mx);
-    while (!stopping(d)) {
+    while (!pfd_stopping(d)) {
         int work = 0;
         for (i = 0; i < d->n; i++)
             if (__atomic_load_n(&d->inst[i]->tick_target, __ATOMIC_ACQUIRE) >
@@ -253,8 +113,8 @@ static void lockstep(pfd_daemon *d)
             pfd_inst *in = d->inst[i];
             uint64_t target = __atomic_load_n(&in->tick_target, __ATOMIC_ACQUIRE);
             uint64_t done = __atomic_load_n(&in->tick_done, __ATOMIC_ACQUIRE);
-            while (done < target && !stopping(d)) {
-                run_sample(in, 0, -1);
+            while (done < target && !pfd_stopping(d)) {
+                pfd_sample_run(in, &d->loop.jitter, 0, -1);
                 done++;
             }
             __atomic_store_n(&in->tick_done, done, __ATOMIC_RELEASE);
@@ -335,7 +195,7 @@ int pfd_loop_start(pfd_daemon *d)
         pthread_attr_setinheritsched(&attr, PTHREAD_EXPLICIT_SCHED);
         pthread_attr_setschedpolicy(&attr, SCHED_FIFO);
         pthread_attr_setschedparam(&attr, &sp);
-        rc = pthread_create(&loop_thread, &attr, loop_main, d);
+        rc = pthread_create(&d->loop.th, &attr, loop_main, d);
         pthread_attr_destroy(&attr);
         if (rc == 0)
             pfd_log(PFD_LOG_INFO, "loop-thread", "sched=fifo priority=%d",
@@ -346,7 +206,7 @@ int pfd_loop_start(pfd_daemon *d)
                     d->set.rt_priority, strerror(rc));
     }
     if (rc != 0) {
-        rc = pthread_create(&loop_thread, NULL, loop_main, d);
+        rc = pthread_create(&d->loop.th, NULL, loop_main, d);
         if (rc != 0) {
             pfd_log(PFD_LOG_ERROR, "loop-thread", "error=\"%s\"", strerror(rc));
             return -1;
@@ -354,41 +214,28 @@ int pfd_loop_start(pfd_daemon *d)
         if (d->set.rt_priority <= 0)
             pfd_log(PFD_LOG_INFO, "loop-thread", "sched=other reason=--rt-priority-0");
     }
-    loop_running = 1;
+    d->loop.running = 1;
     pfd_log(PFD_LOG_INFO, "loop-start", "clock=%s instances=%d",
-            d->set.external_clock ? "external" : "internal", d->n);
+            pfd_clock_name(d->set.external_clock), d->n);
     return 0;
 }
 
 void pfd_loop_stop(pfd_daemon *d)
 {
-    __atomic_store_n(&d->stop, 1, __ATOMIC_RELEASE);
+    pfd_request_stop(d);
     pthread_mutex_lock(&d->tick_mx);
     pthread_cond_broadcast(&d->work_cv);
     pthread_cond_broadcast(&d->done_cv);
     pthread_mutex_unlock(&d->tick_mx);
-    if (loop_running) {
-        pthread_join(loop_thread, NULL);
-        loop_running = 0;
+    if (d->loop.running) {
+        pthread_join(d->loop.th, NULL);
+        d->loop.running = 0;
     }
-}
-
-static uint32_t percentile(double q)
-{
-    uint64_t want = (uint64_t)(q * (double)hist_total), acc = 0;
-    uint32_t i;
-    if (want >= hist_total && hist_total > 0)
-        want = hist_total - 1;
-    for (i = 0; i <= HIST_N; i++) {
-        acc += hist[i];
-        if (acc > want)
-            return i;
-    }
-    return HIST_N;
 }
 
 void pfd_loop_log_stats(const pfd_daemon *d)
 {
+    const pfd_jitter *jit = &d->loop.jitter;
     uint64_t samples = 0;
     int i;
     for (i = 0; i < d->n; i++)
@@ -396,9 +243,10 @@ void pfd_loop_log_stats(const pfd_daemon *d)
     pfd_log(PFD_LOG_INFO, "loop-stats",
             "instances=%d samples=%llu jitter_samples=%llu jitter_p50_us=%u "
             "jitter_p99_us=%u jitter_max_us=%.1f overruns=%llu",
-            d->n, (unsigned long long)samples, (unsigned long long)hist_total,
-            hist_total ? percentile(0.50) : 0, hist_total ? percentile(0.99) : 0,
-            (double)hist_max_ns / 1000.0, (unsigned long long)hist_overruns);
+            d->n, (unsigned long long)samples, (unsigned long long)jit->total,
+            jit->total ? pfd_jitter_percentile(jit, 0.50) : 0,
+            jit->total ? pfd_jitter_percentile(jit, 0.99) : 0,
+            (double)jit->max_ns / 1000.0, (unsigned long long)jit->overruns);
 }
 
 int pfd_loop_tick(pfd_daemon *d, pfd_inst *in, unsigned n)
@@ -408,8 +256,8 @@ int pfd_loop_tick(pfd_daemon *d, pfd_inst *in, unsigned n)
     pthread_mutex_lock(&d->tick_mx);
     pthread_cond_signal(&d->work_cv);
     while (__atomic_load_n(&in->tick_done, __ATOMIC_ACQUIRE) < target &&
-           !stopping(d))
+           !pfd_stopping(d))
         timed_wait(&d->done_cv, &d->tick_mx, 200);
     pthread_mutex_unlock(&d->tick_mx);
-    return stopping(d) ? -1 : 0;
+    return pfd_stopping(d) ? -1 : 0;
 }

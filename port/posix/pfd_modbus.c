@@ -14,7 +14,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "pfd_allow.h"
+#include "pfd_addr.h"
 #include "pfd_commit.h"
 #include "pfd_log.h"
 #include "pfd_loop.h"
@@ -23,27 +23,15 @@
 #define MBAP_LEN 7
 #define CLIENT_STACK (256 * 1024)
 
-typedef struct client {
+/* One slot of pfd_daemon.server.clients. */
+typedef struct pfd_client {
     pfd_daemon *d;
     pthread_t th;
     int fd;
     int in_use; /* slot taken (under clients_mx) */
     int done;   /* thread finished, join pending (atomic) */
     char peer[48];
-} client;
-
-static int listen_fd = -1;
-static pthread_t accept_th;
-static int accept_running;
-static pthread_mutex_t clients_mx = PTHREAD_MUTEX_INITIALIZER;
-static client *clients;
-static int n_clients_max;
-static pfd_allow allow;
-
-static int stopping(const pfd_daemon *d)
-{
-    return __atomic_load_n(&d->stop, __ATOMIC_ACQUIRE);
-}
+} pfd_client;
 
 static unsigned be16(const uint8_t *p) { return ((unsigned)p[0] << 8) | p[1]; }
 
@@ -81,7 +69,7 @@ static void fill(reqctx *r, pfd_inst *in, int space)
 }
 
 /* Validated writes: state checks, then data, commit, command, tick.
- * @return 0 done, > 0 exception code, -1 drop the connection. */
+ * @return 0 done, > 0 MODBUS_EXCEPTION_* code, -1 drop the connection. */
 static int execute(reqctx *r, pfd_inst *in, const pfd_wlist *wl)
 {
     pfd_daemon *d = r->d;
@@ -125,14 +113,33 @@ static int execute(reqctx *r, pfd_inst *in, const pfd_wlist *wl)
     return 0;
 }
 
+/* Decode and apply a write of @p cnt registers from @p addr, whose values
+ * start at @p payload. @return 0, > 0 MODBUS_EXCEPTION_* (already
+ * answered) or -1 (drop the connection). */
+static int write_regs(reqctx *r, pfd_inst *in, unsigned addr, unsigned cnt,
+                      const uint8_t *payload)
+{
+    uint16_t vals[MODBUS_MAX_WRITE_REGISTERS];
+    pfd_wlist wl;
+    unsigned i;
+    int rc;
+
+    for (i = 0; i < cnt; i++)
+        vals[i] = (uint16_t)be16(payload + 2 * i);
+    rc = pfd_regmap_decode(addr, cnt, vals, &wl);
+    if (rc == 0)
+        rc = execute(r, in, &wl);
+    if (rc > 0 && reply_exc(r, rc) != 0)
+        return -1;
+    return rc;
+}
+
 static int handle(reqctx *r)
 {
     pfd_daemon *d = r->d;
     const uint8_t *req = r->req, *pdu;
     unsigned fc, pdu_len, addr, cnt;
     pfd_inst *in;
-    pfd_wlist wl;
-    uint16_t vals[128];
     uint8_t patched[MODBUS_TCP_MAX_ADU_LENGTH]; /* FC23's answer, see there */
     unsigned i;
     int rc;
@@ -170,13 +177,9 @@ static int handle(reqctx *r)
             return -1;
         if (d->set.read_only)
             return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_FUNCTION);
-        addr = be16(pdu + 1);
-        vals[0] = (uint16_t)be16(pdu + 3);
-        rc = pfd_regmap_decode(addr, 1, vals, &wl);
-        if (rc == 0)
-            rc = execute(r, in, &wl);
+        rc = write_regs(r, in, be16(pdu + 1), 1, pdu + 3);
         if (rc != 0)
-            return rc < 0 ? -1 : reply_exc(r, rc);
+            return rc < 0 ? -1 : 0;
         break;
     case MODBUS_FC_WRITE_MULTIPLE_REGISTERS:
         if (pdu_len < 6)
@@ -188,13 +191,9 @@ static int handle(reqctx *r)
         if (cnt < 1 || cnt > MODBUS_MAX_WRITE_REGISTERS || pdu[5] != cnt * 2 ||
             pdu_len != 6 + cnt * 2)
             return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
-        for (i = 0; i < cnt; i++)
-            vals[i] = (uint16_t)be16(pdu + 6 + 2 * i);
-        rc = pfd_regmap_decode(addr, cnt, vals, &wl);
-        if (rc == 0)
-            rc = execute(r, in, &wl);
+        rc = write_regs(r, in, addr, cnt, pdu + 6);
         if (rc != 0)
-            return rc < 0 ? -1 : reply_exc(r, rc);
+            return rc < 0 ? -1 : 0;
         break;
     case MODBUS_FC_WRITE_AND_READ_REGISTERS: {
         unsigned waddr, wcnt;
@@ -212,13 +211,9 @@ static int handle(reqctx *r)
             return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
         if (addr + cnt > PFD_HOLD_SIZE)
             return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS);
-        for (i = 0; i < wcnt; i++)
-            vals[i] = (uint16_t)be16(pdu + 10 + 2 * i);
-        rc = pfd_regmap_decode(waddr, wcnt, vals, &wl);
-        if (rc == 0)
-            rc = execute(r, in, &wl);
+        rc = write_regs(r, in, waddr, wcnt, pdu + 10);
         if (rc != 0)
-            return rc < 0 ? -1 : reply_exc(r, rc);
+            return rc < 0 ? -1 : 0;
         /* Read after the write, as the function code specifies. But
          * libmodbus 3.1.6 copies the written values into the mapping
          * before it reads, so registers the two ranges share would echo
@@ -276,7 +271,7 @@ static int read_rest(int fd, uint8_t *req, int have, int timeout_ms)
 
 static void *client_main(void *arg)
 {
-    client *c = (client *)arg;
+    pfd_client *c = (pfd_client *)arg;
     pfd_daemon *d = c->d;
     uint8_t req[MODBUS_TCP_MAX_ADU_LENGTH];
     modbus_t *ctx = modbus_new_tcp("127.0.0.1", 502);
@@ -298,7 +293,7 @@ static void *client_main(void *arg)
     modbus_set_indication_timeout(ctx, bt_s, bt_us);
     modbus_set_response_timeout(ctx, bt_s, bt_us);
 
-    while (!stopping(d)) {
+    while (!pfd_stopping(d)) {
         struct pollfd pfd;
         reqctx r;
         int rc;
@@ -340,11 +335,11 @@ static void *client_main(void *arg)
         r.req = req;
         r.len = rc;
         if (handle(&r) != 0) {
-            why = stopping(d) ? "shutdown" : "bad-frame-or-send-error";
+            why = pfd_stopping(d) ? "shutdown" : "bad-frame-or-send-error";
             break;
         }
     }
-    if (stopping(d))
+    if (pfd_stopping(d))
         why = "shutdown";
 out:
     pfd_log(PFD_LOG_DEBUG, "client-closed", "peer=%s reason=%s", c->peer, why);
@@ -360,11 +355,12 @@ out:
 
 /* ---- accept thread ----------------------------------------------------- */
 
-static void reap(int all)
+/* Under clients_mx. */
+static void reap(pfd_daemon *d, int all)
 {
     int i;
-    for (i = 0; i < n_clients_max; i++) {
-        client *c = &clients[i];
+    for (i = 0; i < d->set.max_clients; i++) {
+        pfd_client *c = &d->server.clients[i];
         if (c->in_use && (all || __atomic_load_n(&c->done, __ATOMIC_ACQUIRE))) {
             pthread_join(c->th, NULL);
             close(c->fd);
@@ -383,26 +379,26 @@ static void *accept_main(void *arg)
 {
     pfd_daemon *d = (pfd_daemon *)arg;
 
-    while (!stopping(d)) {
+    while (!pfd_stopping(d)) {
         struct pollfd pfd;
         struct sockaddr_in sa;
         socklen_t sl = sizeof sa;
         char peer[48], ip[INET_ADDRSTRLEN];
         pthread_attr_t attr;
         int fd, i, one = 1;
-        client *c = NULL;
+        pfd_client *c = NULL;
         struct timeval tv;
 
-        pthread_mutex_lock(&clients_mx);
-        reap(0);
-        pthread_mutex_unlock(&clients_mx);
+        pthread_mutex_lock(&d->server.clients_mx);
+        reap(d, 0);
+        pthread_mutex_unlock(&d->server.clients_mx);
 
-        pfd.fd = listen_fd;
+        pfd.fd = d->server.listen_fd;
         pfd.events = POLLIN;
         pfd.revents = 0;
         if (poll(&pfd, 1, 200) <= 0)
             continue;
-        fd = accept(listen_fd, (struct sockaddr *)&sa, &sl);
+        fd = accept(d->server.listen_fd, (struct sockaddr *)&sa, &sl);
         if (fd < 0)
             continue;
         if (sa.sin_family != AF_INET || inet_ntop(AF_INET, &sa.sin_addr, ip, sizeof ip) == NULL)
@@ -412,17 +408,17 @@ static void *accept_main(void *arg)
             refuse(fd, peer, "fd-above-FD_SETSIZE");
             continue;
         }
-        if (sa.sin_family != AF_INET || !pfd_allow_match(&allow, ntohl(sa.sin_addr.s_addr))) {
+        if (sa.sin_family != AF_INET || !pfd_allow_match(&d->server.allow, ntohl(sa.sin_addr.s_addr))) {
             refuse(fd, peer, "not-in-allow-list");
             continue;
         }
-        pthread_mutex_lock(&clients_mx);
-        reap(0);
-        for (i = 0; i < n_clients_max && c == NULL; i++)
-            if (!clients[i].in_use)
-                c = &clients[i];
+        pthread_mutex_lock(&d->server.clients_mx);
+        reap(d, 0);
+        for (i = 0; i < d->set.max_clients && c == NULL; i++)
+            if (!d->server.clients[i].in_use)
+                c = &d->server.clients[i];
         if (c == NULL) {
-            pthread_mutex_unlock(&clients_mx);
+            pthread_mutex_unlock(&d->server.clients_mx);
             refuse(fd, peer, "max-clients");
             continue;
         }
@@ -440,16 +436,24 @@ static void *accept_main(void *arg)
         pthread_attr_setstacksize(&attr, CLIENT_STACK);
         if (pthread_create(&c->th, &attr, client_main, c) != 0) {
             pthread_attr_destroy(&attr);
-            pthread_mutex_unlock(&clients_mx);
+            pthread_mutex_unlock(&d->server.clients_mx);
             refuse(fd, peer, "thread-create-failed");
             continue;
         }
         pthread_attr_destroy(&attr);
         c->in_use = 1;
-        pthread_mutex_unlock(&clients_mx);
+        pthread_mutex_unlock(&d->server.clients_mx);
         pfd_log(PFD_LOG_DEBUG, "client-connected", "peer=%s", peer);
     }
     return NULL;
+}
+
+static void close_listener(pfd_daemon *d)
+{
+    if (d->server.listen_fd >= 0) {
+        close(d->server.listen_fd);
+        d->server.listen_fd = -1;
+    }
 }
 
 int pfd_server_start(pfd_daemon *d)
@@ -457,70 +461,71 @@ int pfd_server_start(pfd_daemon *d)
     struct sockaddr_in sa;
     socklen_t sl = sizeof sa;
     char err[200];
-    int one = 1;
+    int one = 1, fd;
 
-    if (pfd_allow_parse(d->set.allow, &allow, err, sizeof err) != 0) {
-        pfd_fatal("%s", err);
-        return -1;
-    }
-    n_clients_max = d->set.max_clients;
-    clients = calloc((size_t)n_clients_max, sizeof *clients);
-    if (clients == NULL) {
-        pfd_fatal("out of memory");
+    if (pfd_allow_parse(d->set.allow, &d->server.allow, err, sizeof err) != 0) {
+        pfd_fatal("allow: %s", err);
         return -1;
     }
     memset(&sa, 0, sizeof sa);
     sa.sin_family = AF_INET;
-    sa.sin_port = htons((uint16_t)d->set.listen_port);
-    if (inet_pton(AF_INET, d->set.listen_addr, &sa.sin_addr) != 1) {
-        pfd_fatal("--listen: '%s' is not an IPv4 address", d->set.listen_addr);
+    sa.sin_port = htons((uint16_t)d->set.listen.port);
+    if (inet_pton(AF_INET, d->set.listen.addr, &sa.sin_addr) != 1) {
+        pfd_fatal("--listen: '%s' is not an IPv4 address", d->set.listen.addr);
         return -1;
     }
-    listen_fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    if (listen_fd < 0) {
+    fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    if (fd < 0) {
         pfd_fatal("socket: %s", strerror(errno));
         return -1;
     }
-    setsockopt(listen_fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-    if (bind(listen_fd, (struct sockaddr *)&sa, sizeof sa) != 0 ||
-        listen(listen_fd, 32) != 0) {
-        pfd_fatal("cannot listen on %s:%d: %s", d->set.listen_addr,
-                  d->set.listen_port, strerror(errno));
-        close(listen_fd);
-        listen_fd = -1;
+    d->server.listen_fd = fd;
+    setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+    if (bind(fd, (struct sockaddr *)&sa, sizeof sa) != 0 || listen(fd, 32) != 0) {
+        pfd_fatal("cannot listen on %s:%d: %s", d->set.listen.addr,
+                  d->set.listen.port, strerror(errno));
+        close_listener(d);
         return -1;
     }
-    getsockname(listen_fd, (struct sockaddr *)&sa, &sl);
-    if (pthread_create(&accept_th, NULL, accept_main, d) != 0) {
+    getsockname(fd, (struct sockaddr *)&sa, &sl);
+    d->server.clients = calloc((size_t)d->set.max_clients, sizeof *d->server.clients);
+    if (d->server.clients == NULL) {
+        pfd_fatal("out of memory");
+        close_listener(d);
+        return -1;
+    }
+    if (pthread_create(&d->server.accept_th, NULL, accept_main, d) != 0) {
         pfd_fatal("cannot start the accept thread");
+        free(d->server.clients);
+        d->server.clients = NULL;
+        close_listener(d);
         return -1;
     }
-    accept_running = 1;
+    d->server.accept_running = 1;
     pfd_log(PFD_LOG_INFO, "listening",
             "addr=%s port=%u max_clients=%d allow=\"%s\" read_only=%d",
-            d->set.listen_addr, (unsigned)ntohs(sa.sin_port), d->set.max_clients,
-            d->set.allow[0] ? d->set.allow : "127.0.0.0/8", d->set.read_only);
+            d->set.listen.addr, (unsigned)ntohs(sa.sin_port), d->set.max_clients,
+            d->set.allow[0] ? d->set.allow : PFD_ALLOW_DEFAULT, d->set.read_only);
     return 0;
 }
 
 void pfd_server_stop(pfd_daemon *d)
 {
     int i;
-    __atomic_store_n(&d->stop, 1, __ATOMIC_RELEASE);
-    if (accept_running) {
-        pthread_join(accept_th, NULL);
-        accept_running = 0;
+    pfd_request_stop(d);
+    if (d->server.accept_running) {
+        pthread_join(d->server.accept_th, NULL);
+        d->server.accept_running = 0;
     }
-    if (listen_fd >= 0) {
-        close(listen_fd);
-        listen_fd = -1;
-    }
-    pthread_mutex_lock(&clients_mx);
-    for (i = 0; i < n_clients_max; i++)
-        if (clients[i].in_use)
-            shutdown(clients[i].fd, SHUT_RDWR);
-    reap(1);
-    pthread_mutex_unlock(&clients_mx);
-    free(clients);
-    clients = NULL;
+    close_listener(d);
+    if (d->server.clients == NULL)
+        return;
+    pthread_mutex_lock(&d->server.clients_mx);
+    for (i = 0; i < d->set.max_clients; i++)
+        if (d->server.clients[i].in_use)
+            shutdown(d->server.clients[i].fd, SHUT_RDWR);
+    reap(d, 1);
+    pthread_mutex_unlock(&d->server.clients_mx);
+    free(d->server.clients);
+    d->server.clients = NULL;
 }

@@ -2,6 +2,7 @@
 #include "pfd_regmap.h"
 
 #include <math.h>
+#include <modbus/modbus.h>
 #include <string.h>
 
 #ifndef PFD_VERSION_MAJOR
@@ -35,53 +36,67 @@ enum {
 #define K_P0 6
 #define K_COUNT (K_P0 + 16)
 
+/* The live signals' write range (e, sp, pv, manual and fail-safe output):
+ * the daemon's own bound, far beyond any process value and finite in f32. */
 #define BIG 1e9
-#define PMIN 1e-9
 
 /* Staged parameters from holding 20, their committed mirrors from input
  * 36; u16 first, then f32. */
 #define HS(k) (uint16_t)((k) < 2 ? 20 + (k) : 22 + 2 * ((k) - 2))
 #define IC(k) (uint16_t)((k) < 2 ? 36 + (k) : 38 + 2 * ((k) - 2))
 
-#define PARAMS(X)                                                              \
-    X(K_CONFIG, PFD_T_U16, "config", "", 0, 3, 0,                              \
-      "configuration: 0 p (eq. 17), 1 dd (FrDD, eq. 18), 2 id (FrID, eq. 20), 3 pid (Remark 3)") \
-    X(K_ARITH, PFD_T_U16, "arith", "", 0, 1, 0, "arithmetic: 0 float, 1 q15")  \
-    X(K_FS, PFD_T_F32, "fs", "Hz", PFD_FS_MIN, PFD_FS_MAX, 0, "sample rate")   \
-    X(K_IN_FS, PFD_T_F32, "in_fs", "", PFD_FULLSCALE_MIN, PFD_FULLSCALE_MAX, 0, \
-      "full scale of e: Q15 +1.0 in q15, and the scale of the int16 mirrors of e, x, p_b/k1, y") \
-    X(K_OUT_FS, PFD_T_F32, "out_fs", "", PFD_FULLSCALE_MIN, PFD_FULLSCALE_MAX, 0, \
-      "full scale of p_c: Q15 +1.0 in q15, and the scale of pc_i16")           \
-    X(K_BUMP, PFD_T_F32, "bump_tau", "s", 0, PFD_BUMP_TAU_MAX, 0,              \
-      "time constant of the bumpless transfer's offset bleed; 0 = none")       \
-    X(K_P0 + 0, PFD_T_F32, "a", "", PMIN, BIG, 0, "flapper lever arm a (eq. 15)") \
-    X(K_P0 + 1, PFD_T_F32, "b", "", PMIN, BIG, 0, "flapper lever arm b (eq. 15)") \
-    X(K_P0 + 2, PFD_T_F32, "k1", "", PMIN, BIG, 0, "nozzle gain, p_b = k1 x (eq. 9)") \
-    X(K_P0 + 3, PFD_T_F32, "k2", "", PMIN, BIG, 0, "relay gain, p_c = k2 z (eq. 13)") \
-    X(K_P0 + 4, PFD_T_F32, "A", "", PMIN, BIG, 0, "bellows effective area (eq. 16)") \
-    X(K_P0 + 5, PFD_T_F32, "ks", "", PMIN, BIG, 0, "bellows pseudo-spring constant (eq. 16)") \
-    X(K_P0 + 6, PFD_T_F32, "tau", "s", PMIN, BIG, 0, "relay time constant (eq. 11)") \
-    X(K_P0 + 7, PFD_T_F32, "pmin", "", PMIN, BIG, 0, "relay Psi_min, <= pmax (eq. 11)") \
-    X(K_P0 + 8, PFD_T_F32, "pmax", "", PMIN, BIG, 0, "relay Psi_max (eq. 11)") \
-    X(K_P0 + 9, PFD_T_F32, "beta", "", 0, 1, PFD_F_MIN_EXCL, "relay diaphragm order") \
-    X(K_P0 + 10, PFD_T_F32, "q", "", 0, 1, 0, "bellows order; 0 is a linear spring") \
-    X(K_P0 + 11, PFD_T_F32, "nu", "", 0, 1, PFD_F_MIN_EXCL, "derivative restrictor order (dd, pid)") \
-    X(K_P0 + 12, PFD_T_F32, "w", "", 0, 1, PFD_F_MIN_EXCL, "reset restrictor order (id, pid; pid: >= nu)") \
-    X(K_P0 + 13, PFD_T_F32, "RC", "s", PMIN, BIG, 0, "restrictor time constant (dd, id)") \
-    X(K_P0 + 14, PFD_T_F32, "RCd", "s", PMIN, BIG, 0, "pid derivative restrictor, < RCi") \
-    X(K_P0 + 15, PFD_T_F32, "RCi", "s", PMIN, BIG, 0, "pid reset restrictor")
+/* The parameter set, staged and committed. OWN rows are the daemon's own
+ * settings, with their range, unit and description here; LIB rows are
+ * the library's parameters, whose range (and unit and description, where
+ * the row gives none) the library's table holds. The register name is
+ * the parameter's name (test_pfd_config checks that they agree); the
+ * register map adds "staged: " or "committed: " to the description. */
+#define PARAMS(OWN, LIB)                                                       \
+    LIB(K_CONFIG, PFD_T_U16, "config", PF_P_CONFIG, NULL)                      \
+    OWN(K_ARITH, PFD_T_U16, "arith", "", 0, PFD_ARITH_COUNT - 1,               \
+        "arithmetic: 0 float, 1 q15")                                          \
+    OWN(K_FS, PFD_T_F32, "fs", "Hz", PFD_FS_MIN, PFD_FS_MAX,                   \
+        "sample rate (the real-time loop's range)")                            \
+    LIB(K_IN_FS, PFD_T_F32, "in_fs", PF_P_IN_FS,                               \
+        "full scale of e: Q15 +1.0 in q15, and the scale of the int16 mirrors of e, x, p_b/k1, y") \
+    LIB(K_OUT_FS, PFD_T_F32, "out_fs", PF_P_OUT_FS,                            \
+        "full scale of p_c: Q15 +1.0 in q15, and the scale of pc_i16")         \
+    OWN(K_BUMP, PFD_T_F32, "bump_tau", "s", 0, PFD_BUMP_TAU_MAX,               \
+        "time constant of the bumpless transfer's offset bleed; 0 = none")     \
+    LIB(K_P0 + 0, PFD_T_F32, "a", PF_P_A, NULL)                                \
+    LIB(K_P0 + 1, PFD_T_F32, "b", PF_P_B, NULL)                                \
+    LIB(K_P0 + 2, PFD_T_F32, "k1", PF_P_K1, NULL)                              \
+    LIB(K_P0 + 3, PFD_T_F32, "k2", PF_P_K2, NULL)                              \
+    LIB(K_P0 + 4, PFD_T_F32, "A", PF_P_AREA, NULL)                             \
+    LIB(K_P0 + 5, PFD_T_F32, "ks", PF_P_KS, NULL)                              \
+    LIB(K_P0 + 6, PFD_T_F32, "tau", PF_P_TAU, NULL)                            \
+    LIB(K_P0 + 7, PFD_T_F32, "pmin", PF_P_PMIN, NULL)                          \
+    LIB(K_P0 + 8, PFD_T_F32, "pmax", PF_P_PMAX, NULL)                          \
+    LIB(K_P0 + 9, PFD_T_F32, "beta", PF_P_BETA, NULL)                          \
+    LIB(K_P0 + 10, PFD_T_F32, "q", PF_P_Q, NULL)                               \
+    LIB(K_P0 + 11, PFD_T_F32, "nu", PF_P_NU, NULL)                             \
+    LIB(K_P0 + 12, PFD_T_F32, "w", PF_P_W, NULL)                               \
+    LIB(K_P0 + 13, PFD_T_F32, "RC", PF_P_RC, NULL)                             \
+    LIB(K_P0 + 14, PFD_T_F32, "RCd", PF_P_RCD, NULL)                           \
+    LIB(K_P0 + 15, PFD_T_F32, "RCi", PF_P_RCI, NULL)
 
-#define STAGED_ENTRY(k, t, nm, un, lo, hi, fl, ds)                             \
-    {PFD_HOLD, t, PFD_RW, PFD_F_STAGED | (fl), HS(k), F_STAGED + (k), lo, hi,  \
-     nm, un, "staged: " ds},
-#define COMMITTED_ENTRY(k, t, nm, un, lo, hi, fl, ds)                          \
-    {PFD_INPUT, t, PFD_R, 0, IC(k), F_COMMITTED + (k), 0, 0, "committed_" nm,  \
-     un, "committed: " ds},
+#define STAGED_OWN(k, t, nm, un, lo, hi, ds)                                   \
+    {PFD_HOLD, t, PFD_RW, PFD_F_STAGED, HS(k), F_STAGED + (k), PFD_NO_PARAM,   \
+     lo, hi, nm, un, ds},
+#define STAGED_LIB(k, t, nm, id, ds)                                           \
+    {PFD_HOLD, t, PFD_RW, PFD_F_STAGED, HS(k), F_STAGED + (k), id, 0, 0, nm,   \
+     NULL, ds},
+#define COMMITTED_OWN(k, t, nm, un, lo, hi, ds)                                \
+    {PFD_INPUT, t, PFD_R, 0, IC(k), F_COMMITTED + (k), PFD_NO_PARAM, 0, 0,     \
+     "committed_" nm, un, ds},
+#define COMMITTED_LIB(k, t, nm, id, ds)                                        \
+    {PFD_INPUT, t, PFD_R, 0, IC(k), F_COMMITTED + (k), id, 0, 0,               \
+     "committed_" nm, NULL, ds},
 
 #define H(addr, type, acc, fl, field, lo, hi, name, unit, desc)                \
-    {PFD_HOLD, type, acc, fl, addr, field, lo, hi, name, unit, desc},
+    {PFD_HOLD, type, acc, fl, addr, field, PFD_NO_PARAM, lo, hi, name, unit, desc},
 #define I(addr, type, field, name, unit, desc)                                 \
-    {PFD_INPUT, type, PFD_R, 0, addr, field, 0, 0, name, unit, desc},
+    {PFD_INPUT, type, PFD_R, 0, addr, field, PFD_NO_PARAM, 0, 0, name, unit, desc},
 
 #define LIVE_IN (PFD_F_LIVE | PFD_F_REFRESH)
 
@@ -120,7 +135,7 @@ const pfd_reg pfd_regs[] = {
     H(19, PFD_T_U16, PFD_W, PFD_F_ACTION, F_TICK, 1, 65535, "tick", "samples",
       "--clock external only (else exception 01): advance exactly N samples, "
       "answered when they are done; reads 0")
-    PARAMS(STAGED_ENTRY)
+    PARAMS(STAGED_OWN, STAGED_LIB)
     /* Read-only copies for clients that can only read holding registers
      * (and for FC23: write tick, read the output, in one transaction). */
     H(62, PFD_T_F32, PFD_R, 0, F_PC, 0, 0, "hold_pc", "", "copy of input register pc")
@@ -166,7 +181,7 @@ const pfd_reg pfd_regs[] = {
     I(33, PFD_T_U16, F_VMAP, "regmap_version", "", "version of this register map")
     I(34, PFD_T_U16, F_UNIT, "unit_id", "", "this instance's unit id")
     I(35, PFD_T_U16, F_NINST, "instances", "", "instances in this daemon")
-    PARAMS(COMMITTED_ENTRY)
+    PARAMS(COMMITTED_OWN, COMMITTED_LIB)
 };
 const unsigned pfd_nregs = sizeof pfd_regs / sizeof pfd_regs[0];
 
@@ -185,6 +200,58 @@ const pfd_reg *pfd_reg_at(int space, unsigned addr)
             return r;
     }
     return NULL;
+}
+
+const pfd_reg *pfd_reg_named(int space, const char *name)
+{
+    unsigned i;
+    for (i = 0; i < pfd_nregs; i++)
+        if (pfd_regs[i].space == space && !strcmp(pfd_regs[i].name, name))
+            return &pfd_regs[i];
+    return NULL;
+}
+
+double pfd_reg_min(const pfd_reg *r)
+{
+    return r->param >= 0 ? pf_param_info((pf_param_id)r->param)->lo : r->min;
+}
+
+double pfd_reg_max(const pfd_reg *r)
+{
+    return r->param >= 0 ? pf_param_info((pf_param_id)r->param)->hi : r->max;
+}
+
+int pfd_reg_min_excl(const pfd_reg *r)
+{
+    return r->param >= 0 &&
+           (pf_param_info((pf_param_id)r->param)->flags & PF_PARAM_LO_OPEN);
+}
+
+const char *pfd_reg_unit(const pfd_reg *r)
+{
+    if (r->unit != NULL || r->param < 0)
+        return r->unit != NULL ? r->unit : "";
+    return pf_param_info((pf_param_id)r->param)->unit;
+}
+
+const char *pfd_reg_desc(const pfd_reg *r)
+{
+    if (r->desc != NULL || r->param < 0)
+        return r->desc != NULL ? r->desc : "";
+    return pf_param_info((pf_param_id)r->param)->desc;
+}
+
+int pfd_reg_in_range(const pfd_reg *r, double v)
+{
+    if (r->param >= 0)
+        return pf_param_check((pf_param_id)r->param, v) == PF_OK;
+    return isfinite(v) && v >= r->min && v <= r->max;
+}
+
+void pfd_reg_format_range(const pfd_reg *r, char *buf, size_t n)
+{
+    snprintf(buf, n, "%s%.9g .. %.9g]", pfd_reg_min_excl(r) ? "(" : "[",
+             pfd_reg_min(r), pfd_reg_max(r));
 }
 
 void pfd_f32_pack(float v, uint16_t *w)
@@ -206,7 +273,7 @@ float pfd_f32_unpack(const uint16_t *w)
 static double ip_get(const pfd_iparams *ip, int k)
 {
     switch (k) {
-    case K_CONFIG: return (double)ip->p.config;
+    case K_CONFIG: return (double)ip->p.topology;
     case K_ARITH: return (double)ip->arith;
     case K_FS: return ip->fs;
     case K_IN_FS: return ip->in_fs;
@@ -219,7 +286,7 @@ static double ip_get(const pfd_iparams *ip, int k)
 static void ip_set(pfd_iparams *ip, int k, double v)
 {
     switch (k) {
-    case K_CONFIG: ip->p.config = (pf_config)(int)v; break;
+    case K_CONFIG: ip->p.topology = (pf_topology)(int)v; break;
     case K_ARITH: ip->arith = (int)v; break;
     case K_FS: ip->fs = v; break;
     case K_IN_FS: ip->in_fs = v; break;
@@ -245,31 +312,41 @@ uint16_t pfd_regmap_staged_addr(int param)
     }
 }
 
-static double field_value(const pfd_reg *r, const pfd_view *v)
+double pfd_regmap_hold_value(const pfd_reg *r, const pfd_hold *h,
+                             const pfd_iparams *committed)
 {
-    const pfd_inst *in = v->inst;
-    const pfd_live *l = &in->hold.live;
-    const pfd_snap *s = v->snap;
-    const double inv_in = 1.0 / in->committed.in_fs;
+    const pfd_live *l = &h->live;
+    const double in_fs = committed->in_fs;
 
-    if (r->field >= F_COMMITTED)
-        return ip_get(&in->committed, r->field - F_COMMITTED);
-    if (r->field >= F_STAGED)
-        return ip_get(&in->hold.staged, r->field - F_STAGED);
+    if (r->field >= F_STAGED && r->field < F_COMMITTED)
+        return ip_get(&h->staged, r->field - F_STAGED);
     switch (r->field) {
     case F_E: return l->e;
     case F_SP: return l->sp;
     case F_PV: return l->pv;
-    case F_E_I16: return pfd_to_q15(l->e, inv_in);
-    case F_SP_I16: return pfd_to_q15(l->sp, inv_in);
-    case F_PV_I16: return pfd_to_q15(l->pv, inv_in);
+    case F_E_I16: return pf_q15_quantize(l->e, in_fs);
+    case F_SP_I16: return pf_q15_quantize(l->sp, in_fs);
+    case F_PV_I16: return pf_q15_quantize(l->pv, in_fs);
     case F_INPUT_SEL: return l->input_sel;
     case F_MODE: return l->mode;
     case F_MANUAL: return l->manual_out;
     case F_FAILSAFE: return l->failsafe_out;
     case F_WATCHDOG: return l->watchdog_ms;
-    case F_LOCK: return in->hold.param_lock;
-    case F_COMMIT: case F_COMMAND: case F_TICK: return 0;
+    case F_LOCK: return h->param_lock;
+    default: return 0; /* the actions read 0 */
+    }
+}
+
+static double field_value(const pfd_reg *r, const pfd_view *v)
+{
+    const pfd_inst *in = v->inst;
+    const pfd_snap *s = v->snap;
+
+    if (r->field >= F_COMMITTED)
+        return ip_get(&in->committed, r->field - F_COMMITTED);
+    if (r->space == PFD_HOLD && r->access != PFD_R)
+        return pfd_regmap_hold_value(r, &in->hold, &in->committed);
+    switch (r->field) {
     case F_PC: return s->sig.pc;
     case F_X: return s->sig.x;
     case F_PB: return s->sig.pb;
@@ -279,7 +356,7 @@ static double field_value(const pfd_reg *r, const pfd_view *v)
     case F_X_I16: return s->sig.x_q15;
     case F_PB_I16: return s->sig.pb_q15;
     case F_Y_I16: return s->sig.y_q15;
-    case F_EU_I16: return pfd_to_q15(s->e_used, inv_in);
+    case F_EU_I16: return pf_q15_quantize(s->e_used, in->committed.in_fs);
     case F_STATUS: return v->status;
     case F_CRESULT: return in->commit_result;
     case F_CADDR: return in->err_addr;
@@ -341,10 +418,10 @@ int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
         const pfd_reg *r = pfd_reg_at(PFD_HOLD, a);
         unsigned nw;
         if (r == NULL || r->access == PFD_R || r->addr != a)
-            return 2; /* MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS */
+            return MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS;
         nw = pfd_type_words(r->type);
         if (a + nw > addr + count)
-            return 2; /* half of a 32-bit field */
+            return MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS; /* half of a 32-bit field */
         a += nw;
     }
     for (a = addr; a < addr + count;) {
@@ -354,24 +431,21 @@ int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
         int ok;
 
         switch (r->type) {
-        case PFD_T_F32: {
-            float f = pfd_f32_unpack(w);
-            v = (double)f;
-            ok = isfinite(v) && v <= r->max &&
-                 ((r->flags & PFD_F_MIN_EXCL) ? v > r->min : v >= r->min);
+        case PFD_T_F32:
+            v = (double)pfd_f32_unpack(w);
+            ok = pfd_reg_in_range(r, v);
             break;
-        }
         case PFD_T_I16:
             v = (double)(int16_t)w[0];
             ok = 1;
             break;
         default:
             v = (double)w[0];
-            ok = v >= r->min && v <= r->max;
+            ok = pfd_reg_in_range(r, v);
             break;
         }
         if (!ok)
-            return 3; /* MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE */
+            return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
         if (r->flags & PFD_F_ACTION) {
             if (r->field == F_COMMIT)
                 out->commit = (uint16_t)v;
@@ -400,7 +474,7 @@ int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
 void pfd_regmap_apply(pfd_hold *h, const pfd_iparams *committed,
                       const pfd_wlist *wl)
 {
-    const double sc = committed->in_fs / 32768.0;
+    const double in_fs = committed->in_fs;
     pfd_live *l = &h->live;
     unsigned i;
 
@@ -415,9 +489,9 @@ void pfd_regmap_apply(pfd_hold *h, const pfd_iparams *committed,
         case F_E: l->e = (float)v; break;
         case F_SP: l->sp = (float)v; break;
         case F_PV: l->pv = (float)v; break;
-        case F_E_I16: l->e = (float)(v * sc); break;
-        case F_SP_I16: l->sp = (float)(v * sc); break;
-        case F_PV_I16: l->pv = (float)(v * sc); break;
+        case F_E_I16: l->e = (float)pf_q15_value((int16_t)v, in_fs); break;
+        case F_SP_I16: l->sp = (float)pf_q15_value((int16_t)v, in_fs); break;
+        case F_PV_I16: l->pv = (float)pf_q15_value((int16_t)v, in_fs); break;
         case F_INPUT_SEL: l->input_sel = (uint16_t)v; break;
         case F_MODE: l->mode = (uint16_t)v; break;
         case F_MANUAL: l->manual_out = (float)v; break;
@@ -441,11 +515,21 @@ static void print_range(FILE *f, const pfd_reg *r)
 {
     if (r->access == PFD_R)
         return;
-    if (r->type == PFD_T_I16)
+    if (r->type == PFD_T_I16) {
         fputs("any", f);
-    else
-        fprintf(f, "%s%.9g .. %.9g]", (r->flags & PFD_F_MIN_EXCL) ? "(" : "[",
-                r->min, r->max);
+    } else {
+        char range[64];
+        pfd_reg_format_range(r, range, sizeof range);
+        fputs(range, f);
+    }
+}
+
+/* A parameter's description says which set it belongs to. */
+static const char *desc_prefix(const pfd_reg *r)
+{
+    if (r->field >= F_COMMITTED)
+        return "committed: ";
+    return r->field >= F_STAGED ? "staged: " : "";
 }
 
 static void print_space(FILE *f, int space)
@@ -463,9 +547,9 @@ static void print_space(FILE *f, int space)
         else
             fprintf(f, "| %u | ", (unsigned)r->addr);
         fprintf(f, "`%s` | %s | %s | %s | ", r->name, type_name(r->type),
-                acc[r->access], r->unit);
+                acc[r->access], pfd_reg_unit(r));
         print_range(f, r);
-        fprintf(f, " | %s |\n", r->desc);
+        fprintf(f, " | %s%s |\n", desc_prefix(r), pfd_reg_desc(r));
     }
 }
 
@@ -476,8 +560,10 @@ void pfd_regmap_print_md(FILE *f)
 "# pneufracd register map (version %d)\n"
 "\n"
 "Generated by `pneufracd --print-register-map` from the table in\n"
-"`port/posix/pfd_regmap.c`; the test `regmap_doc` fails if this file and the\n"
-"program disagree. Do not edit by hand.\n"
+"`port/posix/pfd_regmap.c`, whose rows for the library's parameters take\n"
+"their range, unit and description from the library's parameter table\n"
+"(`pf_param_info`, `lib/src/pf_param_table.c`); the test `regmap_doc` fails\n"
+"if this file and the program disagree. Do not edit by hand.\n"
 "\n"
 "- Every instance has this map; the Modbus unit id selects the instance.\n"
 "  An unknown unit id is answered with exception 0B (gateway target failed).\n"

@@ -11,6 +11,7 @@
 #ifndef PFD_REGMAP_H
 #define PFD_REGMAP_H
 
+#include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 
@@ -26,20 +27,26 @@ enum pfd_access { PFD_R = 0, PFD_RW, PFD_W };
 #define PFD_F_STAGED 0x01u  /**< staged parameter: refused while locked */
 #define PFD_F_REFRESH 0x02u /**< a write refreshes the watchdog */
 #define PFD_F_ACTION 0x04u  /**< commit, command, tick: acts, reads as 0 */
-#define PFD_F_MIN_EXCL 0x08u/**< the minimum itself is out of range */
 #define PFD_F_LIVE 0x10u    /**< goes to the loop at once */
 
 /** Sizes of the two register spaces (every address below is mapped). */
 #define PFD_HOLD_SIZE 66
 #define PFD_INPUT_SIZE 78
 
+/** A register. One that stages or mirrors a parameter of the library
+ *  (param >= 0) takes its range, and its unit and description where the
+ *  row gives none, from the library's parameter table (pf_param_info): use
+ *  the accessors below, not min, max, unit and desc directly. */
 typedef struct pfd_reg {
     uint8_t space, type, access, flags;
     uint16_t addr;
     uint16_t field;  /* what it reads or writes (pfd_regmap.c) */
-    double min, max; /* accepted write range */
-    const char *name, *unit, *desc;
+    int16_t param;   /* pf_param_id, or PFD_NO_PARAM */
+    double min, max; /* accepted write range (param < 0) */
+    const char *name, *unit, *desc; /* unit, desc NULL: the library's */
 } pfd_reg;
+
+#define PFD_NO_PARAM (-1)
 
 extern const pfd_reg pfd_regs[];
 extern const unsigned pfd_nregs;
@@ -49,6 +56,27 @@ unsigned pfd_type_words(int type);
 
 /** The entry whose registers contain @p addr, or NULL. */
 const pfd_reg *pfd_reg_at(int space, unsigned addr);
+
+/** The entry of @p space named @p name, or NULL. */
+const pfd_reg *pfd_reg_named(int space, const char *name);
+
+/** The write range of @p r: [min, max], or (min, max] when min_excl. */
+double pfd_reg_min(const pfd_reg *r);
+double pfd_reg_max(const pfd_reg *r);
+int pfd_reg_min_excl(const pfd_reg *r);
+
+/** The unit and the description of @p r (without the "staged: " or
+ *  "committed: " that the register map adds to a parameter's). */
+const char *pfd_reg_unit(const pfd_reg *r);
+const char *pfd_reg_desc(const pfd_reg *r);
+
+/** Whether a write of @p v is in @p r's range: finite, and within
+ *  [min, max], or (min, max] when min_excl (for a library parameter:
+ *  pf_param_check). */
+int pfd_reg_in_range(const pfd_reg *r, double v);
+
+/** That range as text, "[min .. max]" or "(min .. max]" (min_excl). */
+void pfd_reg_format_range(const pfd_reg *r, char *buf, size_t n);
 
 /** Everything a read can show. */
 typedef struct pfd_view {
@@ -86,6 +114,11 @@ int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
  *  mirrors convert with @p committed's in_fs. */
 void pfd_regmap_apply(pfd_hold *h, const pfd_iparams *committed,
                       const pfd_wlist *wl);
+
+/** What holding data register @p r (not an action) reads from @p h; the
+ *  int16 mirrors convert with @p committed's in_fs. */
+double pfd_regmap_hold_value(const pfd_reg *r, const pfd_hold *h,
+                             const pfd_iparams *committed);
 
 /** Holding address of the staged register for a pfd_fail parameter id,
  *  or 0xFFFF. */

@@ -20,6 +20,7 @@
 #include <stdint.h>
 
 #include "pfd_instance.h"
+#include "pfd_settings.h"
 #include "pfd_tbuf.h"
 
 #define PFD_MAX_INSTANCES 64
@@ -108,20 +109,17 @@ enum {
                                  could not be written */
 };
 
-/** Daemon-wide settings (config file [daemon] section, then the CLI). */
-typedef struct pfd_settings {
-    char listen_addr[64];
-    int listen_port;
-    int external_clock;
-    int max_clients;
-    int read_only;
-    int param_lock;      /**< locked at start, and the lock register is fixed */
-    char allow[512];     /**< comma-separated CIDR list; "" = loopback only */
-    int rt_priority;     /**< SCHED_FIFO priority; 0 = do not try */
-    int mlock;
-    int byte_timeout_ms;
-    int idle_timeout_s;
-} pfd_settings;
+/** Period jitter over every sample of every instance, in 1 us bins; the
+ *  last bin collects everything from PFD_JITTER_BINS us up. */
+#define PFD_JITTER_BINS 10000
+typedef struct pfd_jitter {
+    uint32_t bin[PFD_JITTER_BINS + 1];
+    uint64_t total, overruns;
+    int64_t max_ns;
+} pfd_jitter;
+
+struct pfd_client;  /* pfd_modbus.c */
+struct pfd_config;  /* pfd_config.h */
 
 typedef struct pfd_daemon {
     pfd_settings set;
@@ -135,9 +133,41 @@ typedef struct pfd_daemon {
     /* lockstep hand-shake */
     pthread_mutex_t tick_mx;
     pthread_cond_t work_cv, done_cv;
-    /* persistence */
-    const char *config_path; /* NULL: persistence off */
-    void *config_file;       /* pfd_config_file *, what was read (for [daemon]) */
+
+    /* the loop thread (pfd_loop.c) */
+    struct {
+        pthread_t th;
+        int running;
+        pfd_jitter jitter; /* written by the loop only, read after it stopped */
+    } loop;
+
+    /* the Modbus server (pfd_modbus.c) */
+    struct {
+        int listen_fd; /* -1: none */
+        pthread_t accept_th;
+        int accept_running;
+        pfd_allow allow;
+        pthread_mutex_t clients_mx;
+        struct pfd_client *clients; /* set.max_clients slots, under clients_mx */
+    } server;
+
+    /* persistence (pfd_commit.c) */
+    const char *config_path;              /* NULL: persistence off */
+    const struct pfd_config *config_file; /* as read: its [daemon] is written back */
+    struct pfd_config *persist_buf;       /* what is written, under commit_mx */
+    int persist_failed;                   /* atomic: the last write failed */
 } pfd_daemon;
+
+/** Whether the daemon is stopping (pfd_loop_stop, pfd_server_stop). */
+static inline int pfd_stopping(const pfd_daemon *d)
+{
+    return __atomic_load_n(&d->stop, __ATOMIC_ACQUIRE);
+}
+
+/** Ask every thread to stop. */
+static inline void pfd_request_stop(pfd_daemon *d)
+{
+    __atomic_store_n(&d->stop, 1, __ATOMIC_RELEASE);
+}
 
 #endif

@@ -18,6 +18,17 @@ CLI = os.environ.get("PNEUFRAC_CLI", str(ROOT / "build/tools/pneufrac"))
 # Everything a test waits for is bounded; sanitizer builds are slower.
 SLOW = float(os.environ.get("PNEUFRAC_TEST_SLOWDOWN", "1"))
 
+def wait_until(cond, seconds, what, step=0.01, between=None):
+    """Poll cond() until it holds, for at most @seconds (times SLOW);
+    between(), if given, runs before each new poll."""
+    deadline = time.monotonic() + seconds * SLOW
+    while not cond():
+        assert time.monotonic() < deadline, f"{what}: not within {seconds * SLOW:g} s"
+        if between is not None:
+            between()
+        time.sleep(step)
+
+
 F32 = ModbusTcpClient.DATATYPE.FLOAT32
 U32 = ModbusTcpClient.DATATYPE.UINT32
 

@@ -8,7 +8,7 @@ import struct
 
 import pytest
 
-from pfd import REG, Raw, Regs, exception_code, simulate
+from pfd import REG, Raw, Regs, exception_code, simulate, wait_until
 
 
 def hold_image(c, unit=1):
@@ -290,11 +290,7 @@ def test_max_clients(daemon):
     assert "reason=max-clients" in d.log()
     b.close()
     # The slot frees once the thread is reaped (within ~200 ms).
-    import time
-    deadline = time.monotonic() + 10
-    while _closed_at_once(d.port):
-        assert time.monotonic() < deadline
-        time.sleep(0.1)
+    wait_until(lambda: not _closed_at_once(d.port), 10, "client slot freed", step=0.1)
     assert exception_code(a.request(1, fc03(0, 2))) is None
 
 

@@ -6,7 +6,7 @@ old and new parameter sets then bleeds off with time constant bump_tau."""
 
 import math
 
-from pfd import Regs
+from pfd import Regs, wait_until
 
 
 def run(r, n):
@@ -80,15 +80,11 @@ def test_manual_to_auto_is_bumpless(daemon):
 
 def test_commit_in_real_time(daemon):
     """Internal clock: the switch happens within a sample or so."""
-    import time
     d = daemon()
     r = Regs(d.client())
     r.write("e", 0.5)
     r.write("RC", 0.02)
     r.write("commit", 1)
     assert math.isclose(r.read("committed_RC"), 0.02, rel_tol=1e-6)
-    deadline = time.monotonic() + 10
-    while r.read("status") & (1 << 8):
-        assert time.monotonic() < deadline
-        time.sleep(0.01)
+    wait_until(lambda: not r.read("status") & (1 << 8), 10, "commit switched in")
     assert r.read("commits") == 1

@@ -56,7 +56,7 @@ int main(void) {
     assert n_fields >= 33                       # every field, not a sample
     assert got["pf_ctrl_design.rt"] == [lib.RT_OFFSET]
     design, instance = got["sizes"]
-    assert design <= lib.DESIGN_BYTES and instance <= lib.INSTANCE_BYTES
+    assert design == lib.DESIGN_BYTES and instance == lib.INSTANCE_BYTES
 
 
 def test_check_layout_reads_back_every_field():
@@ -115,3 +115,20 @@ def test_library_refusal_names_parameter():
     with pytest.raises(lib.ModelError) as ex:
         lib.Controller("dd", p, {}, 1000.0)
     assert ex.value.param == "beta"
+
+
+def test_ranges_come_from_the_library():
+    """model.py and the binding read names, ranges and uses from the C table."""
+    r = lib.param_range("beta")
+    assert (r.lo, r.hi, r.lo_open, r.hi_open) == (0.0, 1.0, True, False)
+    assert 0.0 not in r and 1.0 in r and 1.0000001 not in r
+    assert r.desc and r.unit == ""
+    assert lib.param_range("tau").unit == "s"
+    assert model.group_bounds("q") == (0.0, 1.0)
+    assert model.group_bounds("beta") == (0.05, 1.0)
+    assert model.group_bounds("tau") == (None, None)
+    with pytest.raises(KeyError):
+        lib.param_range("gamma")
+    for cfg in ("p", "dd", "id", "pid"):
+        for name in ("nu", "w", "RC", "RCd"):
+            assert lib.param_used(cfg, name) == (name in model.CONFIG_GROUPS[cfg])

@@ -1,10 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * CMSIS-DSP export (pneufrac design --format cmsis-f32 / cmsis-q15), parsed
- * back by compiling the exported headers in, then run through bench/pf_df1
+ * back by compiling the exported headers in, then run through tools/host/pfh_df1
  * (arm_biquad_cascade_df1_f32/_q15 semantics, written from CMSIS's
  * documentation) and compared with the design:
- *  - the conversion itself (cli_sos in double) is the design's response;
+ *  - the conversion itself (pfh_sos in double) is the design's response;
  *  - the float arrays reproduce the operator's response and its step
  *    response (tight);
  *  - the q15 arrays are the documented quantisation of the same cascade,
@@ -24,8 +24,8 @@
 #include <string.h>
 
 #include "pneufrac/pneufrac.h"
-#include "cli_sos.h"
-#include "pf_df1.h"
+#include "pfh_sos.h"
+#include "pfh_df1.h"
 #include "pf_pid_cmsis_f32.h"
 #include "pf_pid_cmsis_q15.h"
 
@@ -64,22 +64,22 @@ static int setup(void **state)
     pf_params p;
     pf_design_opts o;
     (void)state;
-    pf_params_default(&p, PF_CFG_PID);
+    pf_params_default(&p, PF_TOPO_PID);
     p.q = 0.9; /* as exported (tests/CMakeLists.txt): all four operators */
     pf_design_opts_default(&o, FS);
     return pf_ctrl_design_make(&design, &p, NULL, &o) == PF_OK ? 0 : -1;
 }
 
 /* Worst relative response error over log-spaced omega in [w0, w1]. */
-static double worst_rel(const pf_fracop_design *op, const cli_sos *s,
+static double worst_rel(const pf_fracop_design *op, const pfh_sos *s,
                         double w0, double w1)
 {
     double worst = 0.0;
     int i;
     for (i = 0; i <= 200; i++) {
         double w = w0 * pow(w1 / w0, i / 200.0);
-        double complex want = cli_sos_op_resp(op, w);
-        double complex got = cli_sos_resp(s, w);
+        double complex want = pfh_sos_op_resp(op, w);
+        double complex got = pfh_sos_resp(s, w);
         double e = cabs(got - want) / cabs(want);
         if (e > worst)
             worst = e;
@@ -92,9 +92,9 @@ static void test_conversion_is_the_design(void **state)
     int i;
     (void)state;
     for (i = 0; i < NOPS; i++) {
-        cli_sos s;
+        pfh_sos s;
         double e;
-        assert_int_equal(cli_sos_from_op(&s, op_of(i), &design.opt, 1.0), PF_OK);
+        assert_int_equal(pfh_sos_from_op(&s, op_of(i), &design.opt, 1.0), PF_OK);
         /* From the slowest pole to 0.9 x Nyquist, in double. */
         e = worst_rel(op_of(i), &s, 1e-4, 0.9 * M_PI * FS);
         printf("  %-14s double cascade vs design: %.2e\n", ops[i].role, e);
@@ -104,7 +104,7 @@ static void test_conversion_is_the_design(void **state)
 
 /* The float cascade computed in double: what the exported values stand
  * for, free of float's rounding of the signals. */
-static double run_double(const cli_sos *s, double st[][4], double v)
+static double run_double(const pfh_sos *s, double st[][4], double v)
 {
     int k;
     for (k = 0; k < s->n; k++) {
@@ -119,7 +119,7 @@ static double run_double(const cli_sos *s, double st[][4], double v)
     return v;
 }
 
-static void sos_of_f32(cli_sos *s, const float *c, int n)
+static void sos_of_f32(pfh_sos *s, const float *c, int n)
 {
     int k;
     memset(s, 0, sizeof *s);
@@ -150,10 +150,10 @@ static void test_f32_export(void **state)
         enum { LEN = 1000 };
         const pf_fracop_design *op = op_of(i);
         static float x[LEN], y[LEN];
-        float st[4 * CLI_SOS_MAX];
-        double ds[CLI_SOS_MAX][4], hi, mid, run = 0.0, peak = 0.0;
-        pf_df1_f32 f = {ops[i].n_f32, ops[i].f32, st};
-        cli_sos s;
+        float st[4 * PFH_SOS_MAX];
+        double ds[PFH_SOS_MAX][4], hi, mid, run = 0.0, peak = 0.0;
+        pfh_df1_f32 f = {ops[i].n_f32, ops[i].f32, st};
+        pfh_sos s;
         long n;
 
         sos_of_f32(&s, ops[i].f32, ops[i].n_f32);
@@ -163,7 +163,7 @@ static void test_f32_export(void **state)
         memset(ds, 0, sizeof ds);
         for (n = 0; n < LEN; n++)
             x[n] = 1.0f;
-        pf_df1_run_f32(&f, x, y, LEN);
+        pfh_df1_run_f32(&f, x, y, LEN);
         for (n = 0; n < LEN; n++) {
             double r = run_double(&s, ds, 1.0);
             if (fabs(r) > peak)
@@ -184,10 +184,10 @@ static void test_q15_layout(void **state)
     int i, k;
     (void)state;
     for (i = 0; i < NOPS; i++) {
-        cli_sos s;
-        cli_sos_q15 q;
-        assert_int_equal(cli_sos_from_op(&s, op_of(i), &design.opt, 1.0), PF_OK);
-        assert_int_equal(cli_sos_q15_make(&s, &q), PF_OK);
+        pfh_sos s;
+        pfh_sos_q15 q;
+        assert_int_equal(pfh_sos_from_op(&s, op_of(i), &design.opt, 1.0), PF_OK);
+        assert_int_equal(pfh_sos_q15_make(&s, &q), PF_OK);
         assert_int_equal(q.n, ops[i].n_q15);
         assert_int_equal(q.post_shift, ops[i].post_shift);
         assert_true(q.post_shift >= 0 && q.post_shift <= 15);
@@ -198,7 +198,7 @@ static void test_q15_layout(void **state)
             int j;
             assert_int_equal(c[1], 0); /* the documented padding */
             for (j = 0; j < 5; j++) /* rounding to nearest, one LSB apart */
-                assert_true(fabs(cli_sos_q15_value(&q, c[at[j]]) - v[j]) <=
+                assert_true(fabs(pfh_sos_q15_value(&q, c[at[j]]) - v[j]) <=
                             0.5 * ldexp(1.0, q.post_shift - 15) + 1e-12);
         }
         assert_memory_equal(q.c, ops[i].q15, sizeof(int16_t) * 6 * (size_t)q.n);
@@ -216,11 +216,11 @@ static void test_q15_semantics(void **state)
     for (i = 0; i < NOPS; i++) {
         enum { LEN = 2000 };
         static int16_t x[LEN], y[LEN];
-        int16_t st[4 * CLI_SOS_MAX];
-        double ds[CLI_SOS_MAX][4], es[CLI_SOS_MAX][4], drift = 0.0;
-        pf_df1_q15 f = {ops[i].n_q15, ops[i].post_shift, ops[i].q15, st};
-        cli_sos exact;
-        cli_sos_q15 q;
+        int16_t st[4 * PFH_SOS_MAX];
+        double ds[PFH_SOS_MAX][4], es[PFH_SOS_MAX][4], drift = 0.0;
+        pfh_df1_q15 f = {ops[i].n_q15, ops[i].post_shift, ops[i].q15, st};
+        pfh_sos exact;
+        pfh_sos_q15 q;
         long n;
 
         q.post_shift = ops[i].post_shift;
@@ -229,18 +229,18 @@ static void test_q15_semantics(void **state)
         exact.fs = FS;
         for (k = 0; k < f.n; k++) {
             const int16_t *c = ops[i].q15 + 6 * k;
-            exact.b[k][0] = cli_sos_q15_value(&q, c[0]);
-            exact.b[k][1] = cli_sos_q15_value(&q, c[2]);
-            exact.b[k][2] = cli_sos_q15_value(&q, c[3]);
-            exact.a[k][0] = cli_sos_q15_value(&q, c[4]);
-            exact.a[k][1] = cli_sos_q15_value(&q, c[5]);
+            exact.b[k][0] = pfh_sos_q15_value(&q, c[0]);
+            exact.b[k][1] = pfh_sos_q15_value(&q, c[2]);
+            exact.b[k][2] = pfh_sos_q15_value(&q, c[3]);
+            exact.a[k][0] = pfh_sos_q15_value(&q, c[4]);
+            exact.a[k][1] = pfh_sos_q15_value(&q, c[5]);
         }
         memset(st, 0, sizeof st);
         memset(ds, 0, sizeof ds);
         memset(es, 0, sizeof es);
         for (n = 0; n < LEN; n++)
             x[n] = (int16_t)lround(300.0 * sin(0.05 * n) + 200.0 * sin(0.9 * n));
-        pf_df1_run_q15(&f, x, y, LEN);
+        pfh_df1_run_q15(&f, x, y, LEN);
         for (n = 0; n < LEN; n++) {
             double v = x[n], d = run_double(&exact, es, x[n]);
             for (k = 0; k < f.n; k++) {
@@ -269,19 +269,19 @@ static void test_q15_against_design(void **state)
     int i;
     (void)state;
     for (i = 0; i < NOPS; i++) {
-        cli_sos s;
+        pfh_sos s;
         int k, j;
         double e_lo, e_mid;
         s.n = ops[i].n_q15;
         s.fs = FS;
         for (k = 0; k < s.n; k++) {
-            cli_sos_q15 q;
+            pfh_sos_q15 q;
             const int16_t *c = ops[i].q15 + 6 * k;
             q.post_shift = ops[i].post_shift;
             for (j = 0; j < 3; j++)
-                s.b[k][j] = cli_sos_q15_value(&q, c[j == 0 ? 0 : j + 1]);
-            s.a[k][0] = cli_sos_q15_value(&q, c[4]);
-            s.a[k][1] = cli_sos_q15_value(&q, c[5]);
+                s.b[k][j] = pfh_sos_q15_value(&q, c[j == 0 ? 0 : j + 1]);
+            s.a[k][0] = pfh_sos_q15_value(&q, c[4]);
+            s.a[k][1] = pfh_sos_q15_value(&q, c[5]);
         }
         e_lo = worst_rel(op_of(i), &s, 10 * design.opt.wb, 10.0);
         e_mid = worst_rel(op_of(i), &s, 100.0, 0.5 * M_PI * FS);

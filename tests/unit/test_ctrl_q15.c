@@ -32,7 +32,7 @@ typedef struct rig {
 
 /* Design a configuration, pick out_fs = 1.1 x the double run's peak for a
  * half-scale step (so the step uses most of the range), and init both. */
-static rig *make_rig(pf_config cfg, const pf_effects *fx)
+static rig *make_rig(pf_topology cfg, const pf_effects *fx)
 {
     rig *r = calloc(1, sizeof *r);
     pf_params p;
@@ -81,10 +81,10 @@ static void test_paper_examples_lsb(void **state)
     int cfg;
     (void)state;
     printf("config  out_fs      max error  SNR\n");
-    for (cfg = 0; cfg < PF_CFG_COUNT; cfg++) {
-        rig *r = make_rig((pf_config)cfg, NULL);
+    for (cfg = 0; cfg < PF_TOPO_COUNT; cfg++) {
+        rig *r = make_rig((pf_topology)cfg, NULL);
         double s2 = 0, e2 = 0, worst = run_compare(r, 0.5, NSTEP, &s2, &e2);
-        printf("%-6s  %-10.4g  %5.2f LSB  %5.1f dB\n", pf_config_name((pf_config)cfg),
+        printf("%-6s  %-10.4g  %5.2f LSB  %5.1f dB\n", pf_topology_name((pf_topology)cfg),
                r->out_fs, worst, 10 * log10(s2 / e2));
         /* the issue allows 8 LSB; the design holds output rounding */
         assert_true(worst <= 1.0);
@@ -97,8 +97,8 @@ static void test_zero_input_exact(void **state)
 {
     int cfg;
     (void)state;
-    for (cfg = 0; cfg < PF_CFG_COUNT; cfg++) {
-        rig *r = make_rig((pf_config)cfg, NULL);
+    for (cfg = 0; cfg < PF_TOPO_COUNT; cfg++) {
+        rig *r = make_rig((pf_topology)cfg, NULL);
         long n;
         for (n = 0; n < NSTEP; n++)
             assert_int_equal(pf_ctrl_step_q15(&r->q, 0), 0);
@@ -113,13 +113,13 @@ static void test_no_limit_cycle(void **state)
 {
     int cfg;
     (void)state;
-    for (cfg = 0; cfg < PF_CFG_COUNT; cfg++) {
-        rig *r = make_rig((pf_config)cfg, NULL);
+    for (cfg = 0; cfg < PF_TOPO_COUNT; cfg++) {
+        rig *r = make_rig((pf_topology)cfg, NULL);
         double worst;
         (void)run_compare(r, 0.5, NSTEP, NULL, NULL);
         worst = run_compare(r, 0.0, (long)(30 * FS), NULL, NULL);
         printf("%-4s return to zero: within %.2f LSB of double over 30 s\n",
-               pf_config_name((pf_config)cfg), worst);
+               pf_topology_name((pf_topology)cfg), worst);
         assert_true(worst <= 1.0);
         free(r);
     }
@@ -128,7 +128,7 @@ static void test_no_limit_cycle(void **state)
 /* Any split of a sequence into blocks gives the same output, bit for bit. */
 static void test_block_split(void **state)
 {
-    rig *r = make_rig(PF_CFG_PID, NULL), *s = make_rig(PF_CFG_PID, NULL);
+    rig *r = make_rig(PF_TOPO_PID, NULL), *s = make_rig(PF_TOPO_PID, NULL);
     static int16_t e[8000], y1[8000], y2[8000];
     static double ed[8000], yd1[8000], yd2[8000];
     size_t i, at = 0;
@@ -160,7 +160,7 @@ static void test_block_split(void **state)
  * wraps, and returns to tracking when the signal comes back in range. */
 static void test_output_saturates(void **state)
 {
-    rig *r = make_rig(PF_CFG_ID, NULL);
+    rig *r = make_rig(PF_TOPO_ID, NULL);
     long n;
     int saw_max = 0;
     (void)state;
@@ -195,7 +195,7 @@ static void test_effects_match_double(void **state)
     fx.sat_hi = 2.0;
     fx.lag = 0.005;
     fx.dead_time = 0.01;
-    r = make_rig(PF_CFG_ID, &fx);
+    r = make_rig(PF_TOPO_ID, &fx);
     worst = run_compare(r, 0.5, NSTEP, NULL, NULL);
     worst = fmax(worst, run_compare(r, -0.3, NSTEP, NULL, NULL));
     printf("id with saturation, lag, dead time: max %.2f LSB\n", worst);
@@ -226,7 +226,7 @@ static void test_backlash_matches_double(void **state)
             fx.sat_lo = -0.2;
             fx.sat_hi = 2.0;
         }
-        r = make_rig(k == 0 ? PF_CFG_DD : PF_CFG_ID, &fx);
+        r = make_rig(k == 0 ? PF_TOPO_DD : PF_TOPO_ID, &fx);
         for (i = 0; i < sizeof steps / sizeof steps[0]; i++)
             worst = fmax(worst, run_compare(r, steps[i], NSTEP / 4, NULL, NULL));
         printf("%s with backlash%s: max %.2f LSB\n", k == 0 ? "dd" : "id",
@@ -246,7 +246,7 @@ static void test_unsupported_effects(void **state)
     (void)state;
     memset(&fx, 0, sizeof fx);
     fx.nozzle_xh = 0.01;
-    pf_params_default(&p, PF_CFG_DD);
+    pf_params_default(&p, PF_TOPO_DD);
     pf_design_opts_default(&o, FS);
     assert_int_equal(pf_ctrl_design_make(&d, &p, &fx, &o), PF_OK);
     assert_int_equal(pf_ctrl_coeffs_q15_make(&cq, &d, 1.0, 1.0), PF_E_UNSUPPORTED);
@@ -286,7 +286,7 @@ static void test_random_designs(void **state)
         double peak = 0, amp = urand(&seed, 0.2, 1.0), out_fs, err = 0;
         int16_t eq = (int16_t)lround(amp * 16384.0);
         long n, N = 8000;
-        pf_params_default(&p, (pf_config)(trial % PF_CFG_COUNT));
+        pf_params_default(&p, (pf_topology)(trial % PF_TOPO_COUNT));
         p.k1 *= lrand(&seed, 0.1, 100.0);
         p.tau = lrand(&seed, 1e-4, 1e-2);
         p.pmax = p.pmin * lrand(&seed, 1.0, 30.0);
@@ -322,7 +322,7 @@ static void test_random_designs(void **state)
             err = fmax(err, fabs(pf_ctrl_step_q15(&q, e) - ref));
         }
         if (err > 1.0)
-            printf("trial %d (%s, fs %.0f): %.2f LSB\n", trial, pf_config_name(p.config),
+            printf("trial %d (%s, fs %.0f): %.2f LSB\n", trial, pf_topology_name(p.topology),
                    o.fs, err);
         worst = fmax(worst, err);
     }

@@ -29,8 +29,8 @@
 
 #include "pneufrac/pneufrac.h"
 /* soft checks: print the first few offending samples, then fail once */
-#define PF_SOFT_MAX_PRINT 8
-#include "pf_test_util.h"
+#define SOFT_MAX_PRINT 8
+#include "test_util.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -278,7 +278,7 @@ static trace g_a, g_b, g_c;
 static double g_e[NS], g_e2[NS];
 
 /* The defaults of cfg at FS with effects fx (NULL: none). */
-static pf_status try_design(pf_ctrl_design *d, pf_config cfg, const pf_effects *fx,
+static pf_status try_design(pf_ctrl_design *d, pf_topology cfg, const pf_effects *fx,
                             pf_input_model in)
 {
     pf_params p;
@@ -290,19 +290,19 @@ static pf_status try_design(pf_ctrl_design *d, pf_config cfg, const pf_effects *
     return pf_ctrl_design_make(d, &p, fx, &o);
 }
 
-static void design_cfg(pf_ctrl_design *d, pf_config cfg, const pf_effects *fx,
+static void design_cfg(pf_ctrl_design *d, pf_topology cfg, const pf_effects *fx,
                        pf_input_model in)
 {
     pf_status st = try_design(d, cfg, fx, in);
     if (st != PF_OK)
-        fail_msg("design_make(%s) = %d (%s)", pf_config_name(cfg), st,
+        fail_msg("design_make(%s) = %d (%s)", pf_topology_name(cfg), st,
                  pf_param_name(pf_status_param(st)));
 }
 
 /* Example 6 (FrDD), the controller every in-loop check runs on. */
 static void design_dd(pf_ctrl_design *d, const pf_effects *fx)
 {
-    design_cfg(d, PF_CFG_DD, fx, PF_INPUT_HOLD);
+    design_cfg(d, PF_TOPO_DD, fx, PF_INPUT_HOLD);
 }
 
 static void run(const pf_ctrl_design *d, const double *e, size_t n, trace *t)
@@ -397,7 +397,7 @@ static void test_recorded_lever_hold(void **state)
             char what[64];
             snprintf(what, sizeof what, "%s input%s", i ? "held" : "linear",
                      with_fx ? ", backlash" : ", no effects");
-            design_cfg(&g_d, PF_CFG_DD, with_fx ? &fx : NULL, ins[i]);
+            design_cfg(&g_d, PF_TOPO_DD, with_fx ? &fx : NULL, ins[i]);
             run(&g_d, g_e, NS, &g_a);
             check_lever(&g_d, &g_a, what);
             check_recorded_e(&g_a, g_e, ins[i] == PF_INPUT_HOLD, what);
@@ -492,7 +492,7 @@ static void test_dead_time_too_long(void **state)
         char what[64];
         memset(&fx, 0, sizeof fx);
         fx.dead_time = cases[i].dead_time;
-        st = try_design(&g_d, PF_CFG_DD, &fx, PF_INPUT_HOLD);
+        st = try_design(&g_d, PF_TOPO_DD, &fx, PF_INPUT_HOLD);
         snprintf(what, sizeof what, "dead_time %.17g s at %g Hz", cases[i].dead_time, FS);
         if (!cases[i].ok)
             expect_names(st, PF_P_DEAD_TIME, what);
@@ -552,7 +552,7 @@ static void test_lag(void **state)
             char what[32];
             memset(&fx, 0, sizeof fx);
             fx.lag = lags[i];
-            st = try_design(&g_d, PF_CFG_DD, &fx, PF_INPUT_HOLD);
+            st = try_design(&g_d, PF_TOPO_DD, &fx, PF_INPUT_HOLD);
             snprintf(what, sizeof what, "lag = %g s", lags[i]);
             if (lags[i] > FX_MAX) {
                 expect_names(st, PF_P_LAG, what);
@@ -790,7 +790,7 @@ static void test_nozzle_in_loop(void **state)
 
 static void test_all_in_loop_effects(void **state)
 {
-    static const pf_config cfgs[] = {PF_CFG_P, PF_CFG_DD, PF_CFG_ID, PF_CFG_PID};
+    static const pf_topology cfgs[] = {PF_TOPO_P, PF_TOPO_DD, PF_TOPO_ID, PF_TOPO_PID};
     static const pf_input_model ins[] = {PF_INPUT_HOLD, PF_INPUT_LINEAR};
     size_t c, i, k;
     int sat;
@@ -818,7 +818,7 @@ static void test_all_in_loop_effects(void **state)
                 fx.saturate = sat;
                 design_cfg(&g_d, cfgs[c], &fx, ins[i]);
                 run(&g_d, g_e, NS, &g_b);
-                snprintf(what, sizeof what, "%s/%s backlash+nozzle%s", pf_config_name(cfgs[c]),
+                snprintf(what, sizeof what, "%s/%s backlash+nozzle%s", pf_topology_name(cfgs[c]),
                          i ? "linear" : "hold", sat ? "+sat" : "");
                 check_lever(&g_d, &g_b, what);
                 check_play_relation(&g_d, &g_b, 0.05, 0.5, what);

@@ -23,7 +23,7 @@ static int setup(void **state)
     pf_params p;
     pf_design_opts o;
     (void)state;
-    pf_params_default(&p, PF_CFG_DD);
+    pf_params_default(&p, PF_TOPO_DD);
     pf_design_opts_default(&o, 20000.0);
     return pf_ctrl_design_make(&design, &p, NULL, &o) == PF_OK ? 0 : -1;
 }

@@ -25,10 +25,10 @@ static double complex limit_tf(const pf_params *p, double w)
 {
     double complex s = I * w, sq = p->q > 0 ? cpow(s, p->q) : 1.0;
     double M = p->b * p->ks / (p->a * p->A);
-    switch (p->config) {
-    case PF_CFG_DD:
+    switch (p->topology) {
+    case PF_TOPO_DD:
         return M * (p->RC * cpow(s, p->q + p->nu) + sq);
-    case PF_CFG_ID:
+    case PF_TOPO_ID:
         return M * sq * (1.0 + 1.0 / (p->RC * cpow(s, p->w)));
     default: {
         double complex d = p->RCd * cpow(s, p->nu), i = p->RCi * cpow(s, p->w);
@@ -38,7 +38,7 @@ static double complex limit_tf(const pf_params *p, double w)
 }
 
 /* Worst relative error |H - H_lim|/|H_lim| over w in [0.5, 20] rad/s. */
-static double limit_error(pf_config cfg, double k1)
+static double limit_error(pf_topology cfg, double k1)
 {
     static pf_ctrl_design d;
     pf_params p;
@@ -61,7 +61,7 @@ static double limit_error(pf_config cfg, double k1)
  * monotone (where |L| ~ 1 the loop resonates), so the check compares the
  * paper's gain with two high gains: far closer, and below 1 %; from 1e6 on
  * only the Oustaloup approximation's own error remains. */
-static void check_limit(pf_config cfg)
+static void check_limit(pf_topology cfg)
 {
     pf_params p;
     double e0, e6, e8;
@@ -70,15 +70,15 @@ static void check_limit(pf_config cfg)
     e6 = limit_error(cfg, 1e6);
     e8 = limit_error(cfg, 1e8);
     printf("%-3s distance to the limit: k1 = %g (paper) %.2e, k1 = 1e6 %.2e, "
-           "k1 = 1e8 %.2e\n", pf_config_name(cfg), p.k1, e0, e6, e8);
+           "k1 = 1e8 %.2e\n", pf_topology_name(cfg), p.k1, e0, e6, e8);
     assert_true(e6 < e0 / 10.0);
     assert_true(e8 <= e6 * 1.05);
     assert_true(e8 < 1e-2);
 }
 
-static void test_dd_limit_eq19(void **state) { (void)state; check_limit(PF_CFG_DD); }
-static void test_id_limit_eq21(void **state) { (void)state; check_limit(PF_CFG_ID); }
-static void test_pid_limit(void **state) { (void)state; check_limit(PF_CFG_PID); }
+static void test_dd_limit_eq19(void **state) { (void)state; check_limit(PF_TOPO_DD); }
+static void test_id_limit_eq21(void **state) { (void)state; check_limit(PF_TOPO_ID); }
+static void test_pid_limit(void **state) { (void)state; check_limit(PF_TOPO_PID); }
 
 int main(void)
 {

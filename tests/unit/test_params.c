@@ -25,7 +25,7 @@
 #include <string.h>
 
 #include "pneufrac/pneufrac.h"
-#include "pf_test_util.h"
+#include "test_util.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -52,22 +52,22 @@ static const char *pname(pf_param_id id)
 
 static const char *cname(int c)
 {
-    return pf_config_name((pf_config)c);
+    return pf_topology_name((pf_topology)c);
 }
 
 /* Which parameters each configuration uses, from the block diagram in
  * pf_controller.h and the field comments of pf_params.h. */
-static int uses(pf_config c, pf_param_id id)
+static int uses(pf_topology c, pf_param_id id)
 {
     switch (id) {
     case PF_P_A: case PF_P_B: case PF_P_K1: case PF_P_K2: case PF_P_AREA:
     case PF_P_KS: case PF_P_TAU: case PF_P_PMIN: case PF_P_PMAX:
     case PF_P_BETA: case PF_P_Q:
         return 1;
-    case PF_P_NU: return c == PF_CFG_DD || c == PF_CFG_PID;
-    case PF_P_W: return c == PF_CFG_ID || c == PF_CFG_PID;
-    case PF_P_RC: return c == PF_CFG_DD || c == PF_CFG_ID;
-    case PF_P_RCD: case PF_P_RCI: return c == PF_CFG_PID;
+    case PF_P_NU: return c == PF_TOPO_DD || c == PF_TOPO_PID;
+    case PF_P_W: return c == PF_TOPO_ID || c == PF_TOPO_PID;
+    case PF_P_RC: return c == PF_TOPO_DD || c == PF_TOPO_ID;
+    case PF_P_RCD: case PF_P_RCI: return c == PF_TOPO_PID;
     default: return 0;
     }
 }
@@ -82,9 +82,9 @@ static int is_positive_param(pf_param_id id)
  * applies to the configurations in cfgs that use every parameter it sets. */
 #define CFG_ALL 0xFu
 #define CFG_BIT(c) (1u << (c))
-#define CFG_DD_ID (CFG_BIT(PF_CFG_DD) | CFG_BIT(PF_CFG_ID))
-#define CFG_ID_PID (CFG_BIT(PF_CFG_ID) | CFG_BIT(PF_CFG_PID))
-#define CFG_PID CFG_BIT(PF_CFG_PID)
+#define CFG_DD_ID (CFG_BIT(PF_TOPO_DD) | CFG_BIT(PF_TOPO_ID))
+#define CFG_ID_PID (CFG_BIT(PF_TOPO_ID) | CFG_BIT(PF_TOPO_PID))
+#define CFG_PID CFG_BIT(PF_TOPO_PID)
 #define VALID PF_P_COUNT
 
 typedef struct mutation {
@@ -102,9 +102,9 @@ static int apply_mutation(pf_params *p, int cfg, const mutation *m)
     int i;
     if (!(m->cfgs & CFG_BIT(cfg)))
         return 0;
-    pf_params_default(p, (pf_config)cfg);
+    pf_params_default(p, (pf_topology)cfg);
     for (i = 0; i < m->n; i++) {
-        if (!uses((pf_config)cfg, m->id[i]))
+        if (!uses((pf_topology)cfg, m->id[i]))
             return 0;
         pf_params_set(p, m->id[i], m->v[i]);
     }
@@ -140,19 +140,19 @@ static int set_keep_pairs(pf_params *p, pf_param_id id, double v)
 /* The paper's values in pf_param_id order: a b k1 k2 A ks tau pmin pmax
  * beta q nu w RC RCd RCi (0 where the configuration does not use one). */
 static const struct example {
-    pf_config cfg;
+    pf_topology cfg;
     const char *source;
     double v[PF_P_RCI + 1];
 } k_examples[] = {
-    {PF_CFG_P, "Example 4 (eq. 17)",
+    {PF_TOPO_P, "Example 4 (eq. 17)",
      {1, 9, 0.1, 0.1, 2, 20, 0.001, 1, 10, 0.8, 0.9, 0, 0, 0, 0, 0}},
-    {PF_CFG_DD, "Example 6 (eq. 18)",
+    {PF_TOPO_DD, "Example 6 (eq. 18)",
      {1, 9, 0.1, 0.1, 2, 20, 0.001, 1, 10, 0.8, 0.9, 0.94, 0, 0.1, 0, 0}},
-    {PF_CFG_ID, "Example 7 (eq. 20)",
+    {PF_TOPO_ID, "Example 7 (eq. 20)",
      {1, 9, 2, 5, 2, 20, 0.001, 1, 10, 0.8, 0, 0, 0.94, 0.1, 0, 0}},
     /* no example in the paper: Example 7's values with nu = w = 0.94,
      * RCd = 0.01 s, RCi = 0.1 s (pf_params.h) */
-    {PF_CFG_PID, "pid defaults",
+    {PF_TOPO_PID, "pid defaults",
      {1, 9, 2, 5, 2, 20, 0.001, 1, 10, 0.8, 0, 0.94, 0.94, 0, 0.01, 0.1}},
 };
 
@@ -167,7 +167,7 @@ static void test_defaults_match_paper(void **state)
         pf_status st;
         memset(&p, 0x5a, sizeof p);
         pf_params_default(&p, ex->cfg);
-        EXPECT(p.config == ex->cfg, "%s: config = %d", ex->source, (int)p.config);
+        EXPECT(p.topology == ex->cfg, "%s: config = %d", ex->source, (int)p.topology);
         for (id = PF_P_A; id <= PF_P_RCI; id++) {
             double got = pf_params_get(&p, (pf_param_id)id);
             if (uses(ex->cfg, (pf_param_id)id))
@@ -189,12 +189,12 @@ static void test_param_used_table(void **state)
 {
     int c, id;
     (void)state;
-    for (c = 0; c < PF_CFG_COUNT; c++)
+    for (c = 0; c < PF_TOPO_COUNT; c++)
         for (id = PF_P_A; id <= PF_P_RCI; id++)
-            EXPECT(!pf_param_used((pf_config)c, (pf_param_id)id) ==
-                       !uses((pf_config)c, (pf_param_id)id),
+            EXPECT(!pf_param_used((pf_topology)c, (pf_param_id)id) ==
+                       !uses((pf_topology)c, (pf_param_id)id),
                    "pf_param_used(%s, %s) = %d", cname(c), pname((pf_param_id)id),
-                   pf_param_used((pf_config)c, (pf_param_id)id));
+                   pf_param_used((pf_topology)c, (pf_param_id)id));
     END_SOFT();
 }
 
@@ -214,15 +214,15 @@ static void test_validate_positive(void **state)
     int c, id;
     size_t i;
     (void)state;
-    for (c = 0; c < PF_CFG_COUNT; c++) {
+    for (c = 0; c < PF_TOPO_COUNT; c++) {
         for (id = PF_P_A; id <= PF_P_RCI; id++) {
-            if (!uses((pf_config)c, (pf_param_id)id) ||
+            if (!uses((pf_topology)c, (pf_param_id)id) ||
                 !is_positive_param((pf_param_id)id))
                 continue;
             for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
                 pf_params p;
                 char what[96];
-                pf_params_default(&p, (pf_config)c);
+                pf_params_default(&p, (pf_topology)c);
                 assert_int_equal(pf_params_set(&p, (pf_param_id)id, bad[i]), PF_OK);
                 snprintf(what, sizeof what, "cfg %s, %s = %.17g", cname(c),
                          pname((pf_param_id)id), bad[i]);
@@ -231,7 +231,7 @@ static void test_validate_positive(void **state)
             for (i = 0; i < sizeof ok / sizeof ok[0]; i++) {
                 pf_params p;
                 pf_status st;
-                pf_params_default(&p, (pf_config)c);
+                pf_params_default(&p, (pf_topology)c);
                 if (!set_keep_pairs(&p, (pf_param_id)id, ok[i]))
                     continue;
                 st = pf_params_validate(&p);
@@ -257,18 +257,18 @@ static void test_validate_orders(void **state)
     int c;
     size_t i, j;
     (void)state;
-    for (c = 0; c < PF_CFG_COUNT; c++) {
+    for (c = 0; c < PF_TOPO_COUNT; c++) {
         for (j = 0; j < sizeof ids / sizeof ids[0]; j++) {
             const pf_param_id id = ids[j];
             const double *bad = id == PF_P_Q ? bad_q : bad_open;
             const double *ok = id == PF_P_Q ? ok_q : ok_open;
-            if (!uses((pf_config)c, id))
+            if (!uses((pf_topology)c, id))
                 continue;
             /* bad_q and bad_open have the same length, ok_q and ok_open too */
             for (i = 0; i < sizeof bad_open / sizeof bad_open[0]; i++) {
                 pf_params p;
                 char what[96];
-                pf_params_default(&p, (pf_config)c);
+                pf_params_default(&p, (pf_topology)c);
                 pf_params_set(&p, id, bad[i]);
                 snprintf(what, sizeof what, "cfg %s, %s = %.17g", cname(c), pname(id), bad[i]);
                 expect_names(pf_params_validate(&p), id, what);
@@ -276,7 +276,7 @@ static void test_validate_orders(void **state)
             for (i = 0; i < sizeof ok_open / sizeof ok_open[0]; i++) {
                 pf_params p;
                 pf_status st;
-                pf_params_default(&p, (pf_config)c);
+                pf_params_default(&p, (pf_topology)c);
                 set_keep_pairs(&p, id, ok[i]);
                 st = pf_params_validate(&p);
                 EXPECT(st == PF_OK, "cfg %s, %s = %g rejected (%d, %s)", cname(c), pname(id),
@@ -329,7 +329,7 @@ static void test_validate_pairs(void **state)
     int c;
     size_t i;
     (void)state;
-    for (c = 0; c < PF_CFG_COUNT; c++)
+    for (c = 0; c < PF_TOPO_COUNT; c++)
         for (i = 0; i < sizeof k_pair_rules / sizeof k_pair_rules[0]; i++) {
             pf_params p;
             char what[96];
@@ -339,9 +339,9 @@ static void test_validate_pairs(void **state)
             expect_validate(&p, k_pair_rules[i].want, what);
         }
     /* the pid ordering rules mean nothing to the other configurations */
-    for (c = 0; c < PF_CFG_PID; c++) {
+    for (c = 0; c < PF_TOPO_PID; c++) {
         pf_params p;
-        pf_params_default(&p, (pf_config)c);
+        pf_params_default(&p, (pf_topology)c);
         p.RCd = 1.0;
         p.RCi = 0.5;
         p.nu = 1.0;
@@ -358,14 +358,14 @@ static void test_validate_unused_ignored(void **state)
     int c, id;
     size_t i;
     (void)state;
-    for (c = 0; c < PF_CFG_COUNT; c++)
+    for (c = 0; c < PF_TOPO_COUNT; c++)
         for (id = PF_P_A; id <= PF_P_RCI; id++) {
-            if (uses((pf_config)c, (pf_param_id)id))
+            if (uses((pf_topology)c, (pf_param_id)id))
                 continue;
             for (i = 0; i < sizeof junk / sizeof junk[0]; i++) {
                 pf_params p;
                 pf_status st;
-                pf_params_default(&p, (pf_config)c);
+                pf_params_default(&p, (pf_topology)c);
                 pf_params_set(&p, (pf_param_id)id, junk[i]);
                 st = pf_params_validate(&p);
                 EXPECT(st == PF_OK, "cfg %s: unused %s = %g gives %d (%s)",
@@ -380,10 +380,10 @@ static void test_validate_config_and_null(void **state)
 {
     pf_params p;
     (void)state;
-    pf_params_default(&p, PF_CFG_DD);
-    p.config = PF_CFG_COUNT;
-    expect_names(pf_params_validate(&p), PF_P_CONFIG, "config = PF_CFG_COUNT");
-    p.config = (pf_config)-1;
+    pf_params_default(&p, PF_TOPO_DD);
+    p.topology = PF_TOPO_COUNT;
+    expect_names(pf_params_validate(&p), PF_P_CONFIG, "config = PF_TOPO_COUNT");
+    p.topology = (pf_topology)-1;
     expect_names(pf_params_validate(&p), PF_P_CONFIG, "config = -1");
     EXPECT(pf_params_validate(NULL) == PF_E_NULL, "validate(NULL) = %d",
            pf_params_validate(NULL));
@@ -418,7 +418,7 @@ static void test_params_set_get(void **state)
     for (id = PF_P_CONFIG; id <= PF_P_COUNT; id++) {
         pf_params p, before;
         pf_status st;
-        pf_params_default(&p, PF_CFG_PID);
+        pf_params_default(&p, PF_TOPO_PID);
         before = p;
         st = pf_params_set(&p, (pf_param_id)id, 1.0);
         EXPECT(st == PF_E_PARAM(id), "set non-model id %d gives %d", id, st);
@@ -477,6 +477,82 @@ static void test_param_names_roundtrip(void **state)
     END_SOFT();
 }
 
+/* The parameter table (pf_param_info.h): a row per id, the limits the
+ * headers document, and pf_param_check against each row's own bounds. */
+static void test_param_table(void **state)
+{
+    int id;
+    (void)state;
+    EXPECT(pf_param_count() == (int)PF_P_COUNT, "count %d", pf_param_count());
+    EXPECT(pf_param_info(PF_P_COUNT) == NULL, "info(COUNT)");
+    EXPECT(pf_param_info((pf_param_id)-1) == NULL, "info(-1)");
+    EXPECT(pf_param_check(PF_P_COUNT, 1.0) == PF_E_PARAM(PF_P_COUNT), "check(COUNT)");
+    for (id = 0; id < PF_P_COUNT; id++) {
+        const pf_param_spec *s = pf_param_info((pf_param_id)id);
+        double in_lo, in_hi;
+        EXPECT(s != NULL, "id %d has no row", id);
+        if (s == NULL)
+            continue;
+        EXPECT(strcmp(s->name, pname((pf_param_id)id)) == 0, "%s: name", s->name);
+        EXPECT(s->desc[0] != '\0' && s->unit != NULL, "%s: desc/unit", s->name);
+        EXPECT(s->lo < s->hi, "%s: [%g, %g]", s->name, s->lo, s->hi);
+        EXPECT(id <= PF_P_RCI ? s->topologies != 0 : s->topologies == 0,
+               "%s: topologies %#x", s->name, s->topologies);
+        /* the ends: in exactly when closed (a finite one) */
+        EXPECT((pf_param_check((pf_param_id)id, s->lo) == PF_OK) ==
+                   !(s->flags & PF_PARAM_LO_OPEN),
+               "%s: lo %g", s->name, s->lo);
+        if (isfinite(s->hi))
+            EXPECT((pf_param_check((pf_param_id)id, s->hi) == PF_OK) ==
+                       !(s->flags & PF_PARAM_HI_OPEN),
+                   "%s: hi %g", s->name, s->hi);
+        /* just outside: out, with the status naming the parameter */
+        expect_names(pf_param_check((pf_param_id)id, nextafter(s->lo, -INFINITY)),
+                     (pf_param_id)id, "below lo");
+        if (isfinite(s->hi))
+            expect_names(pf_param_check((pf_param_id)id, nextafter(s->hi, INFINITY)),
+                         (pf_param_id)id, "above hi");
+        expect_names(pf_param_check((pf_param_id)id, NAN), (pf_param_id)id, "NaN");
+        expect_names(pf_param_check((pf_param_id)id, INFINITY), (pf_param_id)id, "inf");
+        /* inside: a whole number for integers, not 0 where 0 is out */
+        in_lo = (s->flags & PF_PARAM_INTEGER) ? ceil(s->lo + 0.5)
+                : nextafter(s->lo, INFINITY);
+        if (in_lo == 0.0 && (s->flags & PF_PARAM_NONZERO))
+            in_lo = nextafter(0.0, INFINITY);
+        EXPECT(pf_param_check((pf_param_id)id, in_lo) == PF_OK, "%s: %g", s->name, in_lo);
+        in_hi = isfinite(s->hi) ? s->hi : 1e300;
+        if (s->flags & PF_PARAM_INTEGER) {
+            EXPECT(pf_param_check((pf_param_id)id, s->lo + 0.5) != PF_OK,
+                   "%s: %g is not whole", s->name, s->lo + 0.5);
+        } else if (s->flags & PF_PARAM_HI_OPEN) {
+            in_hi = nextafter(s->hi, -INFINITY);
+        }
+        EXPECT(pf_param_check((pf_param_id)id, in_hi) == PF_OK, "%s: %g", s->name, in_hi);
+        if (s->flags & PF_PARAM_NONZERO)
+            expect_names(pf_param_check((pf_param_id)id, 0.0), (pf_param_id)id, "0");
+    }
+    /* the limits the headers document (pf_params.h, pf_fracop.h,
+     * pf_controller.h) */
+    for (id = PF_P_A; id <= PF_P_RCI; id++) {
+        const pf_param_spec *s = pf_param_info((pf_param_id)id);
+        if (!is_positive_param((pf_param_id)id))
+            continue;
+        EXPECT(s->lo == PARAM_MIN && s->hi == PARAM_MAX && s->flags == 0,
+               "%s: [%g, %g] flags %#x", s->name, s->lo, s->hi, s->flags);
+    }
+    EXPECT(pf_param_info(PF_P_Q)->lo == 0.0 && pf_param_info(PF_P_Q)->flags == 0, "q");
+    EXPECT(pf_param_info(PF_P_BETA)->flags == PF_PARAM_LO_OPEN &&
+               pf_param_info(PF_P_BETA)->hi == 1.0, "beta");
+    EXPECT(pf_param_info(PF_P_GAIN)->hi == GAIN_MAX, "gain");
+    EXPECT(pf_param_info(PF_P_IN_FS)->hi == FULL_SCALE_MAX &&
+               pf_param_info(PF_P_OUT_FS)->hi == FULL_SCALE_MAX, "full scales");
+    EXPECT(pf_param_info(PF_P_ORDER)->hi == PF_MAX_ORDER, "order");
+    EXPECT(pf_param_info(PF_P_CONFIG)->hi == PF_TOPO_COUNT - 1, "config");
+    EXPECT(strcmp(pf_param_info(PF_P_FS)->unit, "Hz") == 0 &&
+               strcmp(pf_param_info(PF_P_TAU)->unit, "s") == 0, "units");
+    END_SOFT();
+}
+
 static void test_config_names(void **state)
 {
     static const char *const names[] = {"p", "dd", "id", "pid"};
@@ -485,17 +561,17 @@ static void test_config_names(void **state)
     int c;
     size_t i;
     (void)state;
-    for (c = 0; c < PF_CFG_COUNT; c++) {
-        EXPECT(strcmp(pf_config_name((pf_config)c), names[c]) == 0,
-               "config_name(%d) = %s", c, pf_config_name((pf_config)c));
-        EXPECT(pf_config_lookup(names[c]) == (pf_config)c, "lookup(%s) = %d",
-               names[c], (int)pf_config_lookup(names[c]));
+    for (c = 0; c < PF_TOPO_COUNT; c++) {
+        EXPECT(strcmp(pf_topology_name((pf_topology)c), names[c]) == 0,
+               "config_name(%d) = %s", c, pf_topology_name((pf_topology)c));
+        EXPECT(pf_topology_lookup(names[c]) == (pf_topology)c, "lookup(%s) = %d",
+               names[c], (int)pf_topology_lookup(names[c]));
     }
     for (i = 0; i < sizeof bad / sizeof bad[0]; i++)
-        EXPECT(pf_config_lookup(bad[i]) == PF_CFG_COUNT, "lookup(\"%s\") = %d",
-               bad[i], (int)pf_config_lookup(bad[i]));
-    EXPECT(strcmp(pf_config_name(PF_CFG_COUNT), "?") == 0, "config_name(COUNT)");
-    EXPECT(strcmp(pf_config_name((pf_config)-1), "?") == 0, "config_name(-1)");
+        EXPECT(pf_topology_lookup(bad[i]) == PF_TOPO_COUNT, "lookup(\"%s\") = %d",
+               bad[i], (int)pf_topology_lookup(bad[i]));
+    EXPECT(strcmp(pf_topology_name(PF_TOPO_COUNT), "?") == 0, "config_name(COUNT)");
+    EXPECT(strcmp(pf_topology_name((pf_topology)-1), "?") == 0, "config_name(-1)");
     END_SOFT();
 }
 
@@ -842,7 +918,7 @@ static void test_q15_full_scales(void **state)
     size_t i;
     char what[48];
     (void)state;
-    pf_params_default(&p, PF_CFG_DD);
+    pf_params_default(&p, PF_TOPO_DD);
     assert_int_equal(pf_ctrl_design_make(&d, &p, NULL, &o), PF_OK);
     for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         snprintf(what, sizeof what, "in_fs = %g", bad[i]);
@@ -943,12 +1019,12 @@ static void test_design_make_atomic(void **state)
     size_t i;
     (void)state;
 
-    for (c = 0; c < PF_CFG_COUNT; c++) {
+    for (c = 0; c < PF_TOPO_COUNT; c++) {
         for (i = 0; i < sizeof k_bad_params / sizeof k_bad_params[0]; i++)
             if (apply_mutation(&p, c, &k_bad_params[i]))
                 check_make_untouched(cname(c), k_bad_params[i].what, &p, NULL, &o,
                                      PF_E_PARAM(k_bad_params[i].want), PF_P_COUNT);
-        pf_params_default(&p, (pf_config)c);
+        pf_params_default(&p, (pf_topology)c);
         for (i = 0; i < sizeof k_bad_opts / sizeof k_bad_opts[0]; i++)
             check_make_untouched(cname(c), k_bad_opts[i].what, &p, NULL, &k_bad_opts[i].o,
                                  PF_E_PARAM(k_bad_opts[i].want), k_bad_opts[i].alt);
@@ -957,11 +1033,11 @@ static void test_design_make_atomic(void **state)
                                  PF_E_PARAM(k_bad_fx[i].want), k_bad_fx[i].alt);
     }
 
-    pf_params_default(&p, PF_CFG_DD);
-    p.config = PF_CFG_COUNT;
+    pf_params_default(&p, PF_TOPO_DD);
+    p.topology = PF_TOPO_COUNT;
     check_make_untouched("?", "config = COUNT", &p, NULL, &o, PF_E_PARAM(PF_P_CONFIG),
                          PF_P_COUNT);
-    pf_params_default(&p, PF_CFG_DD);
+    pf_params_default(&p, PF_TOPO_DD);
     check_make_untouched("dd", "p = NULL", NULL, NULL, &o, PF_E_NULL, PF_P_COUNT);
     check_make_untouched("dd", "opt = NULL", &p, NULL, NULL, PF_E_NULL, PF_P_COUNT);
     EXPECT(pf_ctrl_design_make(NULL, &p, NULL, &o) == PF_E_NULL, "d = NULL");
@@ -978,11 +1054,11 @@ static void test_design_make_ok(void **state)
     int c;
     (void)state;
     assert_int_equal(pf_design_opts_resolve(&o, &r), PF_OK);
-    for (c = 0; c < PF_CFG_COUNT; c++) {
-        pf_params_default(&p, (pf_config)c);
+    for (c = 0; c < PF_TOPO_COUNT; c++) {
+        pf_params_default(&p, (pf_topology)c);
         memset(&d, 0xA5, sizeof d);
         assert_int_equal(pf_ctrl_design_make(&d, &p, NULL, &o), PF_OK);
-        EXPECT(d.p.config == p.config && d.p.a == p.a && d.p.beta == p.beta &&
+        EXPECT(d.p.topology == p.topology && d.p.a == p.a && d.p.beta == p.beta &&
                    d.p.q == p.q && d.p.k1 == p.k1,
                "%s: design does not record its parameters", cname(c));
         EXPECT(d.fx.backlash == 0.0 && d.fx.nozzle_xh == 0.0 && d.fx.saturate == 0 &&
@@ -1055,7 +1131,7 @@ static void expect_design_agrees(const pf_params *p, pf_param_id want, const cha
                pname(pf_status_param(sv)), sd, pname(id));
         return;
     }
-    EXPECT(sd == PF_OK || design_may_name(p->config, o.fs, id),
+    EXPECT(sd == PF_OK || design_may_name(p->topology, o.fs, id),
            "%s: validate OK but design_make = %d (%s)", what, sd, pname(id));
     if (sd == PF_OK)
         expect_runs_finite(&d, what);
@@ -1094,7 +1170,7 @@ static void test_validate_matches_design(void **state)
     int c;
     size_t i;
     (void)state;
-    for (c = 0; c < PF_CFG_COUNT; c++)
+    for (c = 0; c < PF_TOPO_COUNT; c++)
         for (i = 0; i < sizeof k_agree / sizeof k_agree[0]; i++) {
             char what[96];
             if (!apply_mutation(&p, c, &k_agree[i]))
@@ -1117,9 +1193,9 @@ static void test_formerly_hidden_limits(void **state)
     (void)state;
     for (id = PF_P_A; id <= PF_P_RCI; id++) {
         char what[48];
-        if (!is_positive_param((pf_param_id)id) || !uses(PF_CFG_PID, (pf_param_id)id))
+        if (!is_positive_param((pf_param_id)id) || !uses(PF_TOPO_PID, (pf_param_id)id))
             continue;
-        pf_params_default(&p, PF_CFG_PID);
+        pf_params_default(&p, PF_TOPO_PID);
         pf_params_set(&p, (pf_param_id)id, 1e10);
         if (id == PF_P_PMIN) p.pmax = 1e10;
         if (id == PF_P_RCD) p.RCi = 2e10;
@@ -1147,6 +1223,7 @@ int main(void)
         cmocka_unit_test_setup(test_validate_config_and_null, setup_soft),
         cmocka_unit_test_setup(test_params_set_get, setup_soft),
         cmocka_unit_test_setup(test_param_names_roundtrip, setup_soft),
+        cmocka_unit_test_setup(test_param_table, setup_soft),
         cmocka_unit_test_setup(test_config_names, setup_soft),
         cmocka_unit_test_setup(test_opts_defaults, setup_soft),
         cmocka_unit_test_setup(test_opts_fs, setup_soft),

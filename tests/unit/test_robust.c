@@ -45,7 +45,7 @@
 #include <string.h>
 
 #include "pneufrac/pneufrac.h"
-#include "pf_test_util.h"
+#include "test_util.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -162,13 +162,13 @@ static int is_order_param(pf_param_id id)
     return id == PF_P_BETA || id == PF_P_NU || id == PF_P_W;
 }
 
-static int cfg_uses(pf_config c, pf_param_id id)
+static int cfg_uses(pf_topology c, pf_param_id id)
 {
     switch (id) {
-    case PF_P_NU: return c == PF_CFG_DD || c == PF_CFG_PID;
-    case PF_P_W: return c == PF_CFG_ID || c == PF_CFG_PID;
-    case PF_P_RC: return c == PF_CFG_DD || c == PF_CFG_ID;
-    case PF_P_RCD: case PF_P_RCI: return c == PF_CFG_PID;
+    case PF_P_NU: return c == PF_TOPO_DD || c == PF_TOPO_PID;
+    case PF_P_W: return c == PF_TOPO_ID || c == PF_TOPO_PID;
+    case PF_P_RC: return c == PF_TOPO_DD || c == PF_TOPO_ID;
+    case PF_P_RCD: case PF_P_RCI: return c == PF_TOPO_PID;
     default: return id <= PF_P_Q;
     }
 }
@@ -190,14 +190,14 @@ static void oracle_params(const pf_params *p, verdict *v)
     int id;
     double ka;
     v->first_param = PF_P_COUNT;
-    if ((int)p->config < 0 || p->config >= PF_CFG_COUNT) {
+    if ((int)p->topology < 0 || p->topology >= PF_TOPO_COUNT) {
         flag_param(v, PF_P_CONFIG);
         return;
     }
     for (id = PF_P_A; id <= PF_P_RCI; id++) {
         double x = pf_params_get(p, (pf_param_id)id);
         int ok;
-        if (!cfg_uses(p->config, (pf_param_id)id))
+        if (!cfg_uses(p->topology, (pf_param_id)id))
             continue;
         if (is_order_param((pf_param_id)id))
             ok = in_closed(x, 0.0, 1.0) && x > 0.0;
@@ -215,9 +215,9 @@ static void oracle_params(const pf_params *p, verdict *v)
     ka = p->A / p->ks;
     if (!(ka >= KA_MIN && ka <= KA_MAX))
         flag_param(v, PF_P_KS);
-    if (p->config == PF_CFG_PID && !(p->nu <= p->w))
+    if (p->topology == PF_TOPO_PID && !(p->nu <= p->w))
         flag_param(v, PF_P_W);
-    if (p->config == PF_CFG_PID && !(p->RCd < p->RCi))
+    if (p->topology == PF_TOPO_PID && !(p->RCd < p->RCi))
         flag_param(v, PF_P_RCD);
 }
 
@@ -361,7 +361,7 @@ static double gen_param_value(rng *r, pf_param_id id, int bad)
 static void gen_params(rng *r, trial *t)
 {
     int id;
-    pf_config c = (pf_config)pick(r, PF_CFG_COUNT);
+    pf_topology c = (pf_topology)pick(r, PF_TOPO_COUNT);
     pf_params_default(&t->p, c);
     for (id = PF_P_A; id <= PF_P_RCI; id++)
         if (chance(r, 0.35))
@@ -468,7 +468,7 @@ static void inject_bad_params(rng *r, trial *t)
         p->w = p->nu * (chance(r, 0.5) ? 0.5 : 1.0 - 1e-9);
         break;
     default:
-        p->config = chance(r, 0.5) ? PF_CFG_COUNT : (pf_config)-1;
+        p->topology = chance(r, 0.5) ? PF_TOPO_COUNT : (pf_topology)-1;
         break;
     }
 }
@@ -584,7 +584,7 @@ static void dump_trial(long n, const trial *t, const char *why)
     const pf_design_opts *o = &t->o;
     print_message("---- trial %ld: %s\n", n, why);
     print_message("  config=%d a=%.17g b=%.17g k1=%.17g k2=%.17g A=%.17g ks=%.17g\n",
-                  (int)p->config, p->a, p->b, p->k1, p->k2, p->A, p->ks);
+                  (int)p->topology, p->a, p->b, p->k1, p->k2, p->A, p->ks);
     print_message("  tau=%.17g pmin=%.17g pmax=%.17g beta=%.17g q=%.17g nu=%.17g w=%.17g\n",
                   p->tau, p->pmin, p->pmax, p->beta, p->q, p->nu, p->w);
     print_message("  RC=%.17g RCd=%.17g RCi=%.17g\n", p->RC, p->RCd, p->RCi);
@@ -919,7 +919,7 @@ static void one_trial(rng *r, stats *s, long n)
         if (nbad == 0) {
             /* validated input: only the design's own documented refusals */
             if ((v.over_cap && st == PF_E_PARAM(PF_P_DEAD_TIME)) ||
-                design_may_name(t.p.config, t.o.fs, id)) {
+                design_may_name(t.p.topology, t.o.fs, id)) {
                 s->design_only[id]++;
             } else {
                 report(s, &s->fail_reject, n, &t, "validated input rejected by the design: "
@@ -1106,16 +1106,16 @@ static void test_sweep_findings(void **state)
      * near z = -1), so it must be designed and run finite. */
     static const struct {
         const char *what;
-        pf_config cfg;
+        pf_topology cfg;
         pf_param_id id; /* the one parameter changed from the defaults */
         double value, fs;
         pf_approx approx;
     } cases[] = {
-        {"dd, nu = 1e-9, fs = 1e7, refined", PF_CFG_DD, PF_P_NU, 1e-9, 1e7, PF_APPROX_REFINED},
-        {"p, beta = 1e-9, fs = 1e7, refined", PF_CFG_P, PF_P_BETA, 1e-9, 1e7, PF_APPROX_REFINED},
-        {"id, w = 1e-9, fs = 5e6, refined", PF_CFG_ID, PF_P_W, 1e-9, 5e6, PF_APPROX_REFINED},
+        {"dd, nu = 1e-9, fs = 1e7, refined", PF_TOPO_DD, PF_P_NU, 1e-9, 1e7, PF_APPROX_REFINED},
+        {"p, beta = 1e-9, fs = 1e7, refined", PF_TOPO_P, PF_P_BETA, 1e-9, 1e7, PF_APPROX_REFINED},
+        {"id, w = 1e-9, fs = 5e6, refined", PF_TOPO_ID, PF_P_W, 1e-9, 5e6, PF_APPROX_REFINED},
         /* the same with Oustaloup's recursion, for contrast */
-        {"dd, nu = 1e-9, fs = 1e7, oustaloup", PF_CFG_DD, PF_P_NU, 1e-9, 1e7, PF_APPROX_OUSTALOUP},
+        {"dd, nu = 1e-9, fs = 1e7, oustaloup", PF_TOPO_DD, PF_P_NU, 1e-9, 1e7, PF_APPROX_OUSTALOUP},
     };
     pf_params p;
     pf_effects fx;
@@ -1135,7 +1135,7 @@ static void test_sweep_findings(void **state)
      * rate: validate accepts it, the design refused it naming RCd (the
      * sweep's "validated input rejected by the design"). Validate and
      * design must agree. */
-    pf_params_default(&p, PF_CFG_PID);
+    pf_params_default(&p, PF_TOPO_PID);
     p.nu = 0.5;
     p.RCd = 0.09;
     o = opts_at(0.1, PF_APPROX_OUSTALOUP, PF_INPUT_HOLD);
@@ -1154,7 +1154,7 @@ static void test_sweep_findings(void **state)
      * runtime sat at the limit (-2e6), the f32 one returned NaN. A/ks is
      * now limited to [1e-12, 1e12]: 1e18 is refused by name, and at the
      * largest allowed gain both runtimes stay finite and inside the limits. */
-    pf_params_default(&p, PF_CFG_ID);
+    pf_params_default(&p, PF_TOPO_ID);
     memset(&fx, 0, sizeof fx);
     fx.saturate = 1;
     fx.sat_lo = -1e7;
@@ -1181,23 +1181,23 @@ static void test_extreme_inputs(void **state)
      * (sig.y). */
     static const struct {
         const char *what;
-        pf_config cfg;
+        pf_topology cfg;
         double k1, A, ks;
         pf_input_model in;
         double e;   /* alternating in sign from the second sample on if alt */
         int alt;
         double sat; /* saturation at [-sat, sat], or 0 */
     } minimal[] = {
-        {"dd defaults, held input, e = DBL_MAX (FLT_MAX in f32)", PF_CFG_DD, 0.1, 2.0, 20.0,
+        {"dd defaults, held input, e = DBL_MAX (FLT_MAX in f32)", PF_TOPO_DD, 0.1, 2.0, 20.0,
          PF_INPUT_HOLD, DBL_MAX, 0, 0.0},
-        {"p, k1 = 1e9, linear input, e = +-1e300 (+-FLT_MAX in f32)", PF_CFG_P, PARAM_MAX, 2.0,
+        {"p, k1 = 1e9, linear input, e = +-1e300 (+-FLT_MAX in f32)", PF_TOPO_P, PARAM_MAX, 2.0,
          20.0, PF_INPUT_LINEAR, 1e300, 1, 0.0},
-        {"id, A/ks = 9.9e11, linear input, e = DBL_MAX (FLT_MAX in f32)", PF_CFG_ID, 2.0,
+        {"id, A/ks = 9.9e11, linear input, e = DBL_MAX (FLT_MAX in f32)", PF_TOPO_ID, 2.0,
          PARAM_MAX, 1.01e-3, PF_INPUT_LINEAR, DBL_MAX, 0, 0.0},
         /* the sweep's "saturated output outside [lo, hi]" at its smallest:
          * pf_effects.h clips p_c to [sat_lo, sat_hi], extreme input or not */
         {"p, k1 = 1e9, saturated at [-1, 1], linear input, e = +-1e300 (+-FLT_MAX in f32)",
-         PF_CFG_P, PARAM_MAX, 2.0, 20.0, PF_INPUT_LINEAR, 1e300, 1, 1.0},
+         PF_TOPO_P, PARAM_MAX, 2.0, 20.0, PF_INPUT_LINEAR, 1e300, 1, 1.0},
     };
     static double e64[NRUN];
     static float e32[NRUN];
@@ -1237,13 +1237,13 @@ static void test_extreme_inputs(void **state)
     fx.saturate = 1;
     fx.sat_lo = -FX_MAX;
     fx.sat_hi = FX_MAX;
-    for (c = 0; c < PF_CFG_COUNT; c++)
+    for (c = 0; c < PF_TOPO_COUNT; c++)
         for (big = 0; big < 2; big++)
             for (in = 0; in < 2; in++)
                 for (with_fx = 0; with_fx < 2; with_fx++)
                     for (alt = 0; alt < 2; alt++) {
                         char what[128];
-                        pf_params_default(&p, (pf_config)c);
+                        pf_params_default(&p, (pf_topology)c);
                         if (big) {
                             p.k1 = p.k2 = PARAM_MAX;
                             p.A = PARAM_MAX;
@@ -1252,7 +1252,7 @@ static void test_extreme_inputs(void **state)
                         o = opts_at(20000.0, PF_APPROX_OUSTALOUP,
                                     in ? PF_INPUT_LINEAR : PF_INPUT_HOLD);
                         snprintf(what, sizeof what, "%s%s, %s input%s, %s e = DBL_MAX",
-                                 pf_config_name((pf_config)c),
+                                 pf_topology_name((pf_topology)c),
                                  big ? " (k1 = k2 = 1e9, A/ks = 9.9e11)" : "",
                                  in ? "linear" : "held", with_fx ? ", backlash+nozzle+sat" : "",
                                  alt ? "alternating" : "constant");

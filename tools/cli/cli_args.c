@@ -106,6 +106,18 @@ int cli_parse_positive(const char *opt, const char *s, double *out)
     return 0;
 }
 
+void cli_param_range(pf_param_id id, char *buf, size_t n)
+{
+    const pf_param_spec *s = pf_param_info(id);
+    if (s == NULL) {
+        snprintf(buf, n, "?");
+        return;
+    }
+    snprintf(buf, n, "%c%g, %g%c%s%s", (s->flags & PF_PARAM_LO_OPEN) ? '(' : '[',
+             s->lo, s->hi, (s->flags & PF_PARAM_HI_OPEN) ? ')' : ']',
+             *s->unit ? " " : "", s->unit);
+}
+
 /* Parses s[0..len) as a double: the pieces of --effect and --band are not
  * NUL-terminated in argv. Numbers longer than the buffer are rejected. */
 static int parse_double_n(const char *s, size_t len, double *out)

@@ -38,6 +38,10 @@ int cli_parse_double(const char *s, double *out);
  *  @return 0 on success, -1 (no message) otherwise. */
 int cli_parse_int(const char *s, int *out);
 
+/** Write parameter @p id's range from the library's table, with its unit,
+ *  as "(0, 1e+07] Hz" into @p buf (size @p n). */
+void cli_param_range(pf_param_id id, char *buf, size_t n);
+
 /** Parse the value of option @p opt as a finite double > 0; prints the
  *  error. @return 0 or -1. */
 int cli_parse_positive(const char *opt, const char *s, double *out);

@@ -67,16 +67,16 @@ static void print_summary(const cli_run *run, const pf_ctrl_design *d,
                           const demo_stats *s, const char *out, size_t rows)
 {
     const pf_ctrl_coeffs_f64 *c = &d->rt;
-    const int pid = run->p.config == PF_CFG_PID;
+    const int pid = run->p.topology == PF_TOPO_PID;
     int id, col = 0;
     size_t k;
 
     printf("pneufrac demo: Example 6 of the paper, the fractional derivative\n"
            "controller (config %s, eq. 18), answering a unit step in e at "
-           "t = 0.\n\n", pf_config_name(run->p.config));
+           "t = 0.\n\n", pf_topology_name(run->p.topology));
     printf("parameters:");
     for (id = 0; id < (int)PF_P_CONFIG; id++) {
-        if (!pf_param_used(run->p.config, (pf_param_id)id))
+        if (!pf_param_used(run->p.topology, (pf_param_id)id))
             continue;
         if (col == 7) {
             printf("\n           ");
@@ -157,9 +157,9 @@ int cli_demo_main(int argc, char **argv)
     }
 
     memset(&run, 0, sizeof run);
-    pf_params_default(&run.p, PF_CFG_DD);
+    pf_params_default(&run.p, PF_TOPO_DD);
     run.opt.fs = DEMO_FS;
-    run.arith = CLI_ARITH_DOUBLE;
+    run.arith = PF_ARITH_F64;
     run.duration = DEMO_DURATION;
     rc = cli_run_design(&run, &d);
     if (rc != CLI_EXIT_OK)

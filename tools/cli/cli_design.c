@@ -81,9 +81,9 @@ static void write_json(FILE *f, const pf_ctrl_design *d)
 {
     const pf_ctrl_coeffs_f64 *c = &d->rt;
     int id, first = 1;
-    fprintf(f, "{\n  \"config\": \"%s\",\n  \"params\": {", pf_config_name(d->p.config));
+    fprintf(f, "{\n  \"config\": \"%s\",\n  \"params\": {", pf_topology_name(d->p.topology));
     for (id = 0; id <= (int)PF_P_RCI; id++) {
-        if (!pf_param_used(d->p.config, (pf_param_id)id))
+        if (!pf_param_used(d->p.topology, (pf_param_id)id))
             continue;
         fprintf(f, "%s\"%s\": %.17g", first ? "" : ", ", pf_param_name((pf_param_id)id),
                 pf_params_get(&d->p, (pf_param_id)id));
@@ -117,19 +117,19 @@ static int write_cmsis(const cli_run *run, pf_ctrl_design *d, const char *name,
     double scale = 1.0;
     pf_status st;
     int rc;
-    if (run->arith != CLI_ARITH_DOUBLE &&
-        run->arith != (q15 ? CLI_ARITH_Q15 : CLI_ARITH_FLOAT)) {
+    if (run->arith != PF_ARITH_F64 &&
+        run->arith != (q15 ? PF_ARITH_Q15 : PF_ARITH_F32)) {
         cli_error("--format cmsis-%s takes no --arith %s (the format sets "
                   "the arithmetic)", q15 ? "q15" : "f32",
-                  run->arith == CLI_ARITH_Q15 ? "q15" : "float");
+                  run->arith == PF_ARITH_Q15 ? "q15" : "float");
         return CLI_EXIT_USAGE;
     }
-    if (run->arith == CLI_ARITH_Q15)
+    if (run->arith == PF_ARITH_Q15)
         scale = run->in_fs / run->out_fs;
     if (cli_run_design(run, d) != CLI_EXIT_OK)
         return CLI_EXIT_USAGE;
     snprintf(note, sizeof note, "config %s, fs = %g Hz, band [%g, %g] rad/s, N = %d",
-             pf_config_name(d->p.config), d->opt.fs, d->opt.wb, d->opt.wh, d->opt.order);
+             pf_topology_name(d->p.topology), d->opt.fs, d->opt.wb, d->opt.wh, d->opt.order);
     rc = cli_export_cmsis(stdout, name, note, d, q15, scale, &st);
     if (rc == -2) {
         cli_error("design: no CMSIS %s cascade: %s", q15 ? "q15" : "f32",
@@ -148,13 +148,9 @@ int cli_design_main(int argc, char **argv)
     const char *name;
     int rc;
 
-    memset(&a, 0, sizeof a);
-    a.config = PF_CFG_COUNT;
-    rc = cli_opts_parse(argc, argv, &design_cmd, &a);
+    rc = cli_opts_read(argc, argv, &design_cmd, &a, &run);
     if (rc != 0)
         return rc > 0 ? CLI_EXIT_OK : CLI_EXIT_USAGE;
-    if (cli_opts_build(&a, &design_cmd, &run) != 0)
-        return CLI_EXIT_USAGE;
     if (a.format == NULL) {
         cli_error("design: missing --format (c, cmsis-f32, cmsis-q15 or json)");
         return CLI_EXIT_USAGE;
@@ -170,7 +166,7 @@ int cli_design_main(int argc, char **argv)
         write_json(stdout, &d);
     } else if (strcmp(a.format, "c") == 0) {
         char note[160];
-        if (run.arith == CLI_ARITH_DOUBLE) {
+        if (run.arith == PF_ARITH_F64) {
             cli_error("--format c needs --arith float or q15 (firmware runs "
                       "float or Q15, not double)");
             return CLI_EXIT_USAGE;
@@ -178,8 +174,8 @@ int cli_design_main(int argc, char **argv)
         if (cli_run_design(&run, &d) != CLI_EXIT_OK)
             return CLI_EXIT_USAGE;
         snprintf(note, sizeof note, "config %s, fs = %g Hz, band [%g, %g] rad/s, N = %d",
-                 pf_config_name(d.p.config), d.opt.fs, d.opt.wb, d.opt.wh, d.opt.order);
-        if (run.arith == CLI_ARITH_Q15) {
+                 pf_topology_name(d.p.topology), d.opt.fs, d.opt.wb, d.opt.wh, d.opt.order);
+        if (run.arith == PF_ARITH_Q15) {
             static pf_ctrl_coeffs_q15 cq;
             pf_status st = pf_ctrl_coeffs_q15_make(&cq, &d, run.in_fs, run.out_fs);
             if (st != PF_OK) {

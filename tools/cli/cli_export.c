@@ -10,7 +10,7 @@
 
 #include <string.h>
 
-#include "cli_sos.h"
+#include "pfh_sos.h"
 
 static void qc(FILE *f, const char *field, pf_qc q)
 {
@@ -218,15 +218,15 @@ int cli_export_cmsis(FILE *f, const char *name, const char *comment,
                      pf_status *st)
 {
     /* static: an export holds four cascades and runs once per process */
-    static cli_sos sos[4];
-    static cli_sos_q15 q[4];
+    static pfh_sos sos[4];
+    static pfh_sos_q15 q[4];
     cmsis_op ops[4];
     int n = cmsis_ops(d, ops), i, k, j;
 
     for (i = 0; i < n; i++) {
-        *st = cli_sos_from_op(&sos[i], ops[i].op, &d->opt, scale);
+        *st = pfh_sos_from_op(&sos[i], ops[i].op, &d->opt, scale);
         if (*st == PF_OK && q15)
-            *st = cli_sos_q15_make(&sos[i], &q[i]);
+            *st = pfh_sos_q15_make(&sos[i], &q[i]);
         if (*st != PF_OK)
             return -2;
     }
@@ -247,8 +247,8 @@ int cli_export_cmsis(FILE *f, const char *name, const char *comment,
                     fprintf(f, "%d%s", q[i].c[6 * k + j], j < 5 ? ", " : ",\n");
             }
         } else {
-            float c[5 * CLI_SOS_MAX];
-            cli_sos_f32(&sos[i], c);
+            float c[5 * PFH_SOS_MAX];
+            pfh_sos_f32(&sos[i], c);
             fprintf(f, "static const float %s_%s_coeffs[5 * %d] = {\n", name, id, sos[i].n);
             for (k = 0; k < sos[i].n; k++) {
                 fprintf(f, "    ");

@@ -20,7 +20,7 @@ int cli_export_c_f32(FILE *f, const char *name, const char *comment,
 /* Write each fractional operator of design @p d as coefficient arrays for
  * CMSIS-DSP's arm_biquad_cascade_df1_f32 (@p q15 == 0) or _q15, named
  * <name>_<operator>_coeffs with <name>_<operator>_num_stages (and
- * _post_shift for q15); see cli_sos.h for the conversion. Every operator
+ * _post_shift for q15); see pfh_sos.h for the conversion. Every operator
  * is scaled by @p scale (Q15: in_fs/out_fs, the full scales of its input
  * and output). Nothing is written unless every operator converts.
  * Returns 0, -1 on a write error, or -2 with *st set when an operator

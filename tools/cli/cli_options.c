@@ -28,7 +28,7 @@ static const opt_desc options[] = {
 };
 #define N_OPTIONS (sizeof options / sizeof options[0])
 
-int cli_opts_parse(int argc, char **argv, const cli_command *cmd, cli_opts *a)
+static int opts_parse(int argc, char **argv, const cli_command *cmd, cli_opts *a)
 {
     char q[48];
     int i;
@@ -82,8 +82,8 @@ int cli_opts_parse(int argc, char **argv, const cli_command *cmd, cli_opts *a)
 
         switch (o->seen) {
         case CLI_OPT_CONFIG:
-            a->config = pf_config_lookup(val);
-            if (a->config == PF_CFG_COUNT) {
+            a->topology = pf_topology_lookup(val);
+            if (a->topology == PF_TOPO_COUNT) {
                 cli_error("--config: unknown configuration '%s' (valid: p, "
                           "dd, id, pid)", cli_quote(q, sizeof q, val));
                 return -1;
@@ -98,13 +98,8 @@ int cli_opts_parse(int argc, char **argv, const cli_command *cmd, cli_opts *a)
                 return -1;
             break;
         case CLI_OPT_ARITH:
-            if (strcmp(val, "double") == 0) {
-                a->arith = CLI_ARITH_DOUBLE;
-            } else if (strcmp(val, "float") == 0) {
-                a->arith = CLI_ARITH_FLOAT;
-            } else if (strcmp(val, "q15") == 0) {
-                a->arith = CLI_ARITH_Q15;
-            } else {
+            a->arith = pf_arith_lookup(val);
+            if (a->arith == PF_ARITH_COUNT) {
                 cli_error("--arith: unknown arithmetic '%s' (valid: double, "
                           "float, q15)", cli_quote(q, sizeof q, val));
                 return -1;
@@ -190,7 +185,7 @@ int cli_opts_parse(int argc, char **argv, const cli_command *cmd, cli_opts *a)
     return 0;
 }
 
-int cli_opts_build(const cli_opts *a, const cli_command *cmd, cli_run *run)
+static int opts_build(const cli_opts *a, const cli_command *cmd, cli_run *run)
 {
     int id;
 
@@ -212,7 +207,7 @@ int cli_opts_build(const cli_opts *a, const cli_command *cmd, cli_run *run)
                   CLI_MAX_SAMPLES);
         return -1;
     }
-    if (a->arith == CLI_ARITH_Q15) {
+    if (a->arith == PF_ARITH_Q15) {
         if (!(a->seen & CLI_OPT_IN_FS) || !(a->seen & CLI_OPT_OUT_FS)) {
             cli_error("--arith q15 needs --in-fs and --out-fs (the physical "
                       "full scales of e and p_c)");
@@ -225,16 +220,16 @@ int cli_opts_build(const cli_opts *a, const cli_command *cmd, cli_run *run)
     }
 
     memset(run, 0, sizeof *run);
-    pf_params_default(&run->p, a->config);
+    pf_params_default(&run->p, a->topology);
     for (id = 0; id < (int)PF_P_CONFIG; id++) {
         if (!(a->set_mask & (1u << id)))
             continue;
         /* A parameter the configuration ignores would silently change
          * nothing; that is almost always a mistaken name or config. */
-        if (!pf_param_used(a->config, (pf_param_id)id)) {
+        if (!pf_param_used(a->topology, (pf_param_id)id)) {
             cli_error("--set %s: configuration %s does not use '%s'",
                       pf_param_name((pf_param_id)id),
-                      pf_config_name(a->config),
+                      pf_topology_name(a->topology),
                       pf_param_name((pf_param_id)id));
             return -1;
         }
@@ -261,3 +256,14 @@ int cli_opts_build(const cli_opts *a, const cli_command *cmd, cli_run *run)
     return 0;
 }
 
+int cli_opts_read(int argc, char **argv, const cli_command *cmd, cli_opts *a,
+                  cli_run *run)
+{
+    int rc;
+    memset(a, 0, sizeof *a);
+    a->topology = PF_TOPO_COUNT; /* --config is required */
+    rc = opts_parse(argc, argv, cmd, a);
+    if (rc != 0)
+        return rc;
+    return opts_build(a, cmd, run);
+}

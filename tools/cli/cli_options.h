@@ -46,25 +46,23 @@ typedef struct cli_command {
 /** Parsed command line, before the defaults of the configuration apply. */
 typedef struct cli_opts {
     unsigned seen;
-    pf_config config;
+    pf_topology topology;
     double fs, duration, in_fs, out_fs, wb, wh, t_slow;
     int order;
     pf_approx approx;
     pf_input_model input_model;
-    cli_arith arith;
+    pf_arith arith;
     const char *input, *format, *name;
     unsigned set_mask;
     double set_val[PF_P_CONFIG];
     cli_effects fx;
 } cli_opts;
 
-/** Parse argv[1..] (argv[0] is the command) into @p a, zeroed by the
- *  caller with a->config = PF_CFG_COUNT. Prints every error.
- *  @return 1 if help was printed, 0 if parsed, -1 after an error. */
-int cli_opts_parse(int argc, char **argv, const cli_command *cmd, cli_opts *a);
-
-/** Cross-option checks, then the run description (duration is required
- *  only if the command takes it). @return 0, or -1 after an error. */
-int cli_opts_build(const cli_opts *a, const cli_command *cmd, cli_run *run);
+/** Parse argv[1..] (argv[0] is the command) into @p a, check the options
+ *  against each other, and describe the run in @p run (duration is
+ *  required only if the command takes it). Prints every error.
+ *  @return 1 if help was printed, 0 if @p run is ready, -1 after an error. */
+int cli_opts_read(int argc, char **argv, const cli_command *cmd, cli_opts *a,
+                  cli_run *run);
 
 #endif

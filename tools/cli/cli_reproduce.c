@@ -2,7 +2,7 @@
 /*
  * "pneufrac reproduce --out DIR": the paper's Figs. 8-10 (step responses of
  * Examples 4, 6 and 7) run in float and Q15 beside the exact response (the
- * tests' Talbot inverse Laplace, tests/ref/pf_ref.c, which knows nothing of
+ * host library's Talbot inverse Laplace, tools/host/pfh_ref.c, which knows nothing of
  * Oustaloup), and the frequency responses of the Oustaloup and refined
  * approximants of s^beta, s^q and s^nu against the ideal. CSV only; the
  * plots are drawn by tools/reproduce/plot.py (scripts/reproduce.sh runs
@@ -18,8 +18,8 @@
 
 #include "pneufrac/pneufrac.h"
 #include "cli_args.h"
-#include "pf_accuracy.h"
-#include "pf_ref.h"
+#include "pfh_accuracy.h"
+#include "pfh_ref.h"
 
 #define T_END 10.0
 #define MAX_T 1200
@@ -99,7 +99,7 @@ static int simulate(const pf_params *p, const pf_design_opts *o, int q15,
     grid_ctx g = {NULL, NULL, 0};
     g.n = n;
     g.y = y;
-    return pf_acc_run(p, o, q15 ? PF_ACC_Q15 : PF_ACC_F32, out_fs, n[nt - 1], record_grid, &g);
+    return pfh_acc_run(p, o, q15 ? PF_ARITH_Q15 : PF_ARITH_F32, out_fs, n[nt - 1], record_grid, &g);
 }
 
 /* The toolbox default the paper's Simulink blocks likely used, in double. */
@@ -114,7 +114,7 @@ static int simulate_toolbox(const pf_params *p, double fs, const long *n, int nt
     o.order = 5;
     g.n = n;
     g.y = y;
-    return pf_acc_run(p, &o, PF_ACC_F64, 1.0, n[nt - 1], record_grid, &g);
+    return pfh_acc_run(p, &o, PF_ARITH_F64, 1.0, n[nt - 1], record_grid, &g);
 }
 
 static int write_steps(const char *dir, const char *file, const series *cs,
@@ -133,7 +133,7 @@ static int write_steps(const char *dir, const char *file, const series *cs,
         double peak = 0.0;
         fprintf(stderr, "[reproduce] %s: %s\n", file, cs[c].name);
         for (i = 0; i < nt; i++) {
-            ex[c][i] = pf_ref_step(&cs[c].p, n[i] / fs);
+            ex[c][i] = pfh_ref_step(&cs[c].p, n[i] / fs);
             if (fabs(ex[c][i]) > peak)
                 peak = fabs(ex[c][i]);
         }
@@ -267,7 +267,7 @@ int cli_reproduce_main(int argc, char **argv)
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++) {
             series *s = &cs[3 * i + j];
-            pf_params_default(&s->p, PF_CFG_P);
+            pf_params_default(&s->p, PF_TOPO_P);
             s->p.beta = ex4_beta[i];
             s->p.q = qs[j];
             snprintf(s->name, sizeof s->name, "ex4_b%g_q%g", ex4_beta[i], qs[j]);
@@ -276,14 +276,14 @@ int cli_reproduce_main(int argc, char **argv)
     if (rc != CLI_EXIT_OK)
         return rc;
     for (j = 0; j < 3; j++) {
-        pf_params_default(&cs[j].p, PF_CFG_DD);
+        pf_params_default(&cs[j].p, PF_TOPO_DD);
         cs[j].p.q = qs[j];
         snprintf(cs[j].name, sizeof cs[j].name, "ex6_q%g", qs[j]);
     }
     rc = write_steps(dir, "fig9_ex6.csv", cs, 3, 0, fs);
     if (rc != CLI_EXIT_OK)
         return rc;
-    pf_params_default(&cs[0].p, PF_CFG_ID);
+    pf_params_default(&cs[0].p, PF_TOPO_ID);
     snprintf(cs[0].name, sizeof cs[0].name, "ex7");
     rc = write_steps(dir, "fig10_ex7.csv", cs, 1, 0, fs);
     if (rc != CLI_EXIT_OK)

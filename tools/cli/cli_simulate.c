@@ -3,17 +3,12 @@
 
 #include <errno.h>
 #include <math.h>
-#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli_args.h"
 #include "cli_csv.h"
 #include "cli_options.h"
-
-/* Samples per pf_ctrl_run_* call: large enough to amortise the call, small
- * enough for the stack in every arithmetic at once. */
-#define BLOCK 1024
 
 void cli_simulate_usage(FILE *f)
 {
@@ -73,28 +68,32 @@ static void describe_param(const cli_run *run, pf_param_id id, char *buf,
 {
     const pf_effects *fx = &run->fx;
     double fs = run->opt.fs;
+    char range[64];
+
+    cli_param_range(id, range, sizeof range);
 
     if (id < PF_P_CONFIG) {
         snprintf(buf, n, "value %.10g for config %s; change it with --set %s=VALUE",
-                 pf_params_get(&run->p, id), pf_config_name(run->p.config),
+                 pf_params_get(&run->p, id), pf_topology_name(run->p.topology),
                  pf_param_name(id));
         return;
     }
     switch (id) {
     case PF_P_FS:
-        snprintf(buf, n, "--fs %.10g; it must be in (0, 1e7] Hz", fs);
+        snprintf(buf, n, "--fs %.10g; it must be in %s", fs, range);
         break;
     case PF_P_WB:
     case PF_P_WH:
         snprintf(buf, n, "the band (--band, or its default from --t-slow) "
-                 "needs WB < WH <= pi*fs = %.10g and WB >= 1e-9*fs = %.10g",
-                 M_PI * fs, 1e-9 * fs);
+                 "needs WB < WH <= pi*fs = %.10g and WB >= %g*fs = %.10g",
+                 M_PI * fs, PF_WB_MIN_PER_FS, PF_WB_MIN_PER_FS * fs);
         break;
     case PF_P_ORDER:
         snprintf(buf, n, "--order must be in 1..%d", PF_MAX_ORDER);
         break;
     case PF_P_TSLOW:
-        snprintf(buf, n, "--t-slow %.10g (must be at most 1e9 s)", run->opt.t_slow);
+        snprintf(buf, n, "--t-slow %.10g; it must be in %s", run->opt.t_slow,
+                 range);
         break;
     case PF_P_IN_FS:
         snprintf(buf, n, "--in-fs %.10g", run->in_fs);
@@ -155,22 +154,6 @@ int cli_run_design(const cli_run *run, pf_ctrl_design *d)
     return CLI_EXIT_OK;
 }
 
-/* Round half up, then saturate: never wraps, whatever e/in_fs is. */
-static int16_t to_q15(double e, double in_fs)
-{
-    double x = e / in_fs * 32768.0;
-    double r;
-    if (!(x < 32767.0))
-        return INT16_MAX;
-    if (!(x > -32768.0))
-        return INT16_MIN;
-    /* floor(x + 0.5) would round 0.49999999999999994 up: the sum rounds. */
-    r = floor(x);
-    if (x - r >= 0.5)
-        r += 1.0;
-    return (int16_t)r;
-}
-
 static int write_error(const char *out_name)
 {
     cli_error("error writing %s: %s", out_name, strerror(errno));
@@ -183,108 +166,56 @@ int cli_run_write(const cli_run *run, const pf_ctrl_design *d, FILE *out,
     const size_t total = cli_run_samples(run);
     const size_t dlen = d->rt.delay_len;
     const double fs = run->opt.fs;
-    pf_ctrl_f64 in64;
-    pf_ctrl_f32 in32;
-    pf_ctrl_q15 inq;
-    pf_ctrl_coeffs_f32 cf;
-    pf_ctrl_coeffs_q15 cq;
-    double eb[BLOCK], pcb[BLOCK];
-    float ef[BLOCK], pf[BLOCK];
-    int16_t eq[BLOCK], pq[BLOCK];
+    /* static: the runtime holds a coefficient set of every arithmetic;
+     * the CLI runs one simulation per process. */
+    static pf_runtime rt;
     void *dbuf = NULL;
-    pf_status st = PF_OK;
-    size_t base, i;
+    pf_status st;
+    size_t n;
     int rc = CLI_EXIT_OK;
 
-    if (run->arith == CLI_ARITH_Q15) {
-        st = pf_ctrl_coeffs_q15_make(&cq, d, run->in_fs, run->out_fs);
-        if (st != PF_OK) {
-            report_status(run, st);
-            return CLI_EXIT_USAGE;
-        }
-    }
     if (dlen > 0) {
-        size_t elem = run->arith == CLI_ARITH_DOUBLE ? sizeof(double)
-                      : run->arith == CLI_ARITH_FLOAT ? sizeof(float)
-                                                      : sizeof(int16_t);
-        dbuf = calloc(dlen, elem);
+        dbuf = calloc(dlen, pf_arith_sample_size(run->arith));
         if (dbuf == NULL) {
             cli_error("out of memory for a dead time of %lu samples",
                       (unsigned long)dlen);
             return CLI_EXIT_USAGE;
         }
     }
-    switch (run->arith) {
-    case CLI_ARITH_DOUBLE:
-        st = pf_ctrl_init_f64(&in64, &d->rt, dbuf, dlen);
-        break;
-    case CLI_ARITH_FLOAT:
-        pf_ctrl_coeffs_f32_make(&cf, &d->rt);
-        st = pf_ctrl_init_f32(&in32, &cf, dbuf, dlen);
-        break;
-    default:
-        st = pf_ctrl_init_q15(&inq, &cq, dbuf, dlen);
-        break;
-    }
+    st = pf_runtime_init(&rt, d, run->arith, run->in_fs, run->out_fs, dbuf,
+                         dlen);
     if (st != PF_OK) {
         report_status(run, st);
         free(dbuf);
         return CLI_EXIT_USAGE;
     }
 
-    if (fputs(run->arith == CLI_ARITH_Q15 ? "t,e,pc,pc_q15\n" : "t,e,pc\n",
+    if (fputs(run->arith == PF_ARITH_Q15 ? "t,e,pc,pc_q15\n" : "t,e,pc\n",
               out) == EOF) {
         free(dbuf);
         return write_error(out_name);
     }
-    for (base = 0; base < total && rc == CLI_EXIT_OK; base += BLOCK) {
-        size_t k = total - base < BLOCK ? total - base : BLOCK;
-        for (i = 0; i < k; i++) {
-            size_t n = base + i;
-            if (run->input == NULL)
-                eb[i] = 1.0;
-            else
-                eb[i] = run->input[n < run->n_input ? n : run->n_input - 1];
-        }
-        switch (run->arith) {
-        case CLI_ARITH_DOUBLE:
-            pf_ctrl_run_f64(&in64, eb, pcb, k);
-            break;
-        case CLI_ARITH_FLOAT:
-            for (i = 0; i < k; i++)
-                ef[i] = (float)eb[i];
-            pf_ctrl_run_f32(&in32, ef, pf, k);
-            for (i = 0; i < k; i++)
-                pcb[i] = (double)pf[i];
-            break;
-        default:
-            for (i = 0; i < k; i++)
-                eq[i] = to_q15(eb[i], run->in_fs);
-            pf_ctrl_run_q15(&inq, eq, pq, k);
-            for (i = 0; i < k; i++)
-                pcb[i] = (double)pq[i] * run->out_fs / 32768.0;
+    for (n = 0; n < total; n++) {
+        double e = run->input == NULL ? 1.0
+                   : run->input[n < run->n_input ? n : run->n_input - 1];
+        double pc = pf_runtime_step(&rt, e);
+        double t = (double)n / fs;
+        int w;
+        /* %.9g is the shortest format that round-trips every float;
+         * %.17g does so for doubles. */
+        if (run->arith == PF_ARITH_F64)
+            w = fprintf(out, "%.17g,%.17g,%.17g\n", t, e, pc);
+        else if (run->arith == PF_ARITH_F32)
+            w = fprintf(out, "%.17g,%.17g,%.9g\n", t, e, pc);
+        else
+            w = fprintf(out, "%.17g,%.17g,%.17g,%d\n", t, e, pc,
+                        (int)rt.out_q15);
+        if (w < 0) {
+            rc = write_error(out_name);
             break;
         }
-        for (i = 0; i < k; i++) {
-            size_t n = base + i;
-            double t = (double)n / fs;
-            int w;
-            /* %.9g is the shortest format that round-trips every float;
-             * %.17g does so for doubles. */
-            if (run->arith == CLI_ARITH_DOUBLE)
-                w = fprintf(out, "%.17g,%.17g,%.17g\n", t, eb[i], pcb[i]);
-            else if (run->arith == CLI_ARITH_FLOAT)
-                w = fprintf(out, "%.17g,%.17g,%.9g\n", t, eb[i], pcb[i]);
-            else
-                w = fprintf(out, "%.17g,%.17g,%.17g,%d\n", t, eb[i], pcb[i],
-                            (int)pq[i]);
-            if (w < 0) {
-                rc = write_error(out_name);
-                break;
-            }
-            if (fn != NULL)
-                fn(ctx, n, pcb[i]);
-        }
+        if (fn != NULL)
+            fn(ctx, n, pc);
     }
     if (rc == CLI_EXIT_OK && fflush(out) != 0)
         rc = write_error(out_name);
@@ -304,13 +235,9 @@ int cli_simulate_main(int argc, char **argv)
     double *input = NULL;
     int rc;
 
-    memset(&a, 0, sizeof a);
-    a.config = PF_CFG_COUNT;
-    rc = cli_opts_parse(argc, argv, &simulate_cmd, &a);
+    rc = cli_opts_read(argc, argv, &simulate_cmd, &a, &run);
     if (rc != 0)
         return rc > 0 ? CLI_EXIT_OK : CLI_EXIT_USAGE;
-    if (cli_opts_build(&a, &simulate_cmd, &run) != 0)
-        return CLI_EXIT_USAGE;
     rc = cli_run_design(&run, &d);
     if (rc != CLI_EXIT_OK)
         return rc;

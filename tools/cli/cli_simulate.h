@@ -11,18 +11,12 @@
 /** Longest run accepted, in samples (duration * fs). */
 #define CLI_MAX_SAMPLES 1e9
 
-typedef enum cli_arith {
-    CLI_ARITH_DOUBLE = 0,
-    CLI_ARITH_FLOAT,
-    CLI_ARITH_Q15
-} cli_arith;
-
 /** Everything one run needs, already checked for syntax. */
 typedef struct cli_run {
     pf_params p;
     pf_effects fx;
     pf_design_opts opt;  /**< opt.fs is the run's sample rate */
-    cli_arith arith;
+    pf_arith arith;
     double in_fs, out_fs; /**< Q15 full scales (q15 only) */
     double duration;      /**< s; the run has round(duration*fs)+1 samples */
     const double *input;  /**< NULL: unit step at n = 0 */

@@ -144,19 +144,19 @@ void pf_ctrl_coeffs_f32_make(pf_ctrl_coeffs_f32 *cf, const pf_ctrl_coeffs_f64 *c
 
 /** Bind a coefficient set. @p dbuf must hold c->delay_len elements (NULL if
  *  0). @return PF_OK, PF_E_NULL or PF_E_BUFFER. The state starts at rest. */
-pf_status pf_ctrl_init_f64(pf_ctrl_f64 *in, const pf_ctrl_coeffs_f64 *c,
+pf_status pf_ctrl_init_f64(pf_ctrl_f64 *S, const pf_ctrl_coeffs_f64 *c,
                            double *dbuf, size_t dlen);
-pf_status pf_ctrl_init_f32(pf_ctrl_f32 *in, const pf_ctrl_coeffs_f32 *c,
+pf_status pf_ctrl_init_f32(pf_ctrl_f32 *S, const pf_ctrl_coeffs_f32 *c,
                            float *dbuf, size_t dlen);
-void pf_ctrl_reset_f64(pf_ctrl_f64 *in);
-void pf_ctrl_reset_f32(pf_ctrl_f32 *in);
+void pf_ctrl_reset_f64(pf_ctrl_f64 *S);
+void pf_ctrl_reset_f32(pf_ctrl_f32 *S);
 /** One sample: error e in, line output p_c out (physical units). Total. */
-double pf_ctrl_step_f64(pf_ctrl_f64 *in, double e);
-float pf_ctrl_step_f32(pf_ctrl_f32 *in, float e);
+double pf_ctrl_step_f64(pf_ctrl_f64 *S, double e);
+float pf_ctrl_step_f32(pf_ctrl_f32 *S, float e);
 /** Block of n samples; identical to n calls of step (any split of a
  *  sequence into blocks gives the same output). @p e and @p pc may alias. */
-void pf_ctrl_run_f64(pf_ctrl_f64 *in, const double *e, double *pc, size_t n);
-void pf_ctrl_run_f32(pf_ctrl_f32 *in, const float *e, float *pc, size_t n);
+void pf_ctrl_run_f64(pf_ctrl_f64 *S, const double *e, double *pc, size_t n);
+void pf_ctrl_run_f32(pf_ctrl_f32 *S, const float *e, float *pc, size_t n);
 
 /* ---------------- Q15 ---------------- */
 
@@ -214,7 +214,7 @@ typedef struct pf_ctrl_q15 {
 } pf_ctrl_q15;
 
 /** Derive the Q15 coefficient set. e = in_fs maps to Q15 +1.0 at the input,
- *  p_c = out_fs to +1.0 at the output (both finite, in (0, 1e12]).
+ *  p_c = out_fs to +1.0 at the output (ranges: pf_param_info).
  *  Supports backlash, saturation, lag and dead time; the nozzle curve and
  *  the refined approximation are float/double only (PF_E_UNSUPPORTED).
  *  @return PF_OK, PF_E_PARAM(PF_P_IN_FS | PF_P_OUT_FS), PF_E_UNSUPPORTED,
@@ -223,17 +223,17 @@ typedef struct pf_ctrl_q15 {
 pf_status pf_ctrl_coeffs_q15_make(pf_ctrl_coeffs_q15 *cq,
                                   const pf_ctrl_design *d, double in_fs,
                                   double out_fs);
-pf_status pf_ctrl_init_q15(pf_ctrl_q15 *in, const pf_ctrl_coeffs_q15 *c,
+pf_status pf_ctrl_init_q15(pf_ctrl_q15 *S, const pf_ctrl_coeffs_q15 *c,
                            int16_t *dbuf, size_t dlen);
-void pf_ctrl_reset_q15(pf_ctrl_q15 *in);
+void pf_ctrl_reset_q15(pf_ctrl_q15 *S);
 /** One sample. e and the result in Q15 of in_fs and out_fs; saturates. */
-int16_t pf_ctrl_step_q15(pf_ctrl_q15 *in, int16_t e);
+int16_t pf_ctrl_step_q15(pf_ctrl_q15 *S, int16_t e);
 /** Block of n samples, as n calls of pf_ctrl_step_q15(). */
-void pf_ctrl_run_q15(pf_ctrl_q15 *in, const int16_t *e, int16_t *pc, size_t n);
+void pf_ctrl_run_q15(pf_ctrl_q15 *S, const int16_t *e, int16_t *pc, size_t n);
 
 /** Full scales of the monitored signals in Q15 mode: x and y use in_fs,
  *  p_b uses k1*in_fs, p_c uses out_fs. Writes Q15 values of x, p_b, y, p_c. */
-void pf_ctrl_monitor_q15(const pf_ctrl_q15 *in, int16_t *x, int16_t *pb,
+void pf_ctrl_monitor_q15(const pf_ctrl_q15 *S, int16_t *x, int16_t *pb,
                          int16_t *y, int16_t *pc);
 
 #ifdef __cplusplus

@@ -32,9 +32,9 @@ typedef struct pf_effects {
     double lag;       /**< output line extra lag time constant, s, >= 0 */
 } pf_effects;
 
-/** Check effect parameters: all finite; backlash, nozzle_xh and lag in
- *  [0, 1e9]; with saturate, |sat_lo|, |sat_hi| <= 1e9 and sat_lo < sat_hi;
- *  dead_time in [0, 3600] s (the design also caps it at 4194304 samples).
+/** Check effect parameters: each within its range (pf_param_info; sat_lo
+ *  and sat_hi only with saturate), and with saturate sat_lo < sat_hi (else
+ *  names sat_hi). The design also caps dead_time at 4194304 samples.
  *  @return PF_OK or PF_E_PARAM(PF_P_BACKLASH ...) naming the parameter. */
 pf_status pf_effects_validate(const pf_effects *fx);
 

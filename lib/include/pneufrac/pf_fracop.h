@@ -58,14 +58,19 @@ typedef enum pf_input_model {
 /** Default slowest time scale of interest, s: sets the default lower band edge. */
 #define PF_DEFAULT_TSLOW 10.0
 
+/** Lowest wb/fs a design accepts: the slowest leak lam ~ wb/fs must stay
+ *  above 2^-32, the finest the Q15 runtime represents with a normalised
+ *  mantissa. */
+#define PF_WB_MIN_PER_FS 1e-9
+
 /** Design options shared by every operator of a design. Zero fields mean
  *  "use the default"; see pf_design_opts_resolve(). */
 typedef struct pf_design_opts {
-    double fs;        /**< sample rate, Hz, in (0, 1e7] (required) */
+    double fs;        /**< sample rate, Hz (required) */
     double wb;        /**< lower band edge, rad/s; 0 = default
-                           max(0.01/t_slow, 2e-9 fs) */
+                           max(0.01/t_slow, 2*PF_WB_MIN_PER_FS*fs) */
     double wh;        /**< upper band edge, rad/s; 0 = default pi*fs; <= pi*fs */
-    int order;        /**< Oustaloup N in [1, PF_MAX_ORDER]; 0 = default */
+    int order;        /**< Oustaloup N, up to PF_MAX_ORDER; 0 = default */
     pf_approx approx; /**< approximation method */
     double prewarp;   /**< Tustin prewarp frequency, rad/s, < pi*fs; 0 = none */
     double t_slow;    /**< slowest time scale of interest, s; 0 = 10 s */
@@ -79,13 +84,14 @@ void pf_design_opts_default(pf_design_opts *o, double fs);
 /** Validate @p in and write it to @p out with every default filled in
  *  (pf_design_opts_default leaves wb, wh and order at 0: they are derived
  *  here, so that they follow t_slow).
- *  Defaults: wb = max(0.01/t_slow, 2e-9*fs), wh = pi*fs,
+ *  Defaults: wb = max(0.01/t_slow, 2*PF_WB_MIN_PER_FS*fs), wh = pi*fs,
  *  N = ceil(log10(wh/wb)) so that 2N+1 >= 2 sections per decade, capped at
  *  PF_MAX_ORDER.
- *  Limits: fs in (0, 1e7]; t_slow in [0, 1e9]; wb < wh; wh <= pi*fs (with
- *  1e-12 relative slack for rounding); wb >= 1e-9*fs (a pole closer to
- *  z = 1 than the Q15 runtime can resolve); N in [1, PF_MAX_ORDER];
- *  prewarp in [0, 0.99*pi*fs); the refined method needs wh >= 2 rad/s (so
+ *  Limits: each option within its range (pf_param_info), and wb < wh;
+ *  wh <= pi*fs (with 1e-12 relative slack for rounding); wb >=
+ *  PF_WB_MIN_PER_FS*fs (a pole closer to z = 1 than the Q15 runtime can
+ *  resolve); N >= 1 once defaulted; prewarp < 0.99*pi*fs; the refined
+ *  method needs wh >= 2 rad/s (so
  *  its correction factor's poles are real).
  *  @return PF_OK, or PF_E_PARAM(PF_P_FS | _WB | _WH | _ORDER | _APPROX |
  *          _PREWARP | _TSLOW | _INPUT) naming the offending option. */
@@ -113,8 +119,8 @@ typedef struct pf_fracop_design {
 /** Design gain * s^alpha with the options @p opt (already resolved or not).
  *  The refined method falls back to Oustaloup's when the fractional part
  *  is within 1e-3 of an integer, where its correction factor degenerates.
- *  @param alpha order, 0 < |alpha| < 2
- *  @param gain  finite, 0 < |gain| <= 1e12
+ *  @param alpha order, within its range (pf_param_info: 0 < |alpha| < 2)
+ *  @param gain  within its range (pf_param_info: finite, not 0)
  *  @return PF_OK, PF_E_PARAM(PF_P_ALPHA | PF_P_GAIN) or an options error;
  *          PF_E_PARAM(PF_P_ALPHA) also if a section would leave the range
  *          the sample rate can hold (a pole mapped onto z = -1). */
@@ -167,14 +173,14 @@ typedef struct pf_fracop_f32 {
 void pf_fracop_coeffs_f32_make(pf_fracop_coeffs_f32 *cf, const pf_fracop_design *op);
 
 /** Bind coefficients and clear the state. @return PF_OK or PF_E_NULL. */
-pf_status pf_fracop_init_f64(pf_fracop_f64 *in, const pf_fracop_design *c);
-pf_status pf_fracop_init_f32(pf_fracop_f32 *in, const pf_fracop_coeffs_f32 *c);
+pf_status pf_fracop_init_f64(pf_fracop_f64 *S, const pf_fracop_design *c);
+pf_status pf_fracop_init_f32(pf_fracop_f32 *S, const pf_fracop_coeffs_f32 *c);
 /** Clear the state (zero initial conditions). */
-void pf_fracop_reset_f64(pf_fracop_f64 *in);
-void pf_fracop_reset_f32(pf_fracop_f32 *in);
+void pf_fracop_reset_f64(pf_fracop_f64 *S);
+void pf_fracop_reset_f32(pf_fracop_f32 *S);
 /** One sample: y = op(u). Total: no error return. */
-double pf_fracop_step_f64(pf_fracop_f64 *in, double u);
-float pf_fracop_step_f32(pf_fracop_f32 *in, float u);
+double pf_fracop_step_f64(pf_fracop_f64 *S, double u);
+float pf_fracop_step_f32(pf_fracop_f32 *S, float u);
 
 /* ---------------- Q15 ---------------- */
 
@@ -223,7 +229,7 @@ typedef struct pf_fracop_q15 {
 } pf_fracop_q15;
 
 /** Derive a Q15 coefficient set. Physical input in_fs maps to Q15 +1.0 at
- *  the input, out_fs to +1.0 at the output (both finite and > 0). For an
+ *  the input, out_fs to +1.0 at the output (ranges: pf_param_info). For an
  *  operator with a differentiating integer part (alpha > 1/2) the state
  *  gain 2 fs, scaled from in_fs to out_fs, must stay below 2: otherwise
  *  PF_E_SCALE (out_fs must then be large against in_fs).
@@ -231,10 +237,10 @@ typedef struct pf_fracop_q15 {
 pf_status pf_fracop_coeffs_q15_make(pf_fracop_coeffs_q15 *cq,
                                     const pf_fracop_design *op, double in_fs,
                                     double out_fs);
-pf_status pf_fracop_init_q15(pf_fracop_q15 *in, const pf_fracop_coeffs_q15 *c);
-void pf_fracop_reset_q15(pf_fracop_q15 *in);
+pf_status pf_fracop_init_q15(pf_fracop_q15 *S, const pf_fracop_coeffs_q15 *c);
+void pf_fracop_reset_q15(pf_fracop_q15 *S);
 /** One sample. Input and output in Q15 (-32768..32767); saturates. */
-int16_t pf_fracop_step_q15(pf_fracop_q15 *in, int16_t u);
+int16_t pf_fracop_step_q15(pf_fracop_q15 *S, int16_t u);
 
 #ifdef __cplusplus
 }

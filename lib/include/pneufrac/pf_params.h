@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file pf_params.h
- * @brief Controller configurations and their physical parameters, named as
+ * @brief Controller topologies and their physical parameters, named as
  *        in Razminia & Baleanu, "Fractional Order Models of Industrial
  *        Pneumatic Controllers" (the paper).
  */
@@ -14,48 +14,48 @@
 extern "C" {
 #endif
 
-/** Controller configuration. */
-typedef enum pf_config {
-    PF_CFG_P = 0,  /**< nozzle-flapper-relay with bellows feedback, eq. 17 */
-    PF_CFG_DD = 1, /**< restrictor in the feedback path (FrDD), eq. 18 */
-    PF_CFG_ID = 2, /**< restricted positive-feedback bellows (FrID), eq. 20 */
-    PF_CFG_PID = 3,/**< both restrictors (fractional PID, Remark 3), docs/pid.md */
-    PF_CFG_COUNT
-} pf_config;
+/** Controller topology: which of the paper's controllers. Every user
+ *  interface (CLI --config, the daemon's register and config key, JSON, the
+ *  parameter table's PF_P_CONFIG) calls it "config", its established name. */
+typedef enum pf_topology {
+    PF_TOPO_P = 0,  /**< nozzle-flapper-relay with bellows feedback, eq. 17 */
+    PF_TOPO_DD = 1, /**< restrictor in the feedback path (FrDD), eq. 18 */
+    PF_TOPO_ID = 2, /**< restricted positive-feedback bellows (FrID), eq. 20 */
+    PF_TOPO_PID = 3,/**< both restrictors (fractional PID, Remark 3), docs/pid.md */
+    PF_TOPO_COUNT
+} pf_topology;
 
 /** Physical parameters. Units are the paper's (consistent, unspecified);
- *  times in seconds. Every positive parameter must lie in [1e-9, 1e9]:
- *  far wider than any device in the paper, narrow enough that the
- *  products the design forms stay finite in float. */
+ *  times in seconds. Ranges, units and descriptions: pf_param_info(). */
 typedef struct pf_params {
-    pf_config config;
-    double a, b;      /**< flapper lever arms (eq. 15), > 0 */
-    double k1;        /**< nozzle gain p_b = k1 x (eq. 9), > 0 */
-    double k2;        /**< relay gain p_c = k2 z (eq. 13), > 0 */
-    double A;         /**< bellows effective area (eq. 16), > 0 */
-    double ks;        /**< bellows pseudo-spring constant (eq. 16), > 0 */
-    double tau;       /**< relay time constant tau_new, s, > 0 (eq. 11) */
-    double pmin, pmax;/**< Psi_min <= Psi_max, > 0 (eq. 11) */
-    double beta;      /**< relay diaphragm order, (0, 1] */
-    double q;         /**< bellows order, [0, 1]; 0 is a linear spring */
-    double nu;        /**< derivative restrictor order, (0, 1] (dd, pid) */
-    double w;         /**< reset restrictor order, (0, 1] (id, pid); pid: >= nu */
-    double RC;        /**< restrictor time constant, s, > 0 (dd, id) */
-    double RCd;       /**< pid derivative restrictor, s, > 0, < RCi */
-    double RCi;       /**< pid reset restrictor, s, > RCd */
+    pf_topology topology; /**< which controller (PF_P_CONFIG, "config") */
+    double a, b;      /**< flapper lever arms (eq. 15) */
+    double k1;        /**< nozzle gain p_b = k1 x (eq. 9) */
+    double k2;        /**< relay gain p_c = k2 z (eq. 13) */
+    double A;         /**< bellows effective area (eq. 16) */
+    double ks;        /**< bellows pseudo-spring constant (eq. 16) */
+    double tau;       /**< relay time constant tau_new, s (eq. 11) */
+    double pmin, pmax;/**< Psi_min <= Psi_max (eq. 11) */
+    double beta;      /**< relay diaphragm order */
+    double q;         /**< bellows order; 0 is a linear spring */
+    double nu;        /**< derivative restrictor order (dd, pid) */
+    double w;         /**< reset restrictor order (id, pid); pid: >= nu */
+    double RC;        /**< restrictor time constant, s (dd, id) */
+    double RCd;       /**< pid derivative restrictor, s, < RCi */
+    double RCi;       /**< pid reset restrictor, s */
 } pf_params;
 
 /** Defaults: Example 4 (p, q = 0.9), Example 6 (dd, q = 0.9), Example 7
  *  (id), and for pid Example 7's values with nu = w = 0.94, RCd = 0.01 s,
  *  RCi = 0.1 s (the paper gives none; see docs/pid.md). */
-void pf_params_default(pf_params *p, pf_config cfg);
+void pf_params_default(pf_params *p, pf_topology topo);
 
-/** Check every parameter the configuration uses (others are ignored):
- *  finite; positive ones in [1e-9, 1e9]; beta, nu, w in (0, 1]; q in
- *  [0, 1]; pmin <= pmax (else names pmax); A/ks in [1e-12, 1e12] (else
- *  names ks); for pid, nu <= w (else names w: with nu > w the reset
- *  restrictor's bellows wins at high frequency and the net feedback turns
- *  positive) and RCd < RCi (else names RCd). See docs/pid.md.
+/** Check the topology and every parameter it uses (others are ignored):
+ *  each within its range (pf_param_info); then pmin <= pmax (else names
+ *  pmax); A/ks in [1e-12, 1e12] (else names ks); for pid, nu <= w (else
+ *  names w: with nu > w the reset restrictor's bellows wins at high
+ *  frequency and the net feedback turns positive) and RCd < RCi (else
+ *  names RCd). See docs/pid.md.
  *  @return PF_OK or PF_E_PARAM(id) naming the first offending parameter. */
 pf_status pf_params_validate(const pf_params *p);
 
@@ -64,13 +64,14 @@ pf_status pf_params_validate(const pf_params *p);
 pf_status pf_params_set(pf_params *p, pf_param_id id, double v);
 double pf_params_get(const pf_params *p, pf_param_id id);
 
-/** @return non-zero if configuration @p cfg uses parameter @p id. */
-int pf_param_used(pf_config cfg, pf_param_id id);
+/** @return non-zero if topology @p topo uses parameter @p id (the
+ *  table's pf_param_spec.topologies); 0 for an unknown topo or id. */
+int pf_param_used(pf_topology topo, pf_param_id id);
 
 /** @return "p", "dd", "id", "pid", or "?". */
-const char *pf_config_name(pf_config cfg);
-/** @return the configuration named @p name, or PF_CFG_COUNT. */
-pf_config pf_config_lookup(const char *name);
+const char *pf_topology_name(pf_topology topo);
+/** @return the topology named @p name, or PF_TOPO_COUNT. */
+pf_topology pf_topology_lookup(const char *name);
 
 #ifdef __cplusplus
 }

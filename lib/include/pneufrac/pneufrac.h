@@ -14,9 +14,13 @@
 
 #include "pf_config.h"
 #include "pf_status.h"
+#include "pf_param_info.h"
 #include "pf_fracop.h"
 #include "pf_params.h"
 #include "pf_effects.h"
 #include "pf_controller.h"
+#include "pf_q15.h"
+#include "pf_runtime.h"
+#include "pf_layout.h"
 
 #endif /* PNEUFRAC_H */

@@ -29,7 +29,6 @@ MIN_FS = 2.0 / MIN_HOLD
 MAX_FS = 1e6
 MAX_N = 10_000_000
 MAX_NOISE = 1.0
-LIB_FS_MAX = 1e7       # PF_FS_MAX of the library
 
 
 class UsageError(Exception):
@@ -109,7 +108,7 @@ def parse_fixes(items, config) -> dict:
                         "k1, k2, a, b, A, ks, pmin enter through K and L, pmax through rho)")
             raise UsageError(f"--fix {k}: not a group of config {config}{hint}; "
                              f"groups: {', '.join(groups)}")
-        tr, lo, hi, _ = model.GROUPS[k]
+        lo, hi = model.group_bounds(k)
         if lo is not None and not lo <= v <= hi:
             raise UsageError(f"--fix {k}={v:g}: outside [{lo:g}, {hi:g}]")
         if lo is None and not v > 0:
@@ -214,9 +213,10 @@ def _check_generate(a) -> None:
         raise UsageError(f"--n {a.n}: must be in [10, {MAX_N}]")
     if not 1 <= a.oversample <= 64:
         raise UsageError(f"--oversample {a.oversample}: must be in [1, 64]")
-    if a.fs * a.oversample > LIB_FS_MAX:
+    lib_fs = model.lib.param_range("fs")    # the library's sample-rate range
+    if a.fs * a.oversample not in lib_fs:
         raise UsageError(f"--fs x --oversample = {a.fs * a.oversample:g} Hz: the plant is "
-                         f"simulated at that rate, at most {LIB_FS_MAX:g} Hz")
+                         f"simulated at that rate, at most {lib_fs.hi:g} Hz")
 
 
 def cmd_generate(a) -> int:

@@ -1,70 +1,44 @@
 # SPDX-License-Identifier: MIT
 """ctypes binding to libpneufrac: the one implementation of the model.
 
-The structures mirror lib/include/pneufrac/*.h field by field (enums are C
-int on the platforms we support). ``check_layout`` verifies the mirror
-against values the library itself derives, so a header change that is not
-mirrored here fails loudly instead of corrupting memory; the design and the
-instance are also placed in buffers with generous slack.
+Nothing about the C side is restated here. The input structs (pf_params,
+pf_effects, pf_design_opts and the head of pf_ctrl_design) are built at
+load time from the library's own description of them (pf_field_get: each
+member's name, offset, size and kind), the design and the instance are
+allocated with the sizes it reports (pf_sizeof), and parameter names,
+ranges and which configuration uses which come from its parameter table
+(pf_param_info). ``check_layout`` then designs and runs a known controller,
+so a binding that still disagrees fails loudly instead of corrupting
+memory. Only pf_param_spec, the struct the table is read through, is
+mirrored by hand, and its size is checked too.
 """
 from __future__ import annotations
 
 import ctypes as C
 import os
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
-PF_MAX_ORDER = 8
-PF_MAX_SEC = 2 * PF_MAX_ORDER + 3
-PF_MAX_INT = 2
 
-CONFIGS = {"p": 0, "dd": 1, "id": 2, "pid": 3}
-PF_P_COUNT = 35
-PF_E_PARAM_BASE = 100
-
-
-class Params(C.Structure):
-    _fields_ = [("config", C.c_int)] + [
-        (n, C.c_double)
-        for n in ("a", "b", "k1", "k2", "A", "ks", "tau", "pmin", "pmax",
-                  "beta", "q", "nu", "w", "RC", "RCd", "RCi")
-    ]
+class ParamSpec(C.Structure):
+    """pf_param_spec (pf_param_info.h): one row of the parameter table."""
+    _fields_ = [("name", C.c_char_p), ("unit", C.c_char_p), ("desc", C.c_char_p),
+                ("lo", C.c_double), ("hi", C.c_double), ("flags", C.c_uint),
+                ("topologies", C.c_uint)]
 
 
-class Effects(C.Structure):
-    _fields_ = [
-        ("backlash", C.c_double), ("nozzle_xh", C.c_double),
-        ("saturate", C.c_int), ("sat_lo", C.c_double), ("sat_hi", C.c_double),
-        ("dead_time", C.c_double), ("lag", C.c_double),
-    ]
+class Field(C.Structure):
+    """pf_field (pf_layout.h): one member of a public struct."""
+    _fields_ = [("name", C.c_char_p), ("offset", C.c_size_t), ("size", C.c_size_t),
+                ("kind", C.c_int), ("type", C.c_int)]
 
 
-class DesignOpts(C.Structure):
-    _fields_ = [
-        ("fs", C.c_double), ("wb", C.c_double), ("wh", C.c_double),
-        ("order", C.c_int), ("approx", C.c_int), ("prewarp", C.c_double),
-        ("t_slow", C.c_double), ("input", C.c_int),
-    ]
-
-
-class DesignHead(C.Structure):
-    """The leading members of pf_ctrl_design: what was asked, as resolved.
-    The coefficient set that follows (pf_ctrl_coeffs_f64) is not mirrored:
-    it is internal detail that changes with the library, and this binding
-    only passes its address on. Its offset is that of the next 8-aligned
-    member after opt."""
-    _fields_ = [("p", Params), ("fx", Effects), ("opt", DesignOpts)]
-
-
-RT_OFFSET = (C.sizeof(DesignHead) + 7) // 8 * 8
-# Generous buffers for the design and the instance, whose sizes are the
-# library's business: both are a few kB (PF_MAX_ORDER = 8).
-DESIGN_BYTES = 1 << 16
-INSTANCE_BYTES = 1 << 16
-# The library sizes the dead-time buffer as floor(dead_time*fs + 0.5)
-# samples; a few spare elements cost nothing.
-DELAY_SPARE = 8
+# pf_field_kind and pf_param_spec.flags (pf_layout.h, pf_param_info.h)
+PF_FIELD_DOUBLE, PF_FIELD_INT, PF_FIELD_STRUCT = 0, 1, 2
+PF_PARAM_LO_OPEN = 0x1
+PF_PARAM_HI_OPEN = 0x2
 
 
 class LibraryError(RuntimeError):
@@ -98,11 +72,116 @@ def _candidates():
 
 
 _lib = None
+_layout = None      # the mirrors and sizes built from the loaded library
+
+# Module attributes that exist once the library is loaded (PEP 562).
+_LAYOUT_NAMES = ("Params", "Effects", "DesignOpts", "DesignHead", "RT_OFFSET",
+                 "DESIGN_BYTES", "INSTANCE_BYTES")
+
+
+def __getattr__(name):
+    if name in _LAYOUT_NAMES:
+        load()
+        return getattr(_layout, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def _declare(lib) -> None:
+    """Argument and result types of every function this binding calls."""
+    vp, i, d, sz, cp = C.c_void_p, C.c_int, C.c_double, C.c_size_t, C.c_char_p
+    for name, args, res in [
+        ("pf_params_default", [vp, i], None),
+        ("pf_design_opts_default", [vp, d], None),
+        ("pf_ctrl_design_make", [vp, vp, vp, vp], i),
+        ("pf_ctrl_design_delay_len", [vp], sz),
+        ("pf_ctrl_init_f64", [vp, vp, C.POINTER(d), sz], i),
+        ("pf_ctrl_reset_f64", [vp], None),
+        ("pf_ctrl_run_f64", [vp, C.POINTER(d), C.POINTER(d), sz], None),
+        ("pf_status_param", [i], i),
+        ("pf_status_str", [i], cp),
+        ("pf_param_name", [i], cp),
+        ("pf_param_info", [i], C.POINTER(ParamSpec)),
+        ("pf_param_count", [], i),
+        ("pf_param_lookup", [cp], i),
+        ("pf_param_used", [i, i], i),
+        ("pf_topology_name", [i], cp),
+        ("pf_topology_lookup", [cp], i),
+        ("pf_nozzle", [d, d], d),
+        ("pf_play", [d, d, d], d),
+        ("pf_type_name", [i], cp),
+        ("pf_sizeof", [i], sz),
+        ("pf_field_get", [i, i, C.POINTER(Field)], i),
+    ]:
+        f = getattr(lib, name)
+        f.argtypes = args
+        f.restype = res
+
+
+def _types(lib) -> dict:
+    """pf_type numbers by C name ("pf_params" -> 0, ...)."""
+    out, t = {}, 0
+    while (name := lib.pf_type_name(t)) != b"?":
+        out[name.decode()] = t
+        t += 1
+    return out
+
+
+def _mirror(lib, types: dict, cname: str, built: dict, skip=()):
+    """A ctypes Structure of C struct @cname from the library's member list;
+    LibraryError if ctypes does not lay it out as the compiler did."""
+    t = types[cname]
+    fields, want, i, f = [], [], 0, Field()
+    while lib.pf_field_get(t, i, C.byref(f)) == 0:
+        i += 1
+        name = f.name.decode()
+        if name in skip:
+            continue
+        if f.kind == PF_FIELD_DOUBLE and f.size == C.sizeof(C.c_double):
+            ctype = C.c_double
+        elif f.kind == PF_FIELD_INT and f.size == C.sizeof(C.c_int):
+            ctype = C.c_int
+        elif f.kind == PF_FIELD_STRUCT and lib.pf_type_name(f.type).decode() in built:
+            ctype = built[lib.pf_type_name(f.type).decode()]
+        else:
+            raise LibraryError(f"{cname}.{name}: a member this binding cannot mirror")
+        fields.append((name, ctype))
+        want.append((name, f.offset))
+    cls = type(cname, (C.Structure,), {"_fields_": fields})
+    bad = [n for n, off in want if getattr(cls, n).offset != off]
+    if bad or not fields:
+        raise LibraryError(f"{cname}: ctypes lays out {bad or 'nothing'} unlike the library")
+    if not skip and C.sizeof(cls) != lib.pf_sizeof(t):
+        raise LibraryError(f"{cname}: {C.sizeof(cls)} bytes in ctypes, "
+                           f"{lib.pf_sizeof(t)} in the library")
+    return cls
+
+
+def _build_layout(lib) -> SimpleNamespace:
+    types = _types(lib)
+    if C.sizeof(ParamSpec) != lib.pf_sizeof(types["pf_param_spec"]):
+        raise LibraryError("pf_param_spec: the hand mirror's size differs")
+    built = {}
+    for cname in ("pf_params", "pf_effects", "pf_design_opts"):
+        built[cname] = _mirror(lib, types, cname, built)
+    # The head of the design: what was asked, as resolved. The coefficient
+    # set after it is the library's business; only its offset is used.
+    head = _mirror(lib, types, "pf_ctrl_design", built, skip=("rt",))
+    f, i, rt = Field(), 0, None
+    while lib.pf_field_get(types["pf_ctrl_design"], i, C.byref(f)) == 0:
+        rt = f.offset if f.name == b"rt" else rt
+        i += 1
+    if rt is None:
+        raise LibraryError("pf_ctrl_design has no member rt")
+    return SimpleNamespace(
+        Params=built["pf_params"], Effects=built["pf_effects"],
+        DesignOpts=built["pf_design_opts"], DesignHead=head, RT_OFFSET=rt,
+        DESIGN_BYTES=lib.pf_sizeof(types["pf_ctrl_design"]),
+        INSTANCE_BYTES=lib.pf_sizeof(types["pf_ctrl_f64"]))
 
 
 def load():
     """Load libpneufrac once (PNEUFRAC_LIBRARY overrides the search)."""
-    global _lib
+    global _lib, _layout
     if _lib is not None:
         return _lib
     tried = []
@@ -117,31 +196,11 @@ def load():
         raise LibraryError(
             "libpneufrac.so not found (tried: %s); run ./scripts/setup.sh or "
             "set PNEUFRAC_LIBRARY" % (", ".join(tried) or "nothing"))
-    lib.pf_params_default.argtypes = [C.POINTER(Params), C.c_int]
-    lib.pf_params_default.restype = None
-    lib.pf_design_opts_default.argtypes = [C.POINTER(DesignOpts), C.c_double]
-    lib.pf_design_opts_default.restype = None
-    lib.pf_ctrl_design_make.argtypes = [C.c_void_p, C.POINTER(Params),
-                                        C.POINTER(Effects), C.POINTER(DesignOpts)]
-    lib.pf_ctrl_design_make.restype = C.c_int
-    lib.pf_ctrl_init_f64.argtypes = [C.c_void_p, C.c_void_p,
-                                     C.POINTER(C.c_double), C.c_size_t]
-    lib.pf_ctrl_init_f64.restype = C.c_int
-    lib.pf_ctrl_reset_f64.argtypes = [C.c_void_p]
-    lib.pf_ctrl_reset_f64.restype = None
-    lib.pf_ctrl_run_f64.argtypes = [C.c_void_p, C.POINTER(C.c_double),
-                                    C.POINTER(C.c_double), C.c_size_t]
-    lib.pf_ctrl_run_f64.restype = None
-    lib.pf_status_param.argtypes = [C.c_int]
-    lib.pf_status_param.restype = C.c_int
-    lib.pf_param_name.argtypes = [C.c_int]
-    lib.pf_param_name.restype = C.c_char_p
-    lib.pf_status_str.argtypes = [C.c_int]
-    lib.pf_status_str.restype = C.c_char_p
-    lib.pf_nozzle.argtypes = [C.c_double, C.c_double]
-    lib.pf_nozzle.restype = C.c_double
-    lib.pf_play.argtypes = [C.c_double, C.c_double, C.c_double]
-    lib.pf_play.restype = C.c_double
+    try:
+        _declare(lib)
+    except AttributeError as exc:
+        raise LibraryError(f"libpneufrac lacks a function this binding needs ({exc})")
+    _layout = _build_layout(lib)
     check_layout(lib)
     _lib = lib          # cached only once the mirror is known to match
     return lib
@@ -150,14 +209,15 @@ def load():
 def _layout_request(lib):
     """A valid design request with a distinct value in every mirrored field,
     so that a field read back from the wrong offset shows."""
-    p = Params()
-    lib.pf_params_default(C.byref(p), CONFIGS["dd"])
-    names = [n for n, _ in Params._fields_[1:]]
+    m = _layout
+    p = m.Params()
+    lib.pf_params_default(C.byref(p), lib.pf_topology_lookup(b"dd"))
+    names = [n for n, _ in m.Params._fields_[1:]]
     for i, n in enumerate(names):      # shrink each a little, differently
         setattr(p, n, getattr(p, n) * (1.0 - 0.001 * (i + 1)))
-    fx = Effects(backlash=0.5, nozzle_xh=0.25, saturate=1, sat_lo=-1.0,
-                 sat_hi=2.0, dead_time=0.003, lag=0.01)
-    o = DesignOpts()
+    fx = m.Effects(backlash=0.5, nozzle_xh=0.25, saturate=1, sat_lo=-1.0,
+                   sat_hi=2.0, dead_time=0.003, lag=0.01)
+    o = m.DesignOpts()
     lib.pf_design_opts_default(C.byref(o), 1000.0)
     o.wb, o.wh, o.order, o.prewarp, o.t_slow = 0.0125, 2500.0, 4, 150.0, 7.5
     return p, fx, o
@@ -167,32 +227,34 @@ def check_layout(lib) -> None:
     """Design a known controller, read back every field the library stored
     of the request, and run it: if the mirror's offsets were wrong these
     checks would see garbage."""
+    m = _layout
     p, fx, o = _layout_request(lib)
-    buf = C.create_string_buffer(DESIGN_BYTES)
+    buf = C.create_string_buffer(m.DESIGN_BYTES)
     st = lib.pf_ctrl_design_make(buf, C.byref(p), C.byref(fx), C.byref(o))
     if st != 0:
         raise LibraryError(f"layout self-check: design refused (status {st})")
-    d = DesignHead.from_buffer(buf)
-    bad = [f"pf_params.{n}" for n, _ in Params._fields_ if getattr(d.p, n) != getattr(p, n)]
-    bad += [f"pf_effects.{n}" for n, _ in Effects._fields_
+    d = m.DesignHead.from_buffer(buf)
+    bad = [f"pf_params.{n}" for n, _ in m.Params._fields_ if getattr(d.p, n) != getattr(p, n)]
+    bad += [f"pf_effects.{n}" for n, _ in m.Effects._fields_
             if getattr(d.fx, n) != getattr(fx, n)]
-    bad += [f"pf_design_opts.{n}" for n, _ in DesignOpts._fields_
+    bad += [f"pf_design_opts.{n}" for n, _ in m.DesignOpts._fields_
             if getattr(d.opt, n) != getattr(o, n)]
     ok = not bad
     if ok:
-        fx0 = Effects(saturate=1, sat_lo=-1.0, sat_hi=2.0, dead_time=0.003)
+        fx0 = m.Effects(saturate=1, sat_lo=-1.0, sat_hi=2.0, dead_time=0.003)
         st = lib.pf_ctrl_design_make(buf, C.byref(p), C.byref(fx0), C.byref(o))
-        inst = C.create_string_buffer(INSTANCE_BYTES)
-        dbuf = (C.c_double * (3 + DELAY_SPARE))()
+        inst = C.create_string_buffer(m.INSTANCE_BYTES)
+        dlen = lib.pf_ctrl_design_delay_len(buf)
+        dbuf = (C.c_double * max(dlen, 1))()
         if st == 0:
-            st = lib.pf_ctrl_init_f64(inst, C.c_void_p(C.addressof(buf) + RT_OFFSET),
-                                      dbuf, len(dbuf))
+            st = lib.pf_ctrl_init_f64(inst, C.c_void_p(C.addressof(buf) + m.RT_OFFSET),
+                                      dbuf, dlen)
         e = np.ones(6)
         out = np.empty(6)
         dp = C.POINTER(C.c_double)
         if st == 0:
             lib.pf_ctrl_run_f64(inst, e.ctypes.data_as(dp), out.ctypes.data_as(dp), 6)
-        ok = st == 0 and np.all(out[:3] == 0.0) and np.all(out[3:] > 0.0)
+        ok = st == 0 and dlen == 3 and np.all(out[:3] == 0.0) and np.all(out[3:] > 0.0)
         if not ok:
             bad.append("pf_ctrl_design.rt (the run gave garbage)")
     if not ok:
@@ -204,16 +266,58 @@ def check_layout(lib) -> None:
 
 def status_message(lib, st: int) -> tuple[str | None, str]:
     pid = lib.pf_status_param(st)
-    name = lib.pf_param_name(pid).decode() if pid < PF_P_COUNT else None
+    name = lib.pf_param_name(pid).decode() if pid < lib.pf_param_count() else None
     text = lib.pf_status_str(st).decode()
     return name, (f"invalid parameter '{name}'" if name else text)
 
 
+class ParamRange:
+    """A parameter's row of the library's table (pf_param_info.h)."""
+
+    def __init__(self, spec: ParamSpec):
+        self.name = spec.name.decode()
+        self.unit = spec.unit.decode()
+        self.desc = spec.desc.decode()
+        self.lo, self.hi = spec.lo, spec.hi
+        self.lo_open = bool(spec.flags & PF_PARAM_LO_OPEN)
+        self.hi_open = bool(spec.flags & PF_PARAM_HI_OPEN)
+
+    def __contains__(self, v: float) -> bool:
+        above = v > self.lo if self.lo_open else v >= self.lo
+        below = v < self.hi if self.hi_open else v <= self.hi
+        return above and below
+
+
+
+def param_range(name: str) -> ParamRange:
+    """The range, unit and description of a library parameter by name."""
+    lib = load()
+    pid = lib.pf_param_lookup(name.encode())
+    if pid >= lib.pf_param_count():
+        raise KeyError(f"the library has no parameter '{name}'")
+    return ParamRange(lib.pf_param_info(pid).contents)
+
+
+def config_id(config: str) -> int:
+    """The library's number of a configuration name ("p", "dd", ...)."""
+    lib = load()
+    cid = lib.pf_topology_lookup(config.encode())
+    if lib.pf_topology_name(cid) != config.encode():
+        raise KeyError(f"the library has no configuration '{config}'")
+    return cid
+
+
+def param_used(config: str, name: str) -> bool:
+    """Whether configuration @config uses model parameter @name."""
+    lib = load()
+    return bool(lib.pf_param_used(config_id(config), lib.pf_param_lookup(name.encode())))
+
+
 def default_params(config: str) -> dict:
     lib = load()
-    p = Params()
-    lib.pf_params_default(C.byref(p), CONFIGS[config])
-    return {n: getattr(p, n) for n, _ in Params._fields_[1:]}
+    p = _layout.Params()
+    lib.pf_params_default(C.byref(p), config_id(config))
+    return {n: getattr(p, n) for n, _ in _layout.Params._fields_[1:]}
 
 
 class Controller:
@@ -222,31 +326,32 @@ class Controller:
     def __init__(self, config: str, params: dict, effects: dict | None, fs: float,
                  order: int = 0, t_slow: float = 0.0, wh: float = 0.0):
         lib = load()
+        m = _layout
         self._lib = lib
-        p = Params()
-        lib.pf_params_default(C.byref(p), CONFIGS[config])
+        p = m.Params()
+        lib.pf_params_default(C.byref(p), config_id(config))
         for k, v in params.items():
             setattr(p, k, float(v))
-        fx = Effects()
+        fx = m.Effects()
         for k, v in (effects or {}).items():
             setattr(fx, k, int(v) if k == "saturate" else float(v))
-        o = DesignOpts()
+        o = m.DesignOpts()
         lib.pf_design_opts_default(C.byref(o), float(fs))
         o.order = int(order)
         o.t_slow = float(t_slow)
         o.wh = float(wh)
-        self._design = C.create_string_buffer(DESIGN_BYTES)
+        self._design = C.create_string_buffer(m.DESIGN_BYTES)
         st = lib.pf_ctrl_design_make(self._design, C.byref(p), C.byref(fx),
                                      C.byref(o))
         if st != 0:
             name, msg = status_message(lib, st)
             raise ModelError(st, name, msg)
-        self.head = DesignHead.from_buffer(self._design)
-        n = int(np.floor(fx.dead_time * self.head.opt.fs + 0.5)) + DELAY_SPARE
-        self._delay = (C.c_double * n)()
-        self._inst = C.create_string_buffer(INSTANCE_BYTES)
+        self.head = m.DesignHead.from_buffer(self._design)
+        n = lib.pf_ctrl_design_delay_len(self._design)
+        self._delay = (C.c_double * max(n, 1))()
+        self._inst = C.create_string_buffer(m.INSTANCE_BYTES)
         st = lib.pf_ctrl_init_f64(self._inst,
-                                  C.c_void_p(C.addressof(self._design) + RT_OFFSET),
+                                  C.c_void_p(C.addressof(self._design) + m.RT_OFFSET),
                                   self._delay, n)
         if st != 0:
             name, msg = status_message(lib, st)

@@ -31,17 +31,22 @@ from . import lib
 
 CE, CY = 0.9, 0.1          # lever ratios of the fixed mapping (a = 1, b = 9)
 
-# name: (transform, lower, upper, meaning)
+# The bound a group takes from the library's parameter table
+# (pf_param_info), where the group is one of the library's parameters.
+LIB = "library"
+
+# name: (transform, lower, upper, meaning); lower/upper None: a time
+# constant, bounded by the record (Setup.bounds)
 GROUPS = {
     "K": ("log", 1e-9, 1e9, "forward gain b/(a+b)·k1·k2/Ψmin (output per input unit)"),
     "L": ("log", 1e-8, 1e4, "loop gain a/(a+b)·k1·k2·(A/ks)/Ψmin"),
     "tau": ("log", None, None, "relay time constant τ (s)"),
     "rho": ("log", 1.0, 1e4, "relay stiffness ratio Ψmax/Ψmin"),
-    "beta": ("lin", 0.05, 1.0, "relay diaphragm order β"),
-    "q": ("lin", 0.0, 1.0, "bellows order q"),
+    "beta": ("lin", 0.05, LIB, "relay diaphragm order β"),
+    "q": ("lin", LIB, LIB, "bellows order q"),
     "RC": ("log", None, None, "restrictor time constant RC (s)"),
-    "nu": ("lin", 0.05, 1.0, "derivative restrictor order ν"),
-    "w": ("lin", 0.05, 1.0, "reset restrictor order w"),
+    "nu": ("lin", 0.05, LIB, "derivative restrictor order ν"),
+    "w": ("lin", 0.05, LIB, "reset restrictor order w"),
     "RCd": ("log", None, None, "derivative restrictor RCd (s)"),
     "RCi_ratio": ("log", 1.0 + 1e-6, 1e6, "RCi/RCd"),
 }
@@ -74,6 +79,17 @@ PLACE = {
 }
 
 
+def group_bounds(name: str) -> tuple[float | None, float | None]:
+    """A group's fixed bounds: its own, or the library's range where the
+    group is a library parameter (LIB); (None, None) for time constants."""
+    _, lo, hi, _ = GROUPS[name]
+    if LIB in (lo, hi):
+        r = lib.param_range(name)
+        lo = r.lo if lo == LIB else lo
+        hi = r.hi if hi == LIB else hi
+    return lo, hi
+
+
 def groups_from_physical(config: str, p: dict) -> dict:
     """Group values of a physical parameter set (paper names)."""
     ce = p["b"] / (p["a"] + p["b"])
@@ -84,12 +100,9 @@ def groups_from_physical(config: str, p: dict) -> dict:
         "tau": p["tau"], "rho": p["pmax"] / p["pmin"], "beta": p["beta"],
         "q": p["q"],
     }
-    if config in ("dd", "pid"):
-        g["nu"] = p["nu"]
-    if config in ("id", "pid"):
-        g["w"] = p["w"]
-    if config in ("dd", "id"):
-        g["RC"] = p["RC"]
+    for name in ("nu", "w", "RC"):
+        if lib.param_used(config, name):
+            g[name] = p[name]
     if config == "pid":
         g["RCd"] = p["RCd"]
         g["RCi_ratio"] = p["RCi"] / p["RCd"]
@@ -108,12 +121,9 @@ def physical_from_groups(config: str, g: dict) -> dict:
     p = {"a": 1.0, "b": 9.0, "k1": k1, "k2": k2, "A": kA, "ks": 1.0,
          "tau": g["tau"], "pmin": 1.0, "pmax": g["rho"], "beta": g["beta"],
          "q": g["q"]}
-    if config in ("dd", "id"):
-        p["RC"] = g["RC"]
-    if config in ("dd", "pid"):
-        p["nu"] = g["nu"]
-    if config in ("id", "pid"):
-        p["w"] = g["w"]
+    for name in ("RC", "nu", "w"):
+        if lib.param_used(config, name):
+            p[name] = g[name]
     if config == "pid":
         p["RCd"] = g["RCd"]
         p["RCi"] = g["RCd"] * g["RCi_ratio"]
@@ -148,7 +158,7 @@ class Setup:
     oversample: int = 1
 
     def bounds(self, name: str) -> tuple[float, float]:
-        tr, lo, hi, _ = GROUPS[name]
+        lo, hi = group_bounds(name)
         if lo is None:  # time constants: from a tenth of a sample to 10 records
             lo, hi = 0.1 / self.fs, 10.0 * self.duration
         return lo, hi

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-#include "pf_df1.h"
+#include "pfh_df1.h"
 
 /* A stage's state {x[n-1], x[n-2], y[n-1], y[n-2]} after input x, output y:
  * the same for both arithmetics, whatever the element type. */
@@ -11,7 +11,7 @@
         (s)[2] = (y);     \
     } while (0)
 
-void pf_df1_run_f32(pf_df1_f32 *f, const float *x, float *y, size_t len)
+void pfh_df1_run_f32(pfh_df1_f32 *f, const float *x, float *y, size_t len)
 {
     size_t i;
     int k;
@@ -42,7 +42,7 @@ static int16_t sat16(int64_t v)
     return (int16_t)(v > 32767 ? 32767 : (v < -32768 ? -32768 : v));
 }
 
-void pf_df1_run_q15(pf_df1_q15 *f, const int16_t *x, int16_t *y, size_t len)
+void pfh_df1_run_q15(pfh_df1_q15 *f, const int16_t *x, int16_t *y, size_t len)
 {
     size_t i;
     int k;

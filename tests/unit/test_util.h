@@ -7,16 +7,16 @@
  * Soft checks: a table-driven test should list every wrong row, not just
  * the first, so EXPECT counts its failures and END_SOFT() asserts zero at
  * the end of the test. Register the test with cmocka_unit_test_setup(...,
- * setup_soft). Define PF_SOFT_MAX_PRINT before the include to print only
+ * setup_soft). Define SOFT_MAX_PRINT before the include to print only
  * the first few failures (all are still counted).
  *
  * Include after <cmocka.h> and "pneufrac/pneufrac.h".
  */
-#ifndef PF_TEST_UTIL_H
-#define PF_TEST_UTIL_H
+#ifndef TEST_UTIL_H
+#define TEST_UTIL_H
 
-#ifndef PF_SOFT_MAX_PRINT
-#define PF_SOFT_MAX_PRINT 1000000
+#ifndef SOFT_MAX_PRINT
+#define SOFT_MAX_PRINT 1000000
 #endif
 
 static int g_fails;
@@ -24,7 +24,7 @@ static int g_fails;
 /* Counts a failure; says whether to print it (the caller prints the why). */
 static inline int soft_fail(const char *file, int line, const char *cond)
 {
-    if (++g_fails > PF_SOFT_MAX_PRINT)
+    if (++g_fails > SOFT_MAX_PRINT)
         return 0;
     print_error("%s:%d: EXPECT(%s) failed: ", file, line, cond);
     return 1;
@@ -75,17 +75,17 @@ static inline void expect_names_one_of(pf_status st, pf_param_id a, pf_param_id 
  * representable range (pf_fracop.h), naming beta, q, nu or w, and a pid
  * whose restrictors make the in-sample loop equation (nearly) singular at
  * an extreme rate or band, naming RCd (pf_ctrl_design_make). */
-static inline int design_may_name(pf_config c, double fs, pf_param_id id)
+static inline int design_may_name(pf_topology c, double fs, pf_param_id id)
 {
     switch (id) {
     case PF_P_BETA: case PF_P_Q: case PF_P_NU: case PF_P_W:
         return pf_param_used(c, id);
     case PF_P_RCD: /* documented: a pid whose in-sample loop is singular */
         (void)fs;
-        return c == PF_CFG_PID;
+        return c == PF_TOPO_PID;
     default:
         return 0;
     }
 }
 
-#endif /* PF_TEST_UTIL_H */
+#endif /* TEST_UTIL_H */

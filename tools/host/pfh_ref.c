@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Exact reference transfer functions and step responses (see pf_ref.h).
+ * Exact reference transfer functions and step responses (see pfh_ref.h).
  *
  * Transfer function (Figures 3, 5, 7 of the paper; block-diagram algebra):
  *   u = (tau s)^beta,  R = (1 + u) / (pmin + pmax u)          relay, eq. 14
@@ -26,7 +26,7 @@
  * principal branch for tau > 0, so the paper's monomials agree with ours.
  * test_reference.c checks these identities numerically.
  *
- * Singularities of H(s)/s, for the ten cases of paper_step_exact.json
+ * Singularities of H(s)/s, for the paper's ten cases in paper_step_cases.json
  * (checked numerically: Newton root search in x = Log s plus an argument-
  * principle count over |Im x| < pi, |Re x| < 30, i.e. the whole principal
  * sheet with 1e-13 < |s| < 1e13):
@@ -47,7 +47,7 @@
  *    enclosed; when a pole lies left of the truncation point -1.358 N/t its
  *    share is within the truncation error bound. Nothing lies in Re s >= 0.
  */
-#include "pf_ref.h"
+#include "pfh_ref.h"
 
 #include <math.h>
 
@@ -62,7 +62,7 @@ static double complex ppow(double complex s, double e)
     return cexp(e * clog(s));
 }
 
-double complex pf_ref_tf(const pf_params *p, double complex s)
+double complex pfh_ref_tf(const pf_params *p, double complex s)
 {
     const double g = p->b * p->k1 * p->k2 / (p->a + p->b);
     const double c = p->a * p->k1 * p->k2 / (p->a + p->b);
@@ -75,20 +75,20 @@ double complex pf_ref_tf(const pf_params *p, double complex s)
     /* 1 - 1/(x+1) and Rv - Rw are written over a common denominator so that
      * no digits cancel when |RC s^x| is small (large t); it is the same
      * function. */
-    switch (p->config) {
-    case PF_CFG_DD:
+    switch (p->topology) {
+    case PF_TOPO_DD:
         M = 1.0 / (p->RC * ppow(s, p->nu) + 1.0);
         break;
-    case PF_CFG_ID:
+    case PF_TOPO_ID:
         xi = p->RC * ppow(s, p->w);
         M = xi / (xi + 1.0);
         break;
-    case PF_CFG_PID:
+    case PF_TOPO_PID:
         xd = p->RCd * ppow(s, p->nu);
         xi = p->RCi * ppow(s, p->w);
         M = (xi - xd) / ((xd + 1.0) * (xi + 1.0));
         break;
-    default: /* PF_CFG_P */
+    default: /* PF_TOPO_P */
         break;
     }
     return g * R / (1.0 + c * R * B * M);
@@ -118,7 +118,7 @@ double complex pf_ref_tf(const pf_params *p, double complex s)
  *   z'(theta) = (N/t)(mu (cot(alpha theta) - alpha theta / sin^2(alpha
  *   theta)) + i nu).
  */
-double pf_ref_step_n(const pf_params *p, double t, int n)
+double pfh_ref_step_n(const pf_params *p, double t, int n)
 {
     const double mu = 0.5017, alpha = 0.6407, sigma = 0.6122, nu = 0.2645;
     const double pi = 3.14159265358979323846;
@@ -138,12 +138,12 @@ double pf_ref_step_n(const pf_params *p, double t, int n)
             n * (mu * (cot - alpha * th / (sa * sa)) + I * nu);
         const double complex z = w / t;
         /* e^{zt} F(z) z'(theta) with F = H/z: z'/z = dw/w */
-        sum += cimag(cexp(w) * pf_ref_tf(p, z) * dw / w);
+        sum += cimag(cexp(w) * pfh_ref_tf(p, z) * dw / w);
     }
     return 2.0 * sum / n;
 }
 
-double pf_ref_step(const pf_params *p, double t)
+double pfh_ref_step(const pf_params *p, double t)
 {
-    return pf_ref_step_n(p, t, PF_REF_TALBOT_N);
+    return pfh_ref_step_n(p, t, PFH_REF_TALBOT_N);
 }

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Operator -> biquad cascade (see cli_sos.h).
+ * Operator -> biquad cascade (see pfh_sos.h).
  *
  * Tustin, s = c (1 - z^-1)/(1 + z^-1), maps every real factor to a
  * first-order polynomial in z^-1:
@@ -10,13 +10,13 @@
  * (1 - rho z^-1), with (1 + z^-1) to the power (np - nz) - m, and the
  * held-input mean adds one more (1 + z^-1)/2.
  */
-#include "cli_sos.h"
+#include "pfh_sos.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#define MAX_ROOTS (2 * CLI_SOS_MAX)
+#define MAX_ROOTS (2 * PFH_SOS_MAX)
 
 typedef struct roots {
     int n;
@@ -51,7 +51,7 @@ static double complex stage_resp(const double b[3], const double a[2],
     return (b[0] + zi * (b[1] + zi * b[2])) / (1.0 - zi * (a[0] + zi * a[1]));
 }
 
-double complex cli_sos_resp(const cli_sos *s, double omega)
+double complex pfh_sos_resp(const pfh_sos *s, double omega)
 {
     double complex zi = cexp(-I * omega / s->fs), h = 1.0;
     int k;
@@ -60,7 +60,7 @@ double complex cli_sos_resp(const cli_sos *s, double omega)
     return h;
 }
 
-double complex cli_sos_op_resp(const pf_fracop_design *op, double omega)
+double complex pfh_sos_op_resp(const pf_fracop_design *op, double omega)
 {
     double re, im;
     double complex h;
@@ -71,7 +71,7 @@ double complex cli_sos_op_resp(const pf_fracop_design *op, double omega)
     return h;
 }
 
-pf_status cli_sos_from_op(cli_sos *s, const pf_fracop_design *op,
+pf_status pfh_sos_from_op(pfh_sos *s, const pf_fracop_design *op,
                           const pf_design_opts *opt, double scale)
 {
     double z[PF_MAX_SEC], p[PF_MAX_SEC], K, c = op->c, g0, wref, mag;
@@ -120,7 +120,7 @@ pf_status cli_sos_from_op(cli_sos *s, const pf_fracop_design *op,
     wref = sqrt(opt->wb * opt->wh);
     if (wref > 0.5 * M_PI * op->fs)
         wref = 0.5 * M_PI * op->fs;
-    mag = fabs(g0) * cabs(cli_sos_resp(s, wref));
+    mag = fabs(g0) * cabs(pfh_sos_resp(s, wref));
     for (k = 0; k < s->n; k++) {
         double complex zi = cexp(-I * wref / op->fs);
         double gk = pow(mag, 1.0 / s->n) / cabs(stage_resp(s->b[k], s->a[k], zi));
@@ -132,7 +132,7 @@ pf_status cli_sos_from_op(cli_sos *s, const pf_fracop_design *op,
     return PF_OK;
 }
 
-void cli_sos_f32(const cli_sos *s, float *c)
+void pfh_sos_f32(const pfh_sos *s, float *c)
 {
     int k;
     for (k = 0; k < s->n; k++) {
@@ -144,7 +144,7 @@ void cli_sos_f32(const cli_sos *s, float *c)
     }
 }
 
-static int fits(const cli_sos *s, int shift)
+static int fits(const pfh_sos *s, int shift)
 {
     double f = ldexp(1.0, 15 - shift);
     int k, i;
@@ -158,7 +158,7 @@ static int fits(const cli_sos *s, int shift)
     return 1;
 }
 
-pf_status cli_sos_q15_make(const cli_sos *s, cli_sos_q15 *q)
+pf_status pfh_sos_q15_make(const pfh_sos *s, pfh_sos_q15 *q)
 {
     int shift, k;
     double f;
@@ -183,7 +183,7 @@ pf_status cli_sos_q15_make(const cli_sos *s, cli_sos_q15 *q)
     return PF_OK;
 }
 
-double cli_sos_q15_value(const cli_sos_q15 *q, int16_t c)
+double pfh_sos_q15_value(const pfh_sos_q15 *q, int16_t c)
 {
     return ldexp((double)c, q->post_shift - 15);
 }

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* pneufrac: command-line front end of the library (simulate, demo, design). */
+/* pneufrac: the command-line front end (main and the command dispatch:
+ * simulate, demo, design, reproduce). */
 #include <errno.h>
 #include <signal.h>
 #include <stdio.h>

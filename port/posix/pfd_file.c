@@ -1,0 +1,127 @@
+/* SPDX-License-Identifier: MIT */
+#include "pfd_file.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+int pfd_file_read(const char *path, size_t max, char **buf, size_t *len,
+                  char *err, size_t errlen)
+{
+    FILE *f = fopen(path, "rb");
+    size_t n = 0, cap = 4096;
+    char *b;
+
+    if (f == NULL) {
+        snprintf(err, errlen, "cannot open: %s", strerror(errno));
+        return -1;
+    }
+    b = malloc(cap + 1);
+    for (;;) {
+        size_t r;
+        if (b == NULL) {
+            snprintf(err, errlen, "out of memory");
+            fclose(f);
+            return -1;
+        }
+        if (n == cap) {
+            char *nb;
+            if (cap >= max) {
+                snprintf(err, errlen, "larger than %zu bytes", max);
+                free(b);
+                fclose(f);
+                return -1;
+            }
+            cap *= 2;
+            nb = realloc(b, cap + 1);
+            if (nb == NULL)
+                free(b);
+            b = nb;
+            continue;
+        }
+        r = fread(b + n, 1, cap - n, f);
+        n += r;
+        if (r == 0)
+            break;
+    }
+    if (ferror(f)) {
+        snprintf(err, errlen, "read error: %s", strerror(errno));
+        free(b);
+        fclose(f);
+        return -1;
+    }
+    fclose(f);
+    b[n] = '\0';
+    *buf = b;
+    *len = n;
+    return 0;
+}
+
+static int write_all(int fd, const char *p, size_t n)
+{
+    while (n > 0) {
+        ssize_t w = write(fd, p, n);
+        if (w < 0) {
+            if (errno == EINTR)
+                continue;
+            return -1;
+        }
+        p += w;
+        n -= (size_t)w;
+    }
+    return 0;
+}
+
+/* The rename itself is durable only once the directory is synced. */
+static int sync_dir_of(const char *path, char *err, size_t errlen)
+{
+    char dir[PATH_MAX];
+    const char *slash = strrchr(path, '/');
+    int fd;
+
+    if (slash == NULL)
+        strcpy(dir, ".");
+    else if (slash == path)
+        strcpy(dir, "/");
+    else
+        snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+    fd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0 || fsync(fd) != 0) {
+        snprintf(err, errlen, "syncing directory %s: %s", dir, strerror(errno));
+        if (fd >= 0)
+            close(fd);
+        return -1;
+    }
+    close(fd);
+    return 0;
+}
+
+int pfd_file_replace(const char *path, const char *text, size_t n, char *err,
+                     size_t errlen)
+{
+    char tmp[PATH_MAX];
+    int fd;
+
+    if (snprintf(tmp, sizeof tmp, "%s.tmp", path) >= (int)sizeof tmp) {
+        snprintf(err, errlen, "path too long");
+        return -1;
+    }
+    fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0 || write_all(fd, text, n) != 0 || fsync(fd) != 0) {
+        snprintf(err, errlen, "writing %s: %s", tmp, strerror(errno));
+        if (fd >= 0)
+            close(fd);
+        unlink(tmp);
+        return -1;
+    }
+    if (close(fd) != 0 || rename(tmp, path) != 0) {
+        snprintf(err, errlen, "replacing: %s", strerror(errno));
+        unlink(tmp);
+        return -1;
+    }
+    return sync_dir_of(path, err, errlen);
+}

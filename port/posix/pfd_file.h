@@ -1,0 +1,24 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Whole-file I/O for the config file: a bounded read, and a replacement
+ * that is atomic and durable (temp file, fsync, rename, fsync of the
+ * directory), so that a crash leaves the old file or the new one, never a
+ * mix. Messages name the step and errno, never the path itself.
+ */
+#ifndef PFD_FILE_H
+#define PFD_FILE_H
+
+#include <stddef.h>
+
+/** Read all of @p path, at most @p max bytes, into a NUL-terminated
+ *  buffer from malloc() (the caller frees it). @return 0, or -1 with a
+ *  message in @p err. */
+int pfd_file_read(const char *path, size_t max, char **buf, size_t *len,
+                  char *err, size_t errlen);
+
+/** Replace @p path by the @p n bytes at @p text, through PATH.tmp.
+ *  @return 0, or -1 with a message in @p err (PATH.tmp is removed). */
+int pfd_file_replace(const char *path, const char *text, size_t n, char *err,
+                     size_t errlen);
+
+#endif

@@ -1,0 +1,295 @@
+/* SPDX-License-Identifier: MIT */
+#include "pfd_settings.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "pfd_parse.h"
+#include "pfd_state.h"
+
+const char *pfd_clock_name(int external)
+{
+    return external == 1 ? "external" : external == 0 ? "internal" : "?";
+}
+
+#define IN_SETTINGS(m) .off = offsetof(pfd_settings, m), .size = sizeof(((pfd_settings *)0)->m)
+#define IN_RUN(m) .off = offsetof(pfd_run, m), .size = sizeof(((pfd_run *)0)->m)
+
+/* The daemon group keeps the order in which the daemon writes the
+ * [daemon] section; --help lists the groups in enum order. */
+const pfd_setting pfd_settings_table[] = {
+    /* daemon-wide: command line and config file */
+    {.flag = "--listen", .key = "listen", .type = PFD_ST_ENDPOINT, .group = PFD_SG_DAEMON,
+     IN_SETTINGS(listen), .metavar = "ADDR:PORT",
+     .help = "IPv4 address and port to serve; port 0 picks a free one, logged as "
+             "msg=listening"},
+    {.flag = "--clock", .key = "clock", .type = PFD_ST_CHOICE, .group = PFD_SG_DAEMON,
+     .lo = 0, .hi = 1, .choice = pfd_clock_name, IN_SETTINGS(external_clock),
+     .help = "external: only the tick register advances samples, for lockstep"},
+    {.flag = "--max-clients", .key = "max_clients", .type = PFD_ST_INT,
+     .group = PFD_SG_DAEMON, .lo = 1, .hi = 256, IN_SETTINGS(max_clients),
+     .metavar = "N", .help = "simultaneous clients"},
+    {.flag = "--allow", .key = "allow", .type = PFD_ST_NETS, .group = PFD_SG_DAEMON,
+     IN_SETTINGS(allow), .metavar = "CIDR[,CIDR...]",
+     .help = "client networks allowed to connect"},
+    {.flag = "--read-only", .key = "read_only", .type = PFD_ST_BOOL,
+     .group = PFD_SG_DAEMON, .flag_value = 1, IN_SETTINGS(read_only),
+     .help = "refuse every write (exception 01)"},
+    {.flag = "--param-lock", .key = "param_lock", .type = PFD_ST_BOOL,
+     .group = PFD_SG_DAEMON, .flag_value = 1, IN_SETTINGS(param_lock),
+     .help = "lock staged parameters and commit for this run"},
+    {.flag = "--rt-priority", .key = "rt_priority", .type = PFD_ST_INT,
+     .group = PFD_SG_DAEMON, .lo = 0, .hi = 99, IN_SETTINGS(rt_priority),
+     .metavar = "N", .help = "SCHED_FIFO priority of the loop; 0 = do not ask"},
+    {.flag = "--no-mlock", .key = "mlock", .type = PFD_ST_BOOL, .group = PFD_SG_DAEMON,
+     .flag_value = 0, IN_SETTINGS(mlock), .help = "do not mlockall()"},
+    {.flag = "--byte-timeout-ms", .key = "byte_timeout_ms", .type = PFD_ST_INT,
+     .group = PFD_SG_DAEMON, .lo = 1, .hi = 10000, IN_SETTINGS(byte_timeout_ms),
+     .metavar = "N", .help = "drop a client that stalls this long mid-frame"},
+    {.flag = "--idle-timeout-s", .key = "idle_timeout_s", .type = PFD_ST_INT,
+     .group = PFD_SG_DAEMON, .lo = 0, .hi = 86400, IN_SETTINGS(idle_timeout_s),
+     .metavar = "N", .help = "drop a client silent this long; 0 = never"},
+
+    /* the default instances */
+    {.flag = "--instances", .type = PFD_ST_INT, .group = PFD_SG_INSTANCES, .lo = 1,
+     .hi = PFD_MAX_INSTANCES, IN_RUN(instances), .metavar = "N",
+     .help = "N instances, unit ids 1..N"},
+    {.flag = "--controller", .type = PFD_ST_CHOICE, .group = PFD_SG_INSTANCES, .lo = 0,
+     .hi = PF_TOPO_COUNT - 1, .choice = pfd_topology_name, IN_RUN(controller),
+     .help = "their configuration"},
+    {.flag = "--fs", .type = PFD_ST_REAL, .group = PFD_SG_INSTANCES, .lo = PFD_FS_MIN,
+     .hi = PFD_FS_MAX, IN_RUN(fs), .metavar = "HZ", .help = "their sample rate"},
+    {.flag = "--arith", .type = PFD_ST_CHOICE, .group = PFD_SG_INSTANCES, .lo = 0,
+     .hi = PFD_ARITH_COUNT - 1, .choice = pfd_arith_name, IN_RUN(arith),
+     .help = "their arithmetic"},
+
+    /* this run */
+    {.flag = "--config", .type = PFD_ST_PATH, .group = PFD_SG_RUN, IN_RUN(config),
+     .metavar = "FILE",
+     .help = "instances and settings (docs/pneufracd.md); commits and the state at "
+             "shutdown are written back to it"},
+    {.flag = "--config-fallback-defaults", .type = PFD_ST_BOOL, .group = PFD_SG_RUN,
+     .flag_value = 1, IN_RUN(fallback),
+     .help = "run the defaults (and log why) if FILE is missing, corrupt or holds a "
+             "set that cannot be designed; FILE is renamed to FILE.corrupt "
+             "(FILE.corrupt.N if that exists)"},
+    {.flag = "--run-for", .type = PFD_ST_REAL, .group = PFD_SG_RUN, .flags = PFD_SF_NODEF,
+     .lo = 0.001, .hi = 1e7, IN_RUN(run_for), .metavar = "S",
+     .help = "stop by itself after S seconds, for tests"},
+    {.flag = "--verbose", .type = PFD_ST_BOOL, .group = PFD_SG_RUN, .flag_value = 1,
+     IN_RUN(verbose), .help = "also log debug lines (client connects and drops)"},
+
+    /* print and exit */
+    {.flag = "--print-register-map", .type = PFD_ST_BOOL, .group = PFD_SG_EXIT,
+     .flag_value = 1, IN_RUN(print_map), .help = "print the register table (Markdown)"},
+    {.flag = "--print-default-config", .type = PFD_ST_BOOL, .group = PFD_SG_EXIT,
+     .flag_value = 1, IN_RUN(print_config),
+     .help = "print a config file for the default instances"},
+    {.flag = "--seal-config", .type = PFD_ST_PATH, .group = PFD_SG_EXIT, IN_RUN(seal),
+     .metavar = "FILE", .help = "check FILE and rewrite its checksum"},
+    {.flag = "--version", .type = PFD_ST_BOOL, .group = PFD_SG_EXIT,
+     .flags = PFD_SF_STOP, .flag_value = 1, IN_RUN(version),
+     .help = "print the version and the register map's version"},
+    {.flag = "--help", .alias = "-h", .type = PFD_ST_BOOL, .group = PFD_SG_EXIT,
+     .flags = PFD_SF_STOP, .flag_value = 1, IN_RUN(help), .help = "print this help"},
+};
+const unsigned pfd_settings_count = sizeof pfd_settings_table / sizeof pfd_settings_table[0];
+
+/* Masks of given settings have one bit a row. */
+typedef char pfd_settings_fit_a_mask[sizeof pfd_settings_table /
+                                     sizeof pfd_settings_table[0] <= 32 ? 1 : -1];
+
+const pfd_setting *pfd_setting_by_flag(const char *flag)
+{
+    unsigned i;
+    for (i = 0; i < pfd_settings_count; i++) {
+        const pfd_setting *r = &pfd_settings_table[i];
+        if (!strcmp(r->flag, flag) || (r->alias != NULL && !strcmp(r->alias, flag)))
+            return r;
+    }
+    return NULL;
+}
+
+const pfd_setting *pfd_setting_by_key(const char *key)
+{
+    unsigned i;
+    for (i = 0; i < pfd_settings_count; i++) {
+        const pfd_setting *r = &pfd_settings_table[i];
+        if (r->key != NULL && !strcmp(r->key, key))
+            return r;
+    }
+    return NULL;
+}
+
+unsigned pfd_setting_bit(const pfd_setting *r)
+{
+    return 1u << (unsigned)(r - pfd_settings_table);
+}
+
+int pfd_setting_takes_value(const pfd_setting *r)
+{
+    return r->type != PFD_ST_BOOL;
+}
+
+static void *field(const pfd_setting *r, pfd_settings *s, pfd_run *run)
+{
+    return (char *)(r->group == PFD_SG_DAEMON ? (void *)s : (void *)run) + r->off;
+}
+
+static const void *cfield(const pfd_setting *r, const pfd_settings *s, const pfd_run *run)
+{
+    return field(r, (pfd_settings *)s, (pfd_run *)run);
+}
+
+static int parse_bool(const char *text, int *out)
+{
+    static const char *const yes[] = {"yes", "true", "1", "on"};
+    static const char *const no[] = {"no", "false", "0", "off"};
+    unsigned i;
+    for (i = 0; i < sizeof yes / sizeof yes[0]; i++) {
+        if (!strcmp(text, yes[i])) {
+            *out = 1;
+            return 0;
+        }
+        if (!strcmp(text, no[i])) {
+            *out = 0;
+            return 0;
+        }
+    }
+    return -1;
+}
+
+static int refuse(char *msg, size_t n, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, n, fmt, ap);
+    va_end(ap);
+    return -1;
+}
+
+int pfd_setting_parse(const pfd_setting *r, const char *text, pfd_settings *s,
+                      pfd_run *run, char *msg, size_t n)
+{
+    void *f = field(r, s, run);
+    char names[128];
+    pfd_allow al;
+    long l;
+    double x;
+    int v;
+
+    switch (r->type) {
+    case PFD_ST_BOOL:
+        if (text == NULL)
+            v = r->flag_value;
+        else if (parse_bool(text, &v) != 0)
+            return refuse(msg, n, "'%s' is not yes or no", text);
+        *(int *)f = v;
+        break;
+    case PFD_ST_INT:
+        if (pfd_parse_int(text, (long)r->lo, (long)r->hi, &l) != 0)
+            return refuse(msg, n, "'%s' is not an integer in %.15g..%.15g", text, r->lo,
+                          r->hi);
+        *(int *)f = (int)l;
+        break;
+    case PFD_ST_REAL:
+        if (pfd_parse_number(text, &x) != 0 || x < r->lo || x > r->hi)
+            return refuse(msg, n, "'%s' is not a number in %g..%g", text, r->lo, r->hi);
+        *(double *)f = x;
+        break;
+    case PFD_ST_CHOICE:
+        v = pfd_parse_name(text, r->choice, (int)r->hi + 1);
+        if (v < 0) {
+            pfd_parse_names(r->choice, (int)r->hi + 1, names, sizeof names);
+            return refuse(msg, n, "'%s' is not %s", text, names);
+        }
+        *(int *)f = v;
+        break;
+    case PFD_ST_ENDPOINT:
+        if (pfd_endpoint_parse(text, (pfd_endpoint *)f) != 0)
+            return refuse(msg, n, "'%s' is not IPV4ADDR:PORT (e.g. 127.0.0.1:1502)", text);
+        break;
+    case PFD_ST_NETS:
+        if (strlen(text) >= r->size)
+            return refuse(msg, n, "list too long");
+        if (pfd_allow_parse(text, &al, msg, n) != 0)
+            return -1;
+        strcpy((char *)f, text);
+        break;
+    default: /* PFD_ST_PATH: the text itself, which outlives the run */
+        *(const char **)f = text;
+        break;
+    }
+    return 0;
+}
+
+void pfd_setting_format(const pfd_setting *r, const pfd_settings *s,
+                        const pfd_run *run, char *buf, size_t n)
+{
+    const void *f = cfield(r, s, run);
+
+    switch (r->type) {
+    case PFD_ST_BOOL:
+        snprintf(buf, n, "%s", *(const int *)f ? "yes" : "no");
+        break;
+    case PFD_ST_INT:
+        snprintf(buf, n, "%d", *(const int *)f);
+        break;
+    case PFD_ST_REAL:
+        snprintf(buf, n, "%.17g", *(const double *)f);
+        break;
+    case PFD_ST_CHOICE:
+        snprintf(buf, n, "%s", r->choice(*(const int *)f));
+        break;
+    case PFD_ST_ENDPOINT: {
+        const pfd_endpoint *e = (const pfd_endpoint *)f;
+        snprintf(buf, n, "%s:%d", e->addr, e->port);
+        break;
+    }
+    case PFD_ST_NETS:
+        snprintf(buf, n, "%s", (const char *)f);
+        break;
+    default:
+        snprintf(buf, n, "%s", *(const char *const *)f ? *(const char *const *)f : "");
+        break;
+    }
+}
+
+void pfd_settings_copy(pfd_settings *dst, const pfd_settings *src, unsigned mask)
+{
+    unsigned i;
+    for (i = 0; i < pfd_settings_count; i++) {
+        const pfd_setting *r = &pfd_settings_table[i];
+        if (r->group == PFD_SG_DAEMON && (mask & pfd_setting_bit(r)))
+            memcpy((char *)dst + r->off, (const char *)src + r->off, r->size);
+    }
+}
+
+void pfd_settings_default(pfd_settings *s)
+{
+    memset(s, 0, sizeof *s);
+    strcpy(s->listen.addr, "127.0.0.1");
+    s->listen.port = 1502;
+    s->external_clock = 0;
+    s->max_clients = 16;
+    strcpy(s->allow, PFD_ALLOW_DEFAULT);
+    s->read_only = 0;
+    s->param_lock = 0;
+    s->rt_priority = 80;
+    s->mlock = 1;
+    s->byte_timeout_ms = 100;
+    s->idle_timeout_s = 300;
+}
+
+void pfd_run_default(pfd_run *run)
+{
+    pfd_iparams ip;
+
+    memset(run, 0, sizeof *run);
+    pfd_iparams_default(&ip);
+    run->instances = 1;
+    run->controller = (int)ip.p.topology;
+    run->fs = ip.fs;
+    run->arith = ip.arith;
+}

@@ -1,0 +1,35 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The configuration a run starts from: the file of --config, accepted only
+ * once every instance in it has been designed, or the default instances of
+ * the command line; with --config-fallback-defaults, a file that fails is
+ * moved aside and the defaults run. Also --seal-config and
+ * --print-default-config, which check and write the same files.
+ */
+#ifndef PFD_START_H
+#define PFD_START_H
+
+#include <stddef.h>
+
+#include "pfd_config.h"
+#include "pfd_settings.h"
+
+/** Exit status for bad arguments or a bad config file. */
+#define PFD_EXIT_USAGE 2
+
+/** Fill @p c for this run. @return 0, or -1 after a fatal message. */
+int pfd_start_config(const pfd_run *run, pfd_config *c);
+
+/** Why instance @p ci failed, "config FILE:LINE: [instance U]: why" (or
+ *  "instance U: why" when @p path is NULL). */
+void pfd_start_describe(char *buf, size_t n, const char *path,
+                        const pfd_config_inst *ci, const pfd_fail *why);
+
+/** --seal-config: accept a hand-edited file once it parses and designs.
+ *  @return the exit status. */
+int pfd_start_seal(const char *path);
+
+/** --print-default-config. @return the exit status. */
+int pfd_start_print_default(const pfd_run *run);
+
+#endif
