@@ -17,21 +17,27 @@ static void qc(FILE *f, const char *field, pf_qc q)
     fprintf(f, "    .%s = {%ld, %u},\n", field, (long)q.m, (unsigned)q.sh);
 }
 
-static void i32_array(FILE *f, const char *field, const int32_t *v, int n)
+/* An integer array of `size`-byte elements (1: unsigned, 2 and 4: signed). */
+static void int_array(FILE *f, const char *field, const void *v, size_t size, int n)
 {
+    const unsigned char *p = v;
     int i;
     fprintf(f, "    .%s = {", field);
-    for (i = 0; i < n; i++)
-        fprintf(f, "%s%ld", i ? ", " : "", (long)v[i]);
-    fprintf(f, "},\n");
-}
-
-static void u8_array(FILE *f, const char *field, const uint8_t *v, int n)
-{
-    int i;
-    fprintf(f, "    .%s = {", field);
-    for (i = 0; i < n; i++)
-        fprintf(f, "%s%u", i ? ", " : "", (unsigned)v[i]);
+    for (i = 0; i < n; i++) {
+        long x;
+        if (size == 1) {
+            x = p[i];
+        } else if (size == 2) {
+            int16_t h;
+            memcpy(&h, p + 2 * i, 2);
+            x = h;
+        } else {
+            int32_t w;
+            memcpy(&w, p + 4 * (size_t)i, 4);
+            x = w;
+        }
+        fprintf(f, "%s%ld", i ? ", " : "", x);
+    }
     fprintf(f, "},\n");
 }
 
@@ -48,13 +54,13 @@ static void op_q15(FILE *f, const char *field, const pf_fracop_coeffs_q15 *o)
 {
     int k, n = o->n_int < 0 ? -o->n_int : o->n_int;
     fprintf(f, "  .%s = {\n", field);
-    fprintf(f, "    .n_int = %d, .int_rho = %d, .n_sec = %u, .hold = %u, .G_sh = %u,\n",
-            o->n_int, o->int_rho, (unsigned)o->n_sec, (unsigned)o->hold,
-            (unsigned)o->G_sh);
+    fprintf(f, "    .n_int = %d, .int_rho = %d, .n_sec = %u, .hold = %u, .n_slow = %u, "
+            ".G_sh = %u,\n", o->n_int, o->int_rho, (unsigned)o->n_sec, (unsigned)o->hold,
+            (unsigned)o->n_slow, (unsigned)o->G_sh);
     qc(f, "d", o->d);
-    i32_array(f, "lam_m", o->lam_m, o->n_sec);
-    u8_array(f, "lam_sh", o->lam_sh, o->n_sec);
-    i32_array(f, "G_m", o->G_m, o->n_sec);
+    int_array(f, "lam_m", o->lam_m, sizeof o->lam_m[0], o->n_sec);
+    int_array(f, "lam_sh", o->lam_sh, sizeof o->lam_sh[0], o->n_sec);
+    int_array(f, "G_m", o->G_m, sizeof o->G_m[0], o->n_sec);
     for (k = 0; k < n; k++) {
         fprintf(f, "    .int_d[%d] = {%ld, %u},\n", k, (long)o->int_d[k].m,
                 (unsigned)o->int_d[k].sh);

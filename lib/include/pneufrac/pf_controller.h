@@ -221,6 +221,8 @@ typedef struct pf_ctrl_coeffs_q15 {
     pf_qc dv_pc, dv_r, dw_pc, dw_r;/**< p_c, r -> restrictor operator input */
     pf_qc pc_out;                  /**< internal p_c -> Q15 output (also p_c's monitor) */
     int32_t sat_lo, sat_hi;        /**< saturation limits, internal p_c */
+    int32_t play_r, play_ri;       /**< backlash: half-width r and r/(1 + L0),
+                                        internal x (0: no backlash) */
     int32_t lag_m; uint8_t lag_sh; /**< output lag leak */
     uint32_t delay_len;
     pf_qc mon_x, mon_pb, mon_y;    /**< monitored node -> Q15 of its full scale */
@@ -231,6 +233,7 @@ typedef struct pf_ctrl_q15 {
     const pf_ctrl_coeffs_q15 *c;
     pf_fracop_q15 P, Q, V, W;
     int32_t x, pb, y, pc;          /**< last internal values, for monitoring */
+    int32_t xb;                    /**< backlash output (internal x) */
     int16_t e1;                    /**< previous input (held-input model) */
     int64_t lag;                   /**< output-line lag state (30 fraction bits) */
     int16_t *dbuf;
@@ -239,7 +242,7 @@ typedef struct pf_ctrl_q15 {
 
 /** Derive the Q15 coefficient set. e = in_fs maps to Q15 +1.0 at the input,
  *  p_c = out_fs to +1.0 at the output (ranges: pf_param_info).
- *  Supports saturation, lag and dead time; backlash, the nozzle curve and
+ *  Supports backlash, saturation, lag and dead time; the nozzle curve and
  *  the refined approximation are float/double only (PF_E_UNSUPPORTED).
  *  @return PF_OK, PF_E_PARAM(PF_P_IN_FS | PF_P_OUT_FS), PF_E_UNSUPPORTED,
  *          or PF_E_SCALE when a coefficient between two node scales does
