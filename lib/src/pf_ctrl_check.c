@@ -24,13 +24,9 @@
 
 #define PF_CHECK_SQUARINGS 48
 
-/* Pointers to every state the linear runtime has, in a fixed order.
- * @return their number. */
-static int states(pf_ctrl_f64 *r, double **s)
+/* The runtime's four operators, and whether the design uses each. */
+static void operators(pf_ctrl_f64 *r, pf_fracop_f64 **ops, int *used)
 {
-    pf_fracop_f64 *ops[4];
-    int used[4], k = 0, o, j, n_int;
-
     ops[0] = &r->P;
     ops[1] = &r->Q;
     ops[2] = &r->V;
@@ -39,6 +35,16 @@ static int states(pf_ctrl_f64 *r, double **s)
     used[1] = r->c->has_q;
     used[2] = r->c->has_v;
     used[3] = r->c->has_w;
+}
+
+/* Pointers to every state the linear runtime has, in a fixed order.
+ * @return their number. */
+static int states(pf_ctrl_f64 *r, double **s)
+{
+    pf_fracop_f64 *ops[4];
+    int used[4], k = 0, o, j, n_int;
+
+    operators(r, ops, used);
     if (r->c->hold)
         s[k++] = &r->e1;
     for (o = 0; o < 4; o++) {
@@ -52,6 +58,27 @@ static int states(pf_ctrl_f64 *r, double **s)
             s[k++] = &ops[o]->si[j];
     }
     return k;
+}
+
+/* Each operator caches the branch sum sum_k G_k s_k of its states for the
+ * next sample (pf_float_ops.h): not a state of its own but a function of
+ * them, so it must follow a state set by hand. The same terms in the same
+ * order as the runtime forms it. */
+static void refresh_sums(pf_ctrl_f64 *r)
+{
+    pf_fracop_f64 *ops[4];
+    int used[4], o, k;
+
+    operators(r, ops, used);
+    for (o = 0; o < 4; o++) {
+        const pf_fracop_design *c = ops[o]->c;
+        double sum = 0.0;
+        if (!used[o])
+            continue;
+        for (k = 0; k < c->n_sec; k++)
+            sum += c->G[k] * ops[o]->s[k];
+        ops[o]->sum = sum;
+    }
 }
 
 /* C = A B, n x n, row major; C may not alias A or B. */
@@ -144,6 +171,7 @@ pf_status pf_ctrl_spectral_radius(const pf_ctrl_design *d, pf_ctrl_check_work *w
     for (j = 0; j < n; j++) {
         pf_ctrl_reset_f64(&r);
         *s[j] = 1.0;
+        refresh_sums(&r);
         (void)pf_ctrl_step_f64(&r, 0.0);
         for (i = 0; i < n; i++)
             a[(size_t)i * n + j] = *s[i];
