@@ -24,17 +24,19 @@
 
 #define PF_CHECK_SQUARINGS 48
 
-/* The runtime's four operators, and whether the design uses each. */
-static void operators(pf_ctrl_f64 *r, pf_fracop_f64 **ops, int *used)
+/* The operators the linear runtime uses, in a fixed order. @return their
+ * number. */
+static int operators(pf_ctrl_f64 *r, pf_fracop_f64 **ops)
 {
-    ops[0] = &r->P;
-    ops[1] = &r->Q;
-    ops[2] = &r->V;
-    ops[3] = &r->W;
-    used[0] = 1;
-    used[1] = r->c->has_q;
-    used[2] = r->c->has_v;
-    used[3] = r->c->has_w;
+    int k = 0;
+    ops[k++] = &r->P;
+    if (r->c->has_q)
+        ops[k++] = &r->Q;
+    if (r->c->has_v)
+        ops[k++] = &r->V;
+    if (r->c->has_w)
+        ops[k++] = &r->W;
+    return k;
 }
 
 /* Pointers to every state the linear runtime has, in a fixed order.
@@ -42,15 +44,12 @@ static void operators(pf_ctrl_f64 *r, pf_fracop_f64 **ops, int *used)
 static int states(pf_ctrl_f64 *r, double **s)
 {
     pf_fracop_f64 *ops[4];
-    int used[4], k = 0, o, j, n_int;
+    int k = 0, o, j, n_int, n_ops = operators(r, ops);
 
-    operators(r, ops, used);
     if (r->c->hold)
         s[k++] = &r->e1;
-    for (o = 0; o < 4; o++) {
+    for (o = 0; o < n_ops; o++) {
         const pf_fracop_design *c = ops[o]->c;
-        if (!used[o])
-            continue;
         for (j = 0; j < c->n_sec; j++)
             s[k++] = &ops[o]->s[j];
         n_int = c->n_int < 0 ? -c->n_int : c->n_int;
@@ -60,23 +59,18 @@ static int states(pf_ctrl_f64 *r, double **s)
     return k;
 }
 
-/* Each operator caches the branch sum sum_k G_k s_k of its states for the
- * next sample (pf_float_ops.h): not a state of its own but a function of
- * them, so it must follow a state set by hand. The same terms in the same
- * order as the runtime forms it. */
-static void refresh_sums(pf_ctrl_f64 *r)
+/* The runtime keeps each operator's branch sum sum_k G_k s_k from its last
+ * update (pf_fracop_f64.sum); after states are written directly it must be
+ * formed again, in the runtime's order, or the step would use stale sums. */
+static void resum(pf_ctrl_f64 *r)
 {
     pf_fracop_f64 *ops[4];
-    int used[4], o, k;
+    int o, k, n_ops = operators(r, ops);
 
-    operators(r, ops, used);
-    for (o = 0; o < 4; o++) {
-        const pf_fracop_design *c = ops[o]->c;
+    for (o = 0; o < n_ops; o++) {
         double sum = 0.0;
-        if (!used[o])
-            continue;
-        for (k = 0; k < c->n_sec; k++)
-            sum += c->G[k] * ops[o]->s[k];
+        for (k = 0; k < ops[o]->c->n_sec; k++)
+            sum += ops[o]->c->G[k] * ops[o]->s[k];
         ops[o]->sum = sum;
     }
 }
@@ -171,7 +165,7 @@ pf_status pf_ctrl_spectral_radius(const pf_ctrl_design *d, pf_ctrl_check_work *w
     for (j = 0; j < n; j++) {
         pf_ctrl_reset_f64(&r);
         *s[j] = 1.0;
-        refresh_sums(&r);
+        resum(&r);
         (void)pf_ctrl_step_f64(&r, 0.0);
         for (i = 0; i < n; i++)
             a[(size_t)i * n + j] = *s[i];
