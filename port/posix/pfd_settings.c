@@ -7,6 +7,7 @@
 
 #include "pfd_access.h"
 #include "pfd_parse.h"
+#include "pfd_regmap.h"
 #include "pfd_state.h"
 
 const char *pfd_clock_name(int external)
@@ -22,13 +23,20 @@ const char *pfd_clock_name(int external)
  * [daemon] section; --help lists the groups in enum order. */
 const pfd_setting pfd_settings_table[] = {
     /* daemon-wide: command line and config file */
+    /* A security setting: it decides who can reach the port at all
+     * (docs/pneufracd.md, "What each setting protects"). */
     {.flag = "--listen", .key = "listen", .type = PFD_ST_ENDPOINT, .group = PFD_SG_DAEMON,
-     IN_SETTINGS(listen), .metavar = "ADDR:PORT",
+     SECURE, IN_SETTINGS(listen), .metavar = "ADDR:PORT",
      .help = "IPv4 address and port to serve; port 0 picks a free one, logged as "
              "msg=listening"},
     {.flag = "--clock", .key = "clock", .type = PFD_ST_CHOICE, .group = PFD_SG_DAEMON,
      .lo = 0, .hi = 1, .choice = pfd_clock_name, IN_SETTINGS(external_clock),
      .help = "external: only the tick register advances samples, for lockstep"},
+    {.flag = "--word-order", .key = "word_order", .type = PFD_ST_CHOICE,
+     .group = PFD_SG_DAEMON, .lo = 0, .hi = PFD_WORDS_COUNT - 1,
+     .choice = pfd_word_order_name, IN_SETTINGS(word_order),
+     .help = "register order of every 32-bit value (f32, u32), read and written: "
+             "abcd high word first, cdab low word first (docs/register-map.md)"},
     {.flag = "--max-clients", .key = "max_clients", .type = PFD_ST_INT,
      .group = PFD_SG_DAEMON, SECURE, .lo = 1, .hi = 256, IN_SETTINGS(max_clients),
      .metavar = "N", .help = "simultaneous clients"},
@@ -351,6 +359,7 @@ void pfd_settings_default(pfd_settings *s)
     strcpy(s->listen.addr, "127.0.0.1");
     s->listen.port = 1502;
     s->external_clock = 0;
+    s->word_order = PFD_WORDS_ABCD;
     s->max_clients = 16;
     strcpy(s->allow, PFD_ALLOW_DEFAULT);
     s->read_only = 0;

@@ -25,6 +25,7 @@ typedef uint64_t pfd_mask;
 typedef struct pfd_settings {
     pfd_endpoint listen;
     int external_clock;
+    int word_order;      /**< enum pfd_word_order of every 32-bit register */
     int max_clients;
     char allow[512];     /**< comma-separated CIDR list (pfd_allow_parse) */
     int read_only;

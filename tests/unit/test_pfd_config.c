@@ -269,8 +269,10 @@ static void write_read_back(void **state)
     c.set.max_clients = 5;
     c.set.mlock = 0;
     c.set.external_clock = 1;
+    c.set.word_order = PFD_WORDS_CDAB;
     strcpy(c.set.allow, "10.0.0.0/8, 127.0.0.1");
     c.set_mask = pfd_setting_bit(pfd_setting_by_key("max_clients")) |
+                 pfd_setting_bit(pfd_setting_by_key("word_order")) |
                  pfd_setting_bit(pfd_setting_by_key("mlock")) |
                  pfd_setting_bit(pfd_setting_by_key("clock")) |
                  pfd_setting_bit(pfd_setting_by_key("allow"));
