@@ -64,6 +64,10 @@ const pfd_setting pfd_settings_table[] = {
              "clock)"},
     {.flag = "--no-mlock", .key = "mlock", .type = PFD_ST_BOOL, .group = PFD_SG_DAEMON,
      .flag_value = 0, IN_SETTINGS(mlock), .help = "do not mlockall()"},
+    {.flag = "--overrun-report-s", .key = "overrun_report_s", .type = PFD_ST_INT,
+     .group = PFD_SG_DAEMON, .lo = 1, .hi = 3600, IN_SETTINGS(overrun_report_s),
+     .metavar = "N", .help = "at most one msg=overruns line this often, with the "
+                             "overruns of every instance since the line before"},
     {.flag = "--byte-timeout-ms", .key = "byte_timeout_ms", .type = PFD_ST_INT,
      .group = PFD_SG_DAEMON, SECURE, .lo = 1, .hi = 10000, IN_SETTINGS(byte_timeout_ms),
      .metavar = "N", .help = "drop a client that stalls this long mid-frame"},
@@ -367,6 +371,7 @@ void pfd_settings_default(pfd_settings *s)
     s->rt_priority = 80;
     s->loop_budget = 50;
     s->mlock = 1;
+    s->overrun_report_s = 10;
     s->byte_timeout_ms = 100;
     s->idle_timeout_s = 300;
     s->max_per_addr = 8;

@@ -33,6 +33,7 @@ typedef struct pfd_settings {
     int rt_priority;     /**< SCHED_FIFO priority; 0 = do not try */
     int loop_budget;     /**< % of one core the loop's measured load may reach */
     int mlock;
+    int overrun_report_s; /**< at most one msg=overruns line this often */
     int byte_timeout_ms;
     int idle_timeout_s;
     int max_per_addr;    /**< clients from one IPv4 address */

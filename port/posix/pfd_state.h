@@ -74,6 +74,8 @@ typedef struct pfd_inst {
     uint64_t tick_target;       /* atomic; Modbus adds */
     uint64_t tick_done;         /* atomic; loop stores */
     uint32_t reset_req, stats_req; /* atomic; Modbus increments */
+    int64_t late_max_ns;        /* atomic; the worst lateness of a sample since
+                                   the main thread last took it (pfd_overrun.h) */
 
     /* loop private */
     struct {
