@@ -106,7 +106,6 @@ static int add_instances(pfd_daemon *d, const pfd_config *c, const char *path)
                 "unit=%d config=%s arith=%s fs=%.9g substeps=%u internal_fs=%.9g step_ns=%.0f",
                 d->inst[i]->unit, pf_topology_name(ip->p.topology),
                 pfd_arith_name(ip->arith), ip->fs, r->k, r->internal_fs, r->step_ns);
-        pfd_rate_warn_capped(d->inst[i]->unit, r);
     }
     return check_load(d);
 }

@@ -174,13 +174,18 @@ const pfd_reg pfd_regs[] = {
       "last commit: 0 ok, 1 invalid parameter, 2 q15 scaling failed, 3 busy, 4 other error, "
       "5 applied and running but not persisted (config file write failed), "
       "6 the sampled loop would be unstable, "
-      "7 the loop could not run it within loop_budget")
+      "7 the loop could not run it within loop_budget, "
+      "8 substeps 0 and the substep rule needs an internal rate beyond the limits "
+      "(10000 substeps, 200 kHz): its accuracy aim cannot be met; give substeps to "
+      "choose the rate")
     I(17, PFD_T_U16, F_CADDR, "commit_err_addr", "",
       "holding address of the staged parameter that made the last commit fail "
-      "(result 6: the one whose change alone made the loop unstable; result 7: substeps "
+      "(results 6 and 8: the one whose change alone made the set so; result 7: substeps "
       "if the set runs more than one, else fs); 65535 none")
     I(18, PFD_T_U16, F_CPARAM, "commit_err_param", "",
-      "the library's pf_param_id of that parameter (pf_param_name); 65535 none")
+      "the library's pf_param_id of that parameter (pf_param_name); 65535 none, or one "
+      "of the daemon's own registers (arith, bump_tau, substeps), which only "
+      "commit_err_addr names")
     I(19, PFD_T_U16, F_COMMITS, "commits", "", "accepted commits, modulo 65536")
     I(20, PFD_T_U32, F_SAMPLES, "samples", "", "samples (exchanges) run, modulo 2^32")
     I(22, PFD_T_U32, F_OVERRUNS, "overruns", "samples",

@@ -36,6 +36,13 @@ void pfd_start_describe(char *buf, size_t n, const char *path,
     else if (why->st == PFD_E_UNSTABLE)
         snprintf(d, sizeof d, "the sampled loop is unstable (its output would grow without "
                  "bound)");
+    else if (why->st == PFD_E_RATE)
+        snprintf(d, sizeof d, "the substep rule needs an internal rate beyond the limits "
+                 "(%d substeps, %.0f Hz)%s%s%s; give substeps to choose the rate",
+                 PFD_SUBSTEPS_MAX, PFD_INTERNAL_FS_MAX,
+                 why->param != (int)PF_P_COUNT ? ": '" : "",
+                 why->param != (int)PF_P_COUNT ? pfd_param_name(why->param) : "",
+                 why->param != (int)PF_P_COUNT ? "' makes it so" : "");
     else if (why->st == PF_E_SCALE)
         snprintf(d, sizeof d, "q15: a coefficient does not fit (change in_fs/out_fs)");
     else if (why->param != (int)PF_P_COUNT && why->st == PFD_E_DAEMON)
