@@ -13,19 +13,22 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 log() { printf '[setup] %s\n' "$*"; }
 
+# g++: the exported headers are compiled as C++ too (test_export);
+# liblapacke-dev: eigenvalues for `pneufrac design --format zpk|sos`.
 apt_packages=(
-  cmake make gcc libc6-dev pkg-config
-  libcmocka-dev libmodbus-dev mbpoll
+  cmake make gcc g++ libc6-dev pkg-config
+  libcmocka-dev libmodbus-dev mbpoll liblapacke-dev
   gcc-arm-none-eabi libnewlib-arm-none-eabi
   valgrind cppcheck
   python3 python3-venv
 )
 # Each of these imports under its own PyPI name.
-python_packages=(numpy scipy matplotlib pymodbus pytest mpmath)
+python_packages=(numpy scipy matplotlib pymodbus pytest mpmath control)
 # pip requirements: the README's pymodbus example and the integration tests
 # use the 3.x client API (device_id=, convert_to_registers), tested with 3.16.
 # mpmath: tests/ref/make_reference.py, and the test that checks its table.
-pip_specs=(numpy scipy matplotlib "pymodbus>=3.16,<4" pytest mpmath)
+# control: python-control, against which tests/interface checks the exports.
+pip_specs=(numpy scipy matplotlib "pymodbus>=3.16,<4" pytest mpmath control)
 
 # --- 1. Debian packages ------------------------------------------------------
 missing=()

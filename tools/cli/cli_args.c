@@ -9,6 +9,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+void cli_exit_status_help(FILE *f)
+{
+    fputs("Exit status: 0 success; 1 output could not be written (or out of\n"
+          "memory); 2 bad arguments, bad input or a design the library refuses;\n"
+          "3 --plot could not make the plot (the CSV was written).\n", f);
+}
+
 void cli_error(const char *fmt, ...)
 {
     char msg[1024];

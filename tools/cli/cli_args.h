@@ -5,13 +5,18 @@
 #define PNEUFRAC_CLI_ARGS_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 #include "pneufrac/pneufrac.h"
 
-/** Exit statuses of the tool. */
+/** Exit statuses of the tool (cli_exit_status_help prints them). */
 #define CLI_EXIT_OK 0
-#define CLI_EXIT_IO 1    /**< output could not be written */
+#define CLI_EXIT_IO 1    /**< output could not be written; out of memory */
 #define CLI_EXIT_USAGE 2 /**< bad arguments, bad input, invalid design */
+#define CLI_EXIT_PLOT 3  /**< --plot: no plot (the CSV was written) */
+
+/** The exit statuses, for the end of every --help. */
+void cli_exit_status_help(FILE *f);
 
 #if defined(__GNUC__)
 #define CLI_PRINTF(f, a) __attribute__((format(printf, f, a)))

@@ -34,7 +34,9 @@ static void usage(FILE *f)
 "             CMSIS-DSP biquads)\n"
 "  reproduce  the data of the paper's figures as CSV (plots: scripts/reproduce.sh)\n"
 "\n"
-"'pneufrac <command> --help' describes a command's options.\n");
+"'pneufrac <command> --help' describes a command's options.\n"
+"\n");
+    cli_exit_status_help(f);
 }
 
 static int dispatch(int argc, char **argv)
