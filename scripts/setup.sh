@@ -74,9 +74,11 @@ else
   "$venv_python" -m pip install --quiet "${pip_specs[@]}"
 fi
 
-# The analysis package (tools/python), editable: it loads build/lib/libpneufrac.so.
+# The analysis package (tools/python), editable: it loads build/lib/libpneufrac.so;
+# with it pneufrac-plot, which `pneufrac bode|step --plot` runs.
 fit_check="import pneufrac_fit, pathlib, sys; sys.exit(pathlib.Path(pneufrac_fit.__file__).resolve().parent != pathlib.Path('tools/python/pneufrac_fit').resolve())"
-if [[ -x .venv/bin/pneufrac-fit ]] && "$venv_python" -c "$fit_check" >/dev/null 2>&1; then
+if [[ -x .venv/bin/pneufrac-fit && -x .venv/bin/pneufrac-plot ]] &&
+   "$venv_python" -c "$fit_check" >/dev/null 2>&1; then
   log "pneufrac-fit: installed"
 else
   log "installing pneufrac-fit (tools/python, editable)"

@@ -71,8 +71,10 @@ typedef struct cli_effects {
  *  @return 0 or -1. */
 int cli_parse_effect(const char *arg, cli_effects *acc);
 
-/** Parse --band WB:WH (rad/s, both finite and > 0); prints the error.
- *  @return 0 or -1. */
-int cli_parse_band(const char *arg, double *wb, double *wh);
+/** Parse the value of option @p opt, LO:HI in rad/s with 0 < LO < HI
+ *  (named @p lo_name and @p hi_name in messages, e.g. "WB", "WH"); prints
+ *  the error. @return 0 or -1. */
+int cli_parse_range(const char *opt, const char *lo_name, const char *hi_name,
+                    const char *arg, double *lo, double *hi);
 
 #endif /* PNEUFRAC_CLI_ARGS_H */

@@ -10,6 +10,7 @@
 #include "cli_csv.h"
 #include "cli_options.h"
 #include "pfh_fmt.h"
+#include "pfh_ref.h"
 
 void cli_simulate_usage(FILE *f)
 {
@@ -172,6 +173,7 @@ int cli_run_write(const cli_run *run, const pf_ctrl_design *d, FILE *out,
     /* static: the runtime holds a coefficient set of every arithmetic;
      * the CLI runs one simulation per process. */
     static pf_runtime rt;
+    char cols[64], units[128];
     void *dbuf = NULL;
     pf_status st;
     size_t n;
@@ -193,10 +195,12 @@ int cli_run_write(const cli_run *run, const pf_ctrl_design *d, FILE *out,
         return CLI_EXIT_USAGE;
     }
 
-    if (cli_csv_head(out, run->arith == PF_ARITH_Q15 ? "t,e,pc,pc_q15" : "t,e,pc",
-                     run->arith == PF_ARITH_Q15
-                         ? "s,input units,output units,counts of out_fs/32768"
-                         : "s,input units,output units") != 0) {
+    snprintf(cols, sizeof cols, "t,e,pc%s%s", run->arith == PF_ARITH_Q15 ? ",pc_q15" : "",
+             run->exact ? ",pc_exact" : "");
+    snprintf(units, sizeof units, "s,input units,output units%s%s",
+             run->arith == PF_ARITH_Q15 ? ",counts of out_fs/32768" : "",
+             run->exact ? ",output units" : "");
+    if (cli_csv_head(out, cols, units) != 0) {
         free(dbuf);
         return write_error(out_name);
     }
@@ -204,7 +208,7 @@ int cli_run_write(const cli_run *run, const pf_ctrl_design *d, FILE *out,
         double e = run->input == NULL ? 1.0
                    : run->input[n < run->n_input ? n : run->n_input - 1];
         double pc = pf_runtime_step(&rt, e);
-        char row[4 * PFH_FMT_LEN + 8];
+        char row[5 * PFH_FMT_LEN + 8];
         int k = 0;
         /* Shortest round-trip text: the values read back exactly; a float
          * run's output is written as the float it is ("0.1", not
@@ -219,6 +223,12 @@ int cli_run_write(const cli_run *run, const pf_ctrl_design *d, FILE *out,
             k += pfh_fmt_double(row + k, pc);
         if (run->arith == PF_ARITH_Q15)
             k += sprintf(row + k, ",%d", (int)rt.out_q15);
+        if (run->exact) {
+            /* NaN at t = 0 (and within a dead time): the exact response
+             * jumps there and has no value of its own. */
+            row[k++] = ',';
+            k += pfh_fmt_double(row + k, pfh_ref_step_fx(&run->p, &run->fx, (double)n / fs));
+        }
         row[k++] = '\n';
         if (fwrite(row, 1, (size_t)k, out) != (size_t)k) {
             rc = write_error(out_name);

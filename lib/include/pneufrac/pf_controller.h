@@ -134,8 +134,11 @@ typedef struct pf_ctrl_f32 {
     pf_ctrl_signals_f32 sig;
 } pf_ctrl_f32;
 
-/** Discrete frequency response P_c/E of the designed (linear) controller at
- *  omega rad/s, z = exp(j omega/fs), including the held-input mean. */
+/** Discrete frequency response P_c/E of the designed controller at omega
+ *  rad/s, z = exp(j omega/fs): the output of pf_ctrl_step_f64 per input,
+ *  including the held-input mean and the output line (lag, dead time).
+ *  Backlash, the nozzle curve and saturation are nonlinear and left out
+ *  (the response is that of the linear controller beneath them). */
 void pf_ctrl_freqresp(const pf_ctrl_design *d, double omega, double *re,
                       double *im);
 
