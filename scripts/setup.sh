@@ -23,12 +23,13 @@ apt_packages=(
   python3 python3-venv
 )
 # Each of these imports under its own PyPI name.
-python_packages=(numpy scipy matplotlib pymodbus pytest mpmath control)
+python_packages=(numpy scipy matplotlib pymodbus pytest mpmath control pandas)
 # pip requirements: the README's pymodbus example and the integration tests
 # use the 3.x client API (device_id=, convert_to_registers), tested with 3.16.
 # mpmath: tests/ref/make_reference.py, and the test that checks its table.
-# control: python-control, against which tests/interface checks the exports.
-pip_specs=(numpy scipy matplotlib "pymodbus>=3.16,<4" pytest mpmath control)
+# control (python-control) and pandas: tests/interface checks the exports
+# with them, and the CSV files as pandas reads them.
+pip_specs=(numpy scipy matplotlib "pymodbus>=3.16,<4" pytest mpmath control pandas)
 
 # --- 1. Debian packages ------------------------------------------------------
 missing=()
