@@ -14,10 +14,11 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 log() { printf '[setup] %s\n' "$*"; }
 
 # g++: the exported headers are compiled as C++ too (test_export);
-# liblapacke-dev: eigenvalues for `pneufrac design --format zpk|sos`.
+# liblapacke-dev: eigenvalues for `pneufrac design --format zpk|sos`;
+# groff-base: the man pages' lint (docs/man/generate.py --check).
 apt_packages=(
   cmake make gcc g++ libc6-dev pkg-config
-  libcmocka-dev libmodbus-dev mbpoll liblapacke-dev
+  libcmocka-dev libmodbus-dev mbpoll liblapacke-dev groff-base
   gcc-arm-none-eabi libnewlib-arm-none-eabi
   valgrind cppcheck
   python3 python3-venv
