@@ -19,18 +19,21 @@ log() { printf '[setup] %s\n' "$*"; }
 apt_packages=(
   cmake make gcc g++ libc6-dev pkg-config
   libcmocka-dev libmodbus-dev mbpoll liblapacke-dev groff-base
+  libssl-dev openssl
   gcc-arm-none-eabi libnewlib-arm-none-eabi
   valgrind cppcheck
   python3 python3-venv
 )
 # Each of these imports under its own PyPI name.
-python_packages=(numpy scipy matplotlib pymodbus pytest mpmath control pandas)
+python_packages=(numpy scipy matplotlib pymodbus pytest mpmath cryptography control pandas)
 # pip requirements: the README's pymodbus example and the integration tests
 # use the 3.x client API (device_id=, convert_to_registers), tested with 3.16.
 # mpmath: tests/ref/make_reference.py, and the test that checks its table.
+# cryptography: the Modbus/TCP Security test makes its CA and certificates
+# (tests/integration/test_tls.py).
 # control (python-control) and pandas: tests/interface checks the exports
 # with them, and the CSV files as pandas reads them.
-pip_specs=(numpy scipy matplotlib "pymodbus>=3.16,<4" pytest mpmath control pandas)
+pip_specs=(numpy scipy matplotlib "pymodbus>=3.16,<4" pytest mpmath cryptography control pandas)
 
 # --- 1. Debian packages ------------------------------------------------------
 missing=()

@@ -8,7 +8,8 @@
 /* Cross-checks of options that the table cannot express row by row. */
 static int check_combination(const pfd_cli *a, char *err, size_t errlen)
 {
-    unsigned inst = 0, i;
+    pfd_mask inst = 0;
+    unsigned i;
     for (i = 0; i < pfd_settings_count; i++)
         if (pfd_settings_table[i].group == PFD_SG_INSTANCES)
             inst |= pfd_setting_bit(&pfd_settings_table[i]);
@@ -121,7 +122,7 @@ static void help_row(FILE *f, const pfd_setting *r, const pfd_settings *s0,
     if (r->type == PFD_ST_INT || r->type == PFD_ST_REAL)
         k = (size_t)snprintf(extra, sizeof extra, "(%.15g..%.15g%s", r->lo, r->hi,
                              (r->flags & PFD_SF_NODEF) ? ")" : "; ");
-    else if (r->type != PFD_ST_BOOL && r->type != PFD_ST_PATH)
+    else if (r->type != PFD_ST_BOOL && r->type != PFD_ST_PATH && r->type != PFD_ST_FILE)
         k = (size_t)snprintf(extra, sizeof extra, "(");
     if (k > 0 && !(r->flags & PFD_SF_NODEF))
         snprintf(extra + k, sizeof extra - k, "default %s)", val);

@@ -10,7 +10,7 @@
 
 typedef struct pfd_cli {
     pfd_settings set; /**< defaults, then what the command line gives */
-    unsigned given;   /**< pfd_setting_bit() of every row given */
+    pfd_mask given;   /**< pfd_setting_bit() of every row given */
     pfd_run run;
 } pfd_cli;
 

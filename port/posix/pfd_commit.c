@@ -6,7 +6,9 @@
 #include <string.h>
 #include <time.h>
 
+#include "pfd_audit.h"
 #include "pfd_log.h"
+#include "pfd_plausible.h"
 
 int pfd_daemon_init(pfd_daemon *d, const pfd_settings *set)
 {
@@ -14,10 +16,11 @@ int pfd_daemon_init(pfd_daemon *d, const pfd_settings *set)
 
     memset(d, 0, sizeof *d);
     d->set = *set;
-    d->server.listen_fd = -1;
+    d->server.listen_fd = d->server.tls_fd = d->server.reserve_fd = -1;
     d->scratch = malloc(sizeof *d->scratch);
     d->persist_buf = malloc(sizeof *d->persist_buf);
-    if (d->scratch == NULL || d->persist_buf == NULL) {
+    d->check = malloc(sizeof *d->check);
+    if (d->scratch == NULL || d->persist_buf == NULL || d->check == NULL) {
         pfd_daemon_free(d);
         return -1;
     }
@@ -36,6 +39,7 @@ int pfd_daemon_init(pfd_daemon *d, const pfd_settings *set)
 
 int pfd_inst_add(pfd_daemon *d, const pfd_config_inst *ci, pfd_fail *why)
 {
+    pfd_iparams ref;
     pfd_inst *in;
     pfd_snap s0;
     int k;
@@ -62,7 +66,8 @@ int pfd_inst_add(pfd_daemon *d, const pfd_config_inst *ci, pfd_fail *why)
             return -1;
         }
     }
-    if (pfd_slot_build(in->slot[0], &ci->ip, d->scratch, why) != 0) {
+    pfd_plausible_ref(&ci->ip, NULL, &ref);
+    if (pfd_slot_prepare(in->slot[0], &ci->ip, &ref, d->scratch, d->check, why) != 0) {
         for (k = 0; k < PFD_NSLOTS; k++)
             free(in->slot[k]);
         free(in);
@@ -72,9 +77,9 @@ int pfd_inst_add(pfd_daemon *d, const pfd_config_inst *ci, pfd_fail *why)
     in->slot_state[0] = PFD_SLOT_ACTIVE;
     in->rt.active = in->slot[0];
     in->rt.active_idx = 0;
-    in->hold.live = ci->live;
-    in->hold.param_lock = (uint16_t)(d->set.param_lock ? 1 : 0);
-    in->hold.staged = ci->ip;
+    in->live = ci->live;
+    in->param_lock = (uint16_t)(d->set.param_lock ? 1 : 0);
+    in->lock_holder = 0;
     in->committed = ci->ip;
     in->err_addr = 0xFFFFu;
     in->err_param = 0xFFFFu;
@@ -101,13 +106,49 @@ void pfd_daemon_free(pfd_daemon *d)
     d->scratch = NULL;
     free(d->persist_buf);
     d->persist_buf = NULL;
+    free(d->check);
+    d->check = NULL;
 }
 
 void pfd_publish_live(pfd_inst *in)
 {
     pfd_live *b = (pfd_live *)pfd_tbuf_back(&in->in_tb);
-    *b = in->hold.live;
+    *b = in->live;
     pfd_tbuf_publish(&in->in_tb);
+}
+
+void pfd_apply_settings(pfd_inst *in, const pfd_who *w, const pfd_wlist *wl)
+{
+    pfd_hold before, after;
+    unsigned i;
+
+    memset(&before, 0, sizeof before);
+    before.live = in->live;
+    before.param_lock = in->param_lock;
+    after = before;
+    pfd_regmap_apply(&after, &in->committed, wl);
+    for (i = 0; i < wl->n; i++)
+        if (!strcmp(wl->w[i].r->name, "param_lock"))
+            in->lock_holder = wl->w[i].v != 0.0 ? w->id : 0;
+    pfd_audit_settings(w, in->unit, &before, &after, &in->committed, "ok");
+    in->live = after.live;
+    in->param_lock = after.param_lock;
+    if (wl->live)
+        pfd_publish_live(in);
+}
+
+void pfd_release_lock(pfd_inst *in, const pfd_who *w, const char *why)
+{
+    pfd_hold before, after;
+
+    memset(&before, 0, sizeof before);
+    before.live = in->live;
+    before.param_lock = in->param_lock;
+    after = before;
+    after.param_lock = 0;
+    pfd_audit_settings(w, in->unit, &before, &after, &in->committed, why);
+    in->param_lock = 0;
+    in->lock_holder = 0;
 }
 
 static int iparams_equal(const pfd_iparams *a, const pfd_iparams *b)
@@ -123,7 +164,7 @@ static int iparams_equal(const pfd_iparams *a, const pfd_iparams *b)
 }
 
 uint16_t pfd_status_bits(const pfd_daemon *d, const pfd_inst *in,
-                         const pfd_snap *s)
+                         const pfd_snap *s, const pfd_iparams *staged)
 {
     uint16_t b = 0;
     if (!pfd_stopping(d))
@@ -134,13 +175,13 @@ uint16_t pfd_status_bits(const pfd_daemon *d, const pfd_inst *in,
         b |= 1u << 2;
     if (s->flags & PFD_SNAP_MANUAL)
         b |= 1u << 3;
-    if (in->hold.param_lock)
+    if (in->param_lock)
         b |= 1u << 4;
     if (d->set.read_only)
         b |= 1u << 5;
     if (d->set.external_clock)
         b |= 1u << 6;
-    if (!iparams_equal(&in->hold.staged, &in->committed))
+    if (!iparams_equal(staged, &in->committed))
         b |= 1u << 7;
     /* The set the loop ran last is not the one committed last. */
     if (s->gen != in->gen)
@@ -165,6 +206,7 @@ unsigned pfd_settle_samples(double fs)
 
 static int refuse(pfd_daemon *d, pfd_inst *in, uint16_t result, int param)
 {
+    /* An unstable set names the parameter, like an invalid one. */
     pthread_mutex_lock(&d->regs_mx);
     in->commit_result = result;
     in->err_param = param == PF_P_COUNT ? 0xFFFFu : (uint16_t)param;
@@ -197,10 +239,10 @@ static int free_slot(const pfd_inst *in)
 
 static int persist_locked(pfd_daemon *d);
 
-int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
+int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_who *w, const pfd_stage *st,
+               const pfd_wlist *wl)
 {
-    pfd_hold tmp;
-    pfd_iparams ip;
+    pfd_iparams ip, old_set, ref;
     pfd_slot *slot, *old;
     pfd_fail why;
     float e_hold;
@@ -208,10 +250,10 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
 
     pthread_mutex_lock(&d->commit_mx);
 
+    /* `committed` changes only under commit_mx, which we hold. */
     pthread_mutex_lock(&d->regs_mx);
-    tmp = in->hold;
-    pfd_regmap_apply(&tmp, &in->committed, wl);
-    ip = tmp.staged;
+    old_set = in->committed;
+    pfd_stage_compose(st, wl, &in->committed, &ip);
     e_hold = ((const pfd_snap *)pfd_tbuf_latest(&in->out_tb))->e_used;
     pthread_mutex_unlock(&d->regs_mx);
 
@@ -222,14 +264,20 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
         return rc;
     }
     slot = in->slot[k];
-    if (pfd_slot_build(slot, &ip, d->scratch, &why) != 0) {
-        uint16_t res = why.st == PF_E_SCALE ? PFD_COMMIT_SCALE
-                       : why.param != PF_P_COUNT ? PFD_COMMIT_INVALID
-                                                 : PFD_COMMIT_FAILED;
+    pfd_plausible_ref(&ip, &old_set, &ref);
+    if (pfd_slot_prepare(slot, &ip, &ref, d->scratch, d->check, &why) != 0) {
+        uint16_t res = why.st == PF_E_SCALE         ? PFD_COMMIT_SCALE
+                       : why.st == PFD_E_UNSTABLE   ? PFD_COMMIT_UNSTABLE
+                       : why.param != PF_P_COUNT    ? PFD_COMMIT_INVALID
+                                                    : PFD_COMMIT_FAILED;
         int rc;
-        pfd_log(PFD_LOG_WARN, "commit-refused", "unit=%d result=%u param=%s status=\"%s\"",
+        pfd_audit_params(w, in->unit, &old_set, &ip, "refused");
+        pfd_log(PFD_LOG_WARN, "commit-refused",
+                "peer=%s role=%s unit=%d result=%u param=%s status=\"%s\"", w->peer, w->role,
                 in->unit, (unsigned)res, pfd_param_name(why.param),
-                why.st == PFD_E_DAEMON ? "out of range" : pf_status_str(why.st));
+                why.st == PFD_E_DAEMON     ? "out of range"
+                : why.st == PFD_E_UNSTABLE ? "unstable sampled loop"
+                                           : pf_status_str(why.st));
         /* The slot was free and stays free: a pending set, if any, is
          * still what `committed` and the config file describe. */
         rc = refuse(d, in, res, why.param);
@@ -242,17 +290,17 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
     slot->gen = in->gen + 1u;
 
     pthread_mutex_lock(&d->regs_mx);
-    /* execute() checked the lock, but another client may have set it
-     * since; checked again where the commit takes effect, so that no
-     * commit is applied after the lock write has been answered. */
-    if (in->hold.param_lock) {
+    /* The request was checked against the lock, but another client may
+     * have taken it since; checked again where the commit takes effect,
+     * so that no commit is applied after the lock write was answered. */
+    if (in->param_lock && in->lock_holder != w->id) {
         pthread_mutex_unlock(&d->regs_mx);
         pthread_mutex_unlock(&d->commit_mx);
+        pfd_audit_refused(w, in->unit, 0, 0, MODBUS_EXCEPTION_ILLEGAL_FUNCTION, "locked");
         return MODBUS_EXCEPTION_ILLEGAL_FUNCTION;
     }
-    pfd_regmap_apply(&in->hold, &in->committed, wl);
-    if (wl->live)
-        pfd_publish_live(in);
+    pfd_apply_settings(in, w, wl);
+    pfd_audit_params(w, in->unit, &old_set, &ip, "committed");
     in->committed = ip;
     in->commit_result = PFD_COMMIT_OK;
     in->err_addr = 0xFFFFu;
@@ -267,8 +315,9 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_wlist *wl)
             __atomic_store_n(&in->slot_state[j], PFD_SLOT_FREE, __ATOMIC_RELEASE);
     pthread_mutex_unlock(&d->regs_mx);
 
-    pfd_log(PFD_LOG_INFO, "commit", "unit=%d config=%s arith=%s fs=%.9g",
-            in->unit, pf_topology_name(ip.p.topology), pfd_arith_name(ip.arith), ip.fs);
+    pfd_log(PFD_LOG_INFO, "commit", "peer=%s role=%s unit=%d config=%s arith=%s fs=%.9g",
+            w->peer, w->role, in->unit, pf_topology_name(ip.p.topology),
+            pfd_arith_name(ip.arith), ip.fs);
     /* Answered only once the file is on disk; if it cannot be written the
      * set still runs (it was switched in above), and the client learns
      * that it would not survive a restart. */
@@ -299,7 +348,7 @@ static int persist_locked(pfd_daemon *d)
         const pfd_inst *in = d->inst[i];
         pfd_config_inst_default(&c->inst[i], in->unit);
         c->inst[i].ip = in->committed;
-        c->inst[i].live = in->hold.live;
+        c->inst[i].live = in->live;
     }
     pthread_mutex_unlock(&d->regs_mx);
     rc = pfd_config_write(d->config_path, c, err, sizeof err);

@@ -27,7 +27,7 @@ typedef struct pfd_config_inst {
 
 typedef struct pfd_config {
     pfd_settings set;
-    unsigned set_mask; /**< pfd_setting_bit() of every [daemon] key given */
+    pfd_mask set_mask; /**< pfd_setting_bit() of every [daemon] key given */
     int n;
     pfd_config_inst inst[PFD_MAX_INSTANCES];
 } pfd_config;

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 #include "pfd_log.h"
 
+#include <pthread.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -59,4 +60,34 @@ void pfd_fatal(const char *fmt, ...)
     (void)k;
     strcat(line, "\n");
     fputs(line, stderr);
+}
+
+int pfd_log_ratelimit(pfd_ratelimit *rl)
+{
+    static pthread_mutex_t mx = PTHREAD_MUTEX_INITIALIZER;
+    const long long window = (long long)PFD_RATELIMIT_WINDOW_S * 1000000000LL;
+    struct timespec ts;
+    long long now;
+    unsigned dropped = 0;
+    int ok;
+
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    now = (long long)ts.tv_sec * 1000000000LL + ts.tv_nsec;
+    pthread_mutex_lock(&mx);
+    if (rl->n == 0 || now - rl->start_ns >= window) {
+        dropped = rl->dropped;
+        rl->start_ns = now;
+        rl->n = 0;
+        rl->dropped = 0;
+    }
+    ok = rl->n < PFD_RATELIMIT_BURST;
+    if (ok)
+        rl->n++;
+    else
+        rl->dropped++;
+    pthread_mutex_unlock(&mx);
+    if (dropped > 0)
+        pfd_log(PFD_LOG_WARN, "log-suppressed", "what=%s lines=%u window_s=%d", rl->what,
+                dropped, PFD_RATELIMIT_WINDOW_S);
+    return ok;
 }

@@ -13,7 +13,7 @@
 #include "pfd_commit.h"
 #include "pfd_log.h"
 #include "pfd_loop.h"
-#include "pfd_modbus.h"
+#include "pfd_server.h"
 #include "pfd_regmap.h"
 #include "pfd_start.h"
 
@@ -98,22 +98,28 @@ static void serve(pfd_daemon *d, const sigset_t *sigs, double run_for)
     }
 }
 
-/* Start the daemon on @p c, serve, stop. @return the exit status. */
-static int run(const pfd_cli *a, const pfd_config *c)
+/* Start the daemon on @p c, serve, stop. @p fallback: @p c is the
+ * defaults, standing in for a file that could not be used. @return the
+ * exit status. */
+static int run(const pfd_cli *a, const pfd_config *c, int fallback)
 {
     pfd_daemon *d = malloc(sizeof *d);
     pfd_settings set = c->set;
     sigset_t sigs;
     int rc = 0;
 
-    /* The file's [daemon] section, then the command line. */
+    /* The file's [daemon] section (in a fallback: the defaults with the
+     * security settings at their fallback values), then the command line. */
+    if (fallback)
+        pfd_settings_fallback(&set);
     pfd_settings_copy(&set, &a->set, a->given);
     if (d == NULL || pfd_daemon_init(d, &set) != 0) {
         pfd_fatal("out of memory");
         free(d);
         return 1;
     }
-    d->config_path = a->run.config;
+    /* Never rewrite a file that could not be used. */
+    d->config_path = fallback ? NULL : a->run.config;
     d->config_file = c;
     if (add_instances(d, c, a->run.config) != 0) {
         pfd_daemon_free(d);
@@ -121,8 +127,11 @@ static int run(const pfd_cli *a, const pfd_config *c)
         return PFD_EXIT_USAGE;
     }
 
-    /* Every thread inherits this mask; main alone takes the signals. */
+    /* Every thread inherits this mask; main alone takes the signals. A
+     * write past RLIMIT_FSIZE (ulimit -f) must fail with EFBIG, so that a
+     * commit is answered "not persisted", instead of killing the daemon. */
     signal(SIGPIPE, SIG_IGN);
+    signal(SIGXFSZ, SIG_IGN);
     sigemptyset(&sigs);
     sigaddset(&sigs, SIGINT);
     sigaddset(&sigs, SIGTERM);
@@ -184,7 +193,8 @@ int main(int argc, char **argv)
         pfd_fatal("out of memory");
         return 1;
     }
-    rc = pfd_start_config(&a.run, c) == 0 ? run(&a, c) : PFD_EXIT_USAGE;
+    rc = pfd_start_config(&a.run, c);
+    rc = rc < 0 ? PFD_EXIT_USAGE : run(&a, c, rc == 1);
     free(c);
     return rc;
 }

@@ -1,109 +1,147 @@
 /* SPDX-License-Identifier: MIT */
 #include "pfd_modbus.h"
 
-#include <arpa/inet.h>
-#include <errno.h>
 #include <modbus/modbus.h>
-#include <netinet/in.h>
-#include <netinet/tcp.h>
-#include <poll.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/select.h>
-#include <sys/socket.h>
-#include <time.h>
-#include <unistd.h>
 
-#include "pfd_addr.h"
+#include "pfd_audit.h"
 #include "pfd_commit.h"
-#include "pfd_log.h"
 #include "pfd_loop.h"
 #include "pfd_regmap.h"
 
-#define MBAP_LEN 7
-#define CLIENT_STACK (256 * 1024)
-
-/* One slot of pfd_daemon.server.clients. */
-typedef struct pfd_client {
-    pfd_daemon *d;
-    pthread_t th;
-    int fd;
-    int in_use; /* slot taken (under clients_mx) */
-    int done;   /* thread finished, join pending (atomic) */
-    char peer[48];
-} pfd_client;
-
 static unsigned be16(const uint8_t *p) { return ((unsigned)p[0] << 8) | p[1]; }
 
-/* ---- one request ------------------------------------------------------- */
-
-typedef struct reqctx {
-    pfd_daemon *d;
-    modbus_t *ctx;
-    modbus_mapping_t *map;
-    const uint8_t *req;
-    int len;
-} reqctx;
-
-static int reply_exc(reqctx *r, int code)
+static void put16(uint8_t *p, unsigned v)
 {
-    return modbus_reply_exception(r->ctx, r->req, (unsigned)code) < 0 ? -1 : 0;
+    p[0] = (uint8_t)(v >> 8);
+    p[1] = (uint8_t)(v & 0xFFu);
 }
 
-/* Render every register of @p space into the scratch mapping that
- * modbus_reply() reads from. */
-static void fill(reqctx *r, pfd_inst *in, int space)
+int pfd_mbap_length(const uint8_t *hdr)
 {
-    uint16_t img[PFD_INPUT_SIZE > PFD_HOLD_SIZE ? PFD_INPUT_SIZE : PFD_HOLD_SIZE];
+    unsigned len = be16(hdr + 4);
+    if (be16(hdr + 2) != 0 || len < 2 || len > PFD_ADU_MAX - 6)
+        return -1;
+    return 6 + (int)len;
+}
+
+/* The answer's MBAP header for a PDU of @p pdu_len bytes. */
+static int answer(const uint8_t *req, uint8_t *rsp, unsigned pdu_len)
+{
+    memcpy(rsp, req, 2); /* transaction id */
+    put16(rsp + 2, 0);
+    put16(rsp + 4, pdu_len + 1);
+    rsp[6] = req[6];
+    return PFD_MBAP_LEN + (int)pdu_len;
+}
+
+/* An exception: the request's function code with bit 7 set (a function
+ * code of 0x80 or more keeps it), then the code. */
+static int exception(const uint8_t *req, uint8_t *rsp, int code)
+{
+    rsp[7] = (uint8_t)(req[7] | 0x80u);
+    rsp[8] = (uint8_t)code;
+    return answer(req, rsp, 2);
+}
+
+/* The holding registers as client @p s sees them: the live ones, the
+ * lock, and its own staged set. Under regs_mx. */
+static void client_hold(const pfd_session *s, const pfd_inst *in, pfd_hold *h)
+{
+    memset(h, 0, sizeof *h);
+    h->live = in->live;
+    h->param_lock = in->param_lock;
+    pfd_stage_compose(s->stage[in->unit], NULL, &in->committed, &h->staged);
+}
+
+/* Every register of @p space, as @p s sees it, into @p img. */
+static void render(pfd_daemon *d, const pfd_session *s, pfd_inst *in, int space,
+                   uint16_t *img)
+{
     pfd_view v;
-
-    pthread_mutex_lock(&r->d->regs_mx);
-    v.inst = in;
-    v.snap = (const pfd_snap *)pfd_tbuf_latest(&in->out_tb);
-    v.status = pfd_status_bits(r->d, in, v.snap);
-    v.n_instances = (uint16_t)r->d->n;
-    pfd_regmap_render(space, &v, img);
-    pthread_mutex_unlock(&r->d->regs_mx);
-    memcpy(space == PFD_HOLD ? r->map->tab_registers : r->map->tab_input_registers,
-           img, (space == PFD_HOLD ? PFD_HOLD_SIZE : PFD_INPUT_SIZE) * sizeof img[0]);
-}
-
-/* Validated writes: state checks, then data, commit, command, tick.
- * @return 0 done, > 0 MODBUS_EXCEPTION_* code, -1 drop the connection. */
-static int execute(reqctx *r, pfd_inst *in, const pfd_wlist *wl)
-{
-    pfd_daemon *d = r->d;
-    int rc;
+    pfd_hold h;
 
     pthread_mutex_lock(&d->regs_mx);
-    rc = 0;
-    /* Discarding the staged set changes staged registers too, so the lock
-     * refuses it like a staged write. */
-    if ((wl->staged || wl->commit || wl->command == 1) && in->hold.param_lock)
-        rc = MODBUS_EXCEPTION_ILLEGAL_FUNCTION;
-    if (wl->lock && d->set.param_lock) {
-        unsigned i;
-        for (i = 0; i < wl->n; i++)
-            if (!strcmp(wl->w[i].r->name, "param_lock") && wl->w[i].v != 1.0)
-                rc = MODBUS_EXCEPTION_ILLEGAL_FUNCTION;
-    }
+    client_hold(s, in, &h);
+    v.inst = in;
+    v.hold = &h;
+    v.snap = (const pfd_snap *)pfd_tbuf_latest(&in->out_tb);
+    v.status = pfd_status_bits(d, in, v.snap, &h.staged);
+    v.n_instances = (uint16_t)d->n;
+    pfd_regmap_render(space, &v, img);
+    pthread_mutex_unlock(&d->regs_mx);
+}
+
+/* Under regs_mx: why @p wl may not be applied now, or NULL. */
+static const char *forbidden(const pfd_daemon *d, const pfd_session *s,
+                             const pfd_inst *in, const pfd_wlist *wl)
+{
+    if (wl->access > s->who.access)
+        return "access";
+    /* Nobody holds a lock set by --param-lock (holder 0), so it closes
+     * everything that is not open for every client, for good. */
+    if (wl->guarded && in->param_lock && in->lock_holder != s->who.id)
+        return "locked";
     if (wl->tick && !d->set.external_clock)
-        rc = MODBUS_EXCEPTION_ILLEGAL_FUNCTION;
-    if (rc != 0 || wl->commit) {
+        return "internal-clock";
+    return NULL;
+}
+
+/* Under regs_mx: the data writes of @p wl (not a commit): live settings
+ * and the lock on the instance, staged parameters in the client's own
+ * staging. @return 0, or -1 out of memory. */
+static int apply(pfd_session *s, pfd_inst *in, const pfd_wlist *wl)
+{
+    if (wl->staged && s->stage[in->unit] == NULL) {
+        s->stage[in->unit] = calloc(1, sizeof(pfd_stage));
+        if (s->stage[in->unit] == NULL)
+            return -1;
+    }
+    pfd_apply_settings(in, &s->who, wl);
+    if (wl->staged)
+        pfd_stage_record(s->stage[in->unit], wl);
+    return 0;
+}
+
+/* Validated writes: permission, then data, commit, command, tick.
+ * @return 0 done, > 0 MODBUS_EXCEPTION_* code, -1 drop the connection. */
+static int execute(pfd_daemon *d, pfd_session *s, pfd_inst *in, const pfd_wlist *wl,
+                   unsigned addr, unsigned cnt)
+{
+    const char *why;
+    int rc = 0;
+
+    pthread_mutex_lock(&d->regs_mx);
+    why = forbidden(d, s, in, wl);
+    if (why != NULL) {
         pthread_mutex_unlock(&d->regs_mx);
-        if (rc != 0)
+        pfd_audit_refused(&s->who, in->unit, addr, cnt, MODBUS_EXCEPTION_ILLEGAL_FUNCTION, why);
+        return MODBUS_EXCEPTION_ILLEGAL_FUNCTION;
+    }
+    if (wl->commit) {
+        pthread_mutex_unlock(&d->regs_mx);
+        rc = pfd_commit(d, in, &s->who, s->stage[in->unit], wl);
+        if (rc != 0 && rc != MODBUS_EXCEPTION_SLAVE_OR_SERVER_FAILURE)
             return rc;
-        rc = pfd_commit(d, in, wl);
+        /* Committed (perhaps not persisted): this client's staging is
+         * now the committed set. */
+        free(s->stage[in->unit]);
+        s->stage[in->unit] = NULL;
         if (rc != 0)
             return rc;
     } else {
-        pfd_regmap_apply(&in->hold, &in->committed, wl);
-        if (wl->live)
-            pfd_publish_live(in);
-        if (wl->command == 1)
-            in->hold.staged = in->committed;
+        rc = apply(s, in, wl);
+        if (rc == 0 && wl->command == 1) {
+            free(s->stage[in->unit]);
+            s->stage[in->unit] = NULL;
+        }
         pthread_mutex_unlock(&d->regs_mx);
+        if (rc != 0)
+            return MODBUS_EXCEPTION_SLAVE_OR_SERVER_FAILURE;
     }
+    if (wl->command != 0)
+        pfd_audit_command(&s->who, in->unit, wl->command);
     if (wl->command == 2)
         __atomic_add_fetch(&in->reset_req, 1u, __ATOMIC_ACQ_REL);
     else if (wl->command == 3)
@@ -114,47 +152,59 @@ static int execute(reqctx *r, pfd_inst *in, const pfd_wlist *wl)
 }
 
 /* Decode and apply a write of @p cnt registers from @p addr, whose values
- * start at @p payload. @return 0, > 0 MODBUS_EXCEPTION_* (already
- * answered) or -1 (drop the connection). */
-static int write_regs(reqctx *r, pfd_inst *in, unsigned addr, unsigned cnt,
-                      const uint8_t *payload)
+ * start at @p payload. @return 0, > 0 MODBUS_EXCEPTION_*, -1 drop. */
+static int write_regs(pfd_daemon *d, pfd_session *s, pfd_inst *in, unsigned addr,
+                      unsigned cnt, const uint8_t *payload)
 {
     uint16_t vals[MODBUS_MAX_WRITE_REGISTERS];
     pfd_wlist wl;
     unsigned i;
     int rc;
 
+    if (d->set.read_only) {
+        pfd_audit_refused(&s->who, in->unit, addr, cnt, MODBUS_EXCEPTION_ILLEGAL_FUNCTION,
+                          "read-only");
+        return MODBUS_EXCEPTION_ILLEGAL_FUNCTION;
+    }
     for (i = 0; i < cnt; i++)
         vals[i] = (uint16_t)be16(payload + 2 * i);
     rc = pfd_regmap_decode(addr, cnt, vals, &wl);
-    if (rc == 0)
-        rc = execute(r, in, &wl);
-    if (rc > 0 && reply_exc(r, rc) != 0)
-        return -1;
-    return rc;
+    if (rc != 0) {
+        pfd_audit_refused(&s->who, in->unit, addr, cnt, rc,
+                          rc == MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS ? "address" : "value");
+        return rc;
+    }
+    return execute(d, s, in, &wl, addr, cnt);
 }
 
-static int handle(reqctx *r)
+/* The registers [addr, addr+cnt) of @p space after a read: byte count,
+ * then the values. @return the answer's length. */
+static int read_answer(pfd_daemon *d, pfd_session *s, pfd_inst *in, int space,
+                       unsigned addr, unsigned cnt, const uint8_t *req, uint8_t *rsp)
 {
-    pfd_daemon *d = r->d;
-    const uint8_t *req = r->req, *pdu;
-    unsigned fc, pdu_len, addr, cnt;
-    pfd_inst *in;
-    uint8_t patched[MODBUS_TCP_MAX_ADU_LENGTH]; /* FC23's answer, see there */
+    uint16_t img[PFD_INPUT_SIZE > PFD_HOLD_SIZE ? PFD_INPUT_SIZE : PFD_HOLD_SIZE];
     unsigned i;
+
+    render(d, s, in, space, img);
+    rsp[7] = req[7];
+    rsp[8] = (uint8_t)(2 * cnt);
+    for (i = 0; i < cnt; i++)
+        put16(rsp + 9 + 2 * i, img[addr + i]);
+    return answer(req, rsp, 2 + 2 * cnt);
+}
+
+int pfd_request(pfd_daemon *d, pfd_session *s, const uint8_t *req, int len, uint8_t *rsp)
+{
+    const uint8_t *pdu = req + PFD_MBAP_LEN;
+    const unsigned fc = req[7], pdu_len = (unsigned)(len - PFD_MBAP_LEN);
+    pfd_inst *in = d->by_unit[req[6]];
+    unsigned addr, cnt, waddr, wcnt;
     int rc;
 
-    /* libmodbus frames by function code and ignores the MBAP length and
-     * protocol id; a mismatch means the byte stream cannot be trusted. */
-    if (r->len < MBAP_LEN + 1 || be16(req + 2) != 0 ||
-        be16(req + 4) != (unsigned)(r->len - 6))
-        return -1;
-    in = d->by_unit[req[6]];
-    fc = req[7];
-    pdu = req + MBAP_LEN;
-    pdu_len = (unsigned)(r->len - MBAP_LEN);
     if (in == NULL)
-        return reply_exc(r, MODBUS_EXCEPTION_GATEWAY_TARGET);
+        return exception(req, rsp, MODBUS_EXCEPTION_GATEWAY_TARGET);
+    if (s->who.access < PFD_ACCESS_READ)
+        return exception(req, rsp, MODBUS_EXCEPTION_ILLEGAL_FUNCTION);
 
     switch (fc) {
     case MODBUS_FC_READ_HOLDING_REGISTERS:
@@ -166,41 +216,35 @@ static int handle(reqctx *r)
         addr = be16(pdu + 1);
         cnt = be16(pdu + 3);
         if (cnt < 1 || cnt > MODBUS_MAX_READ_REGISTERS)
-            return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
+            return exception(req, rsp, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
         if (addr + cnt > size)
-            return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS);
-        fill(r, in, space);
-        break;
+            return exception(req, rsp, MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS);
+        return read_answer(d, s, in, space, addr, cnt, req, rsp);
     }
     case MODBUS_FC_WRITE_SINGLE_REGISTER:
         if (pdu_len != 5)
             return -1;
-        if (d->set.read_only)
-            return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_FUNCTION);
-        rc = write_regs(r, in, be16(pdu + 1), 1, pdu + 3);
+        rc = write_regs(d, s, in, be16(pdu + 1), 1, pdu + 3);
         if (rc != 0)
-            return rc < 0 ? -1 : 0;
-        break;
+            return rc < 0 ? -1 : exception(req, rsp, rc);
+        memcpy(rsp, req, (size_t)len); /* the echo */
+        return len;
     case MODBUS_FC_WRITE_MULTIPLE_REGISTERS:
         if (pdu_len < 6)
             return -1;
-        if (d->set.read_only)
-            return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_FUNCTION);
         addr = be16(pdu + 1);
         cnt = be16(pdu + 3);
         if (cnt < 1 || cnt > MODBUS_MAX_WRITE_REGISTERS || pdu[5] != cnt * 2 ||
             pdu_len != 6 + cnt * 2)
-            return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
-        rc = write_regs(r, in, addr, cnt, pdu + 6);
+            return exception(req, rsp, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
+        rc = write_regs(d, s, in, addr, cnt, pdu + 6);
         if (rc != 0)
-            return rc < 0 ? -1 : 0;
-        break;
-    case MODBUS_FC_WRITE_AND_READ_REGISTERS: {
-        unsigned waddr, wcnt;
+            return rc < 0 ? -1 : exception(req, rsp, rc);
+        memcpy(rsp, req, PFD_MBAP_LEN + 5); /* function, address, count */
+        return answer(req, rsp, 5);
+    case MODBUS_FC_WRITE_AND_READ_REGISTERS:
         if (pdu_len < 10)
             return -1;
-        if (d->set.read_only)
-            return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_FUNCTION);
         addr = be16(pdu + 1);
         cnt = be16(pdu + 3);
         waddr = be16(pdu + 5);
@@ -208,324 +252,35 @@ static int handle(reqctx *r)
         if (cnt < 1 || cnt > MODBUS_MAX_WR_READ_REGISTERS || wcnt < 1 ||
             wcnt > MODBUS_MAX_WR_WRITE_REGISTERS || pdu[9] != wcnt * 2 ||
             pdu_len != 10 + wcnt * 2)
-            return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
+            return exception(req, rsp, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
         if (addr + cnt > PFD_HOLD_SIZE)
-            return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS);
-        rc = write_regs(r, in, waddr, wcnt, pdu + 10);
+            return exception(req, rsp, MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS);
+        rc = write_regs(d, s, in, waddr, wcnt, pdu + 10);
         if (rc != 0)
-            return rc < 0 ? -1 : 0;
-        /* Read after the write, as the function code specifies. But
-         * libmodbus 3.1.6 copies the written values into the mapping
-         * before it reads, so registers the two ranges share would echo
-         * the raw write (tick, commit or command instead of 0, e_i16
-         * before rounding). Answer from a copy of the request whose write
-         * payload is what the registers now read. */
-        fill(r, in, PFD_HOLD);
-        memcpy(patched, req, (size_t)r->len);
-        for (i = 0; i < wcnt; i++) {
-            uint16_t v = r->map->tab_registers[waddr + i];
-            patched[MBAP_LEN + 10 + 2 * i] = (uint8_t)(v >> 8);
-            patched[MBAP_LEN + 11 + 2 * i] = (uint8_t)(v & 0xFFu);
-        }
-        req = patched;
-        break;
-    }
+            return rc < 0 ? -1 : exception(req, rsp, rc);
+        /* The read comes after the write, as the function code says, and
+         * reads what a following FC03 would. */
+        return read_answer(d, s, in, PFD_HOLD, addr, cnt, req, rsp);
     default:
-        return reply_exc(r, MODBUS_EXCEPTION_ILLEGAL_FUNCTION);
+        /* Including 0x80 and up, which libmodbus 3.1.6 answered with bit
+         * 7 lost (FC 0x83 got 03 01). */
+        return exception(req, rsp, MODBUS_EXCEPTION_ILLEGAL_FUNCTION);
     }
-    /* Validated above, so modbus_reply() only frames the answer: reads
-     * come from the scratch mapping just filled, writes are echoed. */
-    return modbus_reply(r->ctx, req, r->len, r->map) < 0 ? -1 : 0;
 }
 
-/* ---- client thread ----------------------------------------------------- */
-
-/* libmodbus 3.1.6 reads no data at all for function codes it does not know
- * (it frames by function code, not by the MBAP length). Read the rest of
- * such a PDU as the MBAP header announces it, so that the request can be
- * answered with exception 01 and the stream stays in step.
- * @return the full ADU length, or -1. */
-static int read_rest(int fd, uint8_t *req, int have, int timeout_ms)
-{
-    unsigned mlen = be16(req + 4);
-    int want;
-
-    if (have != MBAP_LEN + 1 || mlen <= 2 || mlen > MODBUS_TCP_MAX_ADU_LENGTH - 6)
-        return have;
-    want = 6 + (int)mlen;
-    while (have < want) {
-        struct pollfd pfd;
-        ssize_t n;
-        pfd.fd = fd;
-        pfd.events = POLLIN;
-        pfd.revents = 0;
-        if (poll(&pfd, 1, timeout_ms) <= 0)
-            return -1;
-        n = recv(fd, req + have, (size_t)(want - have), 0);
-        if (n <= 0)
-            return -1;
-        have += (int)n;
-    }
-    return have;
-}
-
-static void *client_main(void *arg)
-{
-    pfd_client *c = (pfd_client *)arg;
-    pfd_daemon *d = c->d;
-    uint8_t req[MODBUS_TCP_MAX_ADU_LENGTH];
-    modbus_t *ctx = modbus_new_tcp("127.0.0.1", 502);
-    modbus_mapping_t *map = modbus_mapping_new_start_address(
-        0, 0, 0, 0, 0, PFD_HOLD_SIZE, 0, PFD_INPUT_SIZE);
-    const char *why = "closed";
-    uint32_t bt_s = (uint32_t)(d->set.byte_timeout_ms / 1000);
-    uint32_t bt_us = (uint32_t)(d->set.byte_timeout_ms % 1000) * 1000u;
-    long idle_ms = 0;
-
-    if (ctx == NULL || map == NULL) {
-        why = "out-of-memory";
-        goto out;
-    }
-    modbus_set_socket(ctx, c->fd);
-    /* libmodbus 3.1.6 waits this long for each further byte of a frame;
-     * a client that stalls mid-frame is dropped after it. */
-    modbus_set_byte_timeout(ctx, bt_s, bt_us);
-    modbus_set_indication_timeout(ctx, bt_s, bt_us);
-    modbus_set_response_timeout(ctx, bt_s, bt_us);
-
-    while (!pfd_stopping(d)) {
-        struct pollfd pfd;
-        reqctx r;
-        int rc;
-
-        pfd.fd = c->fd;
-        pfd.events = POLLIN;
-        pfd.revents = 0;
-        rc = poll(&pfd, 1, 200);
-        if (rc < 0 && errno != EINTR) {
-            why = "poll-error";
-            break;
-        }
-        if (rc <= 0) {
-            idle_ms += 200;
-            if (d->set.idle_timeout_s > 0 && idle_ms >= 1000L * d->set.idle_timeout_s) {
-                why = "idle-timeout";
-                break;
-            }
-            continue;
-        }
-        idle_ms = 0;
-        rc = modbus_receive(ctx, req);
-        if (rc < 0) {
-            why = errno == ECONNRESET ? "peer-closed"
-                  : errno == ETIMEDOUT ? "byte-timeout"
-                                       : "bad-frame";
-            break;
-        }
-        if (rc == 0)
-            continue;
-        rc = read_rest(c->fd, req, rc, d->set.byte_timeout_ms);
-        if (rc < 0) {
-            why = "byte-timeout";
-            break;
-        }
-        r.d = d;
-        r.ctx = ctx;
-        r.map = map;
-        r.req = req;
-        r.len = rc;
-        if (handle(&r) != 0) {
-            why = pfd_stopping(d) ? "shutdown" : "bad-frame-or-send-error";
-            break;
-        }
-    }
-    if (pfd_stopping(d))
-        why = "shutdown";
-out:
-    pfd_log(PFD_LOG_DEBUG, "client-closed", "peer=%s reason=%s", c->peer, why);
-    if (map != NULL)
-        modbus_mapping_free(map);
-    if (ctx != NULL)
-        modbus_free(ctx); /* does not close the socket */
-    /* reap() closes the fd after the join, so pfd_server_stop() can
-     * shutdown() any fd of a slot in use without racing a reuse. */
-    __atomic_store_n(&c->done, 1, __ATOMIC_RELEASE);
-    return NULL;
-}
-
-/* ---- accept thread ----------------------------------------------------- */
-
-/* Under clients_mx. */
-static void reap(pfd_daemon *d, int all)
+void pfd_session_end(pfd_daemon *d, pfd_session *s)
 {
     int i;
-    for (i = 0; i < d->set.max_clients; i++) {
-        pfd_client *c = &d->server.clients[i];
-        if (c->in_use && (all || __atomic_load_n(&c->done, __ATOMIC_ACQUIRE))) {
-            pthread_join(c->th, NULL);
-            close(c->fd);
-            c->in_use = 0;
-        }
-    }
-}
 
-static void refuse(int fd, const char *peer, const char *why)
-{
-    pfd_log(PFD_LOG_WARN, "client-refused", "peer=%s reason=%s", peer, why);
-    close(fd);
-}
-
-static void *accept_main(void *arg)
-{
-    pfd_daemon *d = (pfd_daemon *)arg;
-
-    while (!pfd_stopping(d)) {
-        struct pollfd pfd;
-        struct sockaddr_in sa;
-        socklen_t sl = sizeof sa;
-        char peer[48], ip[INET_ADDRSTRLEN];
-        pthread_attr_t attr;
-        int fd, i, one = 1;
-        pfd_client *c = NULL;
-        struct timeval tv;
-
-        pthread_mutex_lock(&d->server.clients_mx);
-        reap(d, 0);
-        pthread_mutex_unlock(&d->server.clients_mx);
-
-        pfd.fd = d->server.listen_fd;
-        pfd.events = POLLIN;
-        pfd.revents = 0;
-        if (poll(&pfd, 1, 200) <= 0)
-            continue;
-        fd = accept(d->server.listen_fd, (struct sockaddr *)&sa, &sl);
-        if (fd < 0)
-            continue;
-        if (sa.sin_family != AF_INET || inet_ntop(AF_INET, &sa.sin_addr, ip, sizeof ip) == NULL)
-            strcpy(ip, "?");
-        snprintf(peer, sizeof peer, "%s:%u", ip, (unsigned)ntohs(sa.sin_port));
-        if (fd >= FD_SETSIZE) {
-            refuse(fd, peer, "fd-above-FD_SETSIZE");
-            continue;
-        }
-        if (sa.sin_family != AF_INET || !pfd_allow_match(&d->server.allow, ntohl(sa.sin_addr.s_addr))) {
-            refuse(fd, peer, "not-in-allow-list");
-            continue;
-        }
-        pthread_mutex_lock(&d->server.clients_mx);
-        reap(d, 0);
-        for (i = 0; i < d->set.max_clients && c == NULL; i++)
-            if (!d->server.clients[i].in_use)
-                c = &d->server.clients[i];
-        if (c == NULL) {
-            pthread_mutex_unlock(&d->server.clients_mx);
-            refuse(fd, peer, "max-clients");
-            continue;
-        }
-        setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-        /* A client that never reads its answers fails a send after 1 s
-         * instead of holding its thread forever. */
-        tv.tv_sec = 1;
-        tv.tv_usec = 0;
-        setsockopt(fd, SOL_SOCKET, SO_SNDTIMEO, &tv, sizeof tv);
-        memset(c, 0, sizeof *c);
-        c->d = d;
-        c->fd = fd;
-        strcpy(c->peer, peer);
-        pthread_attr_init(&attr);
-        pthread_attr_setstacksize(&attr, CLIENT_STACK);
-        if (pthread_create(&c->th, &attr, client_main, c) != 0) {
-            pthread_attr_destroy(&attr);
-            pthread_mutex_unlock(&d->server.clients_mx);
-            refuse(fd, peer, "thread-create-failed");
-            continue;
-        }
-        pthread_attr_destroy(&attr);
-        c->in_use = 1;
-        pthread_mutex_unlock(&d->server.clients_mx);
-        pfd_log(PFD_LOG_DEBUG, "client-connected", "peer=%s", peer);
+    pthread_mutex_lock(&d->regs_mx);
+    for (i = 0; i < d->n; i++) {
+        pfd_inst *in = d->inst[i];
+        if (in->param_lock && in->lock_holder == s->who.id)
+            pfd_release_lock(in, &s->who, "released-at-disconnect");
     }
-    return NULL;
-}
-
-static void close_listener(pfd_daemon *d)
-{
-    if (d->server.listen_fd >= 0) {
-        close(d->server.listen_fd);
-        d->server.listen_fd = -1;
+    pthread_mutex_unlock(&d->regs_mx);
+    for (i = 0; i < 256; i++) {
+        free(s->stage[i]);
+        s->stage[i] = NULL;
     }
-}
-
-int pfd_server_start(pfd_daemon *d)
-{
-    struct sockaddr_in sa;
-    socklen_t sl = sizeof sa;
-    char err[200];
-    int one = 1, fd;
-
-    if (pfd_allow_parse(d->set.allow, &d->server.allow, err, sizeof err) != 0) {
-        pfd_fatal("allow: %s", err);
-        return -1;
-    }
-    memset(&sa, 0, sizeof sa);
-    sa.sin_family = AF_INET;
-    sa.sin_port = htons((uint16_t)d->set.listen.port);
-    if (inet_pton(AF_INET, d->set.listen.addr, &sa.sin_addr) != 1) {
-        pfd_fatal("--listen: '%s' is not an IPv4 address", d->set.listen.addr);
-        return -1;
-    }
-    fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    if (fd < 0) {
-        pfd_fatal("socket: %s", strerror(errno));
-        return -1;
-    }
-    d->server.listen_fd = fd;
-    setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-    if (bind(fd, (struct sockaddr *)&sa, sizeof sa) != 0 || listen(fd, 32) != 0) {
-        pfd_fatal("cannot listen on %s:%d: %s", d->set.listen.addr,
-                  d->set.listen.port, strerror(errno));
-        close_listener(d);
-        return -1;
-    }
-    getsockname(fd, (struct sockaddr *)&sa, &sl);
-    d->server.clients = calloc((size_t)d->set.max_clients, sizeof *d->server.clients);
-    if (d->server.clients == NULL) {
-        pfd_fatal("out of memory");
-        close_listener(d);
-        return -1;
-    }
-    if (pthread_create(&d->server.accept_th, NULL, accept_main, d) != 0) {
-        pfd_fatal("cannot start the accept thread");
-        free(d->server.clients);
-        d->server.clients = NULL;
-        close_listener(d);
-        return -1;
-    }
-    d->server.accept_running = 1;
-    pfd_log(PFD_LOG_INFO, "listening",
-            "addr=%s port=%u max_clients=%d allow=\"%s\" read_only=%d",
-            d->set.listen.addr, (unsigned)ntohs(sa.sin_port), d->set.max_clients,
-            d->set.allow[0] ? d->set.allow : PFD_ALLOW_DEFAULT, d->set.read_only);
-    return 0;
-}
-
-void pfd_server_stop(pfd_daemon *d)
-{
-    int i;
-    pfd_request_stop(d);
-    if (d->server.accept_running) {
-        pthread_join(d->server.accept_th, NULL);
-        d->server.accept_running = 0;
-    }
-    close_listener(d);
-    if (d->server.clients == NULL)
-        return;
-    pthread_mutex_lock(&d->server.clients_mx);
-    for (i = 0; i < d->set.max_clients; i++)
-        if (d->server.clients[i].in_use)
-            shutdown(d->server.clients[i].fd, SHUT_RDWR);
-    reap(d, 1);
-    pthread_mutex_unlock(&d->server.clients_mx);
-    free(d->server.clients);
-    d->server.clients = NULL;
 }

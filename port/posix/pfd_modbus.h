@@ -1,21 +1,43 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Modbus TCP server: an accept thread (allow-list, client limit, fds below
- * FD_SETSIZE because libmodbus select()s on them) and one thread per
- * client with its own libmodbus context. A slow, partial or hostile client
- * blocks only its own thread, for at most the byte timeout; the loop never
- * waits for any of them.
+ * One Modbus request, from its ADU to its answer: validation against the
+ * register table, authorisation (the client's access, the lock), the
+ * writes, and the answer. Plain TCP and Modbus/TCP Security clients come
+ * through here alike; the server (pfd_server.c) only frames and carries
+ * the bytes. Framing is by the MBAP header (length field), as the
+ * Modbus/TCP specification has it.
  */
 #ifndef PFD_MODBUS_H
 #define PFD_MODBUS_H
 
+#include <stdint.h>
+
+#include "pfd_access.h"
+#include "pfd_stage.h"
 #include "pfd_state.h"
 
-/** Bind and listen, then start accepting. Logs msg=listening with the
- *  bound port (useful with port 0). @return 0, or -1 after a fatal message. */
-int pfd_server_start(pfd_daemon *d);
+#define PFD_MBAP_LEN 7   /**< transaction, protocol, length, unit */
+#define PFD_ADU_MAX 260  /**< Modbus/TCP's largest ADU */
 
-/** Stop accepting, disconnect every client, join their threads. */
-void pfd_server_stop(pfd_daemon *d);
+/** One connection's side of the conversation. */
+typedef struct pfd_session {
+    pfd_who who;
+    pfd_stage *stage[256]; /**< by unit id; NULL: nothing staged */
+} pfd_session;
+
+/** The length of the whole ADU an MBAP header announces, or -1 if the
+ *  stream cannot be trusted: a protocol id other than 0, a length below 2
+ *  (unit and function code) or an ADU over PFD_ADU_MAX bytes. */
+int pfd_mbap_length(const uint8_t *hdr);
+
+/** Answer the request @p req (@p len bytes, as pfd_mbap_length() gave)
+ *  into @p rsp (PFD_ADU_MAX bytes). @return the answer's length, or -1 to
+ *  drop the connection (a PDU whose length contradicts its function code,
+ *  or the daemon is stopping). */
+int pfd_request(pfd_daemon *d, pfd_session *s, const uint8_t *req, int len, uint8_t *rsp);
+
+/** The connection is gone: its locks are released and its staged writes
+ *  dropped. */
+void pfd_session_end(pfd_daemon *d, pfd_session *s);
 
 #endif

@@ -2,6 +2,8 @@
 #include "pfd_regmap.h"
 
 #include <math.h>
+
+#include "pfd_access.h"
 #include <modbus/modbus.h>
 #include <string.h>
 
@@ -98,7 +100,8 @@ enum {
 #define I(addr, type, field, name, unit, desc)                                 \
     {PFD_INPUT, type, PFD_R, 0, addr, field, PFD_NO_PARAM, 0, 0, name, unit, desc},
 
-#define LIVE_IN (PFD_F_LIVE | PFD_F_REFRESH)
+/* The process inputs: operators write them, and a lock leaves them open. */
+#define LIVE_IN (PFD_F_LIVE | PFD_F_REFRESH | PFD_F_OPERATE | PFD_F_OPEN)
 
 const pfd_reg pfd_regs[] = {
     H(0, PFD_T_F32, PFD_RW, LIVE_IN, F_E, -BIG, BIG, "e", "",
@@ -113,26 +116,27 @@ const pfd_reg pfd_regs[] = {
       "sp as a scaled int16")
     H(8, PFD_T_I16, PFD_RW, LIVE_IN, F_PV_I16, -32768, 32767, "pv_i16", "in_fs/32768",
       "pv as a scaled int16")
-    H(9, PFD_T_U16, PFD_RW, PFD_F_LIVE, F_INPUT_SEL, 0, 1, "input_sel", "",
+    H(9, PFD_T_U16, PFD_RW, PFD_F_LIVE | PFD_F_OPERATE, F_INPUT_SEL, 0, 1, "input_sel", "",
       "input: 0 e, 1 sp - pv")
-    H(10, PFD_T_U16, PFD_RW, PFD_F_LIVE, F_MODE, 0, 1, "mode", "",
+    H(10, PFD_T_U16, PFD_RW, PFD_F_LIVE | PFD_F_OPERATE, F_MODE, 0, 1, "mode", "",
       "0 auto, 1 manual (output = manual_out; back to auto is bumpless)")
-    H(11, PFD_T_F32, PFD_RW, PFD_F_LIVE, F_MANUAL, -BIG, BIG, "manual_out", "",
+    H(11, PFD_T_F32, PFD_RW, PFD_F_LIVE | PFD_F_OPERATE, F_MANUAL, -BIG, BIG, "manual_out", "",
       "output in manual mode")
     H(13, PFD_T_F32, PFD_RW, PFD_F_LIVE, F_FAILSAFE, -BIG, BIG, "failsafe_out", "",
       "output while the watchdog is tripped")
     H(15, PFD_T_U16, PFD_RW, PFD_F_LIVE, F_WATCHDOG, 0, 60000, "watchdog_ms", "ms",
       "trip to failsafe_out when e/sp/pv are not written for this long (counted in samples); 0 = off")
     H(16, PFD_T_U16, PFD_RW, 0, F_LOCK, 0, 1, "param_lock", "",
-      "1: staged parameters, commit and command 1 are refused (exception 01); "
-      "fixed at 1 by --param-lock")
+      "1: lock this instance for the client that writes it, until it writes 0 or "
+      "disconnects; meanwhile other clients may write only the registers marked open "
+      "(exception 01); fixed at 1 for every client by --param-lock")
     H(17, PFD_T_U16, PFD_W, PFD_F_ACTION | PFD_F_STAGED, F_COMMIT, 1, 1, "commit", "",
       "write 1: validate the staged set and switch it in between two samples, bumplessly; "
       "refused (exception 03, nothing changes) if invalid; exception 04 with commit_result 5 "
       "if it runs but the config file could not be written; reads 0")
     H(18, PFD_T_U16, PFD_W, PFD_F_ACTION, F_COMMAND, 1, 3, "command", "",
       "write 1: discard staged changes, 2: reset the controller state, 3: clear statistics; reads 0")
-    H(19, PFD_T_U16, PFD_W, PFD_F_ACTION, F_TICK, 1, 65535, "tick", "samples",
+    H(19, PFD_T_U16, PFD_W, PFD_F_ACTION | PFD_F_OPERATE | PFD_F_OPEN, F_TICK, 1, 65535, "tick", "samples",
       "--clock external only (else exception 01): advance exactly N samples, "
       "answered when they are done; reads 0")
     PARAMS(STAGED_OWN, STAGED_LIB)
@@ -162,9 +166,11 @@ const pfd_reg pfd_regs[] = {
       "10 bumpless transfer in progress, 11 the last write of the config file failed")
     I(16, PFD_T_U16, F_CRESULT, "commit_result", "",
       "last commit: 0 ok, 1 invalid parameter, 2 q15 scaling failed, 3 busy, 4 other error, "
-      "5 applied and running but not persisted (config file write failed)")
+      "5 applied and running but not persisted (config file write failed), "
+      "6 the sampled loop would be unstable")
     I(17, PFD_T_U16, F_CADDR, "commit_err_addr", "",
-      "holding address of the staged parameter that made the last commit fail; 65535 none")
+      "holding address of the staged parameter that made the last commit fail "
+      "(result 6: the one whose change alone made the loop unstable); 65535 none")
     I(18, PFD_T_U16, F_CPARAM, "commit_err_param", "",
       "the library's pf_param_id of that parameter (pf_param_name); 65535 none")
     I(19, PFD_T_U16, F_COMMITS, "commits", "", "accepted commits, modulo 65536")
@@ -345,7 +351,7 @@ static double field_value(const pfd_reg *r, const pfd_view *v)
     if (r->field >= F_COMMITTED)
         return ip_get(&in->committed, r->field - F_COMMITTED);
     if (r->space == PFD_HOLD && r->access != PFD_R)
-        return pfd_regmap_hold_value(r, &in->hold, &in->committed);
+        return pfd_regmap_hold_value(r, v->hold, &in->committed);
     switch (r->field) {
     case F_PC: return s->sig.pc;
     case F_X: return s->sig.x;
@@ -466,6 +472,10 @@ int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
             out->live = 1;
         if (r->field == F_LOCK)
             out->lock = 1;
+        if (!(r->flags & PFD_F_OPEN))
+            out->guarded = 1;
+        if (pfd_access_to_write(r) > out->access)
+            out->access = pfd_access_to_write(r);
         a += pfd_type_words(r->type);
     }
     return 0;
@@ -524,6 +534,16 @@ static void print_range(FILE *f, const pfd_reg *r)
     }
 }
 
+/* Who may write it (pfd_access.h), and whether a lock leaves it open. */
+static void print_writers(FILE *f, const pfd_reg *r)
+{
+    if (r->access == PFD_R)
+        return;
+    fputs((r->flags & PFD_F_OPERATE) ? "operate" : "engineer", f);
+    if (r->flags & PFD_F_OPEN)
+        fputs(", open", f);
+}
+
 /* A parameter's description says which set it belongs to. */
 static const char *desc_prefix(const pfd_reg *r)
 {
@@ -535,8 +555,8 @@ static const char *desc_prefix(const pfd_reg *r)
 static void print_space(FILE *f, int space)
 {
     unsigned i;
-    fputs("| Address | Name | Type | Access | Unit | Range | Description |\n"
-          "|---:|---|---|---|---|---|---|\n", f);
+    fputs("| Address | Name | Type | Access | Unit | Range | Write | Description |\n"
+          "|---:|---|---|---|---|---|---|---|\n", f);
     for (i = 0; i < pfd_nregs; i++) {
         const pfd_reg *r = &pfd_regs[i];
         static const char *const acc[] = {"R", "RW", "W"};
@@ -549,6 +569,8 @@ static void print_space(FILE *f, int space)
         fprintf(f, "`%s` | %s | %s | %s | ", r->name, type_name(r->type),
                 acc[r->access], pfd_reg_unit(r));
         print_range(f, r);
+        fputs(" | ", f);
+        print_writers(f, r);
         fprintf(f, " | %s%s |\n", desc_prefix(r), pfd_reg_desc(r));
     }
 }
@@ -572,17 +594,26 @@ void pfd_regmap_print_md(FILE *f)
 "  `-B`). `u32`: likewise, high word first. `i16`: two's complement.\n"
 "- Function codes: 03 read holding, 04 read input, 06 write one, 16 write\n"
 "  many, 23 write-and-read. Anything else: exception 01.\n"
-"- Exceptions: 01 writes in read-only mode, staged parameters, commit or\n"
-"  `command` 1 while `param_lock` = 1, `tick` with the internal clock; 02 an\n"
-"  address that is not in the table, a write to a read-only register or to\n"
-"  half of a 32-bit field; 03 a count out of range (reads 1..125, writes\n"
-"  1..123, FC23 1..121), a value out of range, NaN or infinity, a refused\n"
-"  commit; 04 a commit that was applied but could not be persisted\n"
-"  (`commit_result` 5), or an unexpected library error (`commit_result` 4);\n"
-"  06 a commit while no parameter slot is free (only if the loop stalls\n"
-"  mid-switch for 10 ms); 0B an unknown unit id. A request that gets an\n"
-"  exception changes nothing, except 04 with `commit_result` 5: that set\n"
-"  runs.\n"
+"- Exceptions: 01 a function code other than those above (also 0x80 and\n"
+"  up: the answer's function code is the request's with bit 7 set), writes\n"
+"  in read-only mode, writes the client's access does not allow (column\n"
+"  Write), writes of registers that are not open while another client\n"
+"  holds `param_lock` (or with --param-lock), `tick` with the internal\n"
+"  clock; 02 an address that is not in the table, a write to a read-only\n"
+"  register or to half of a 32-bit field; 03 a count out of range (reads\n"
+"  1..125, writes 1..123, FC23 1..121), a value out of range, NaN or\n"
+"  infinity, a refused commit; 04 a commit that was applied but could not\n"
+"  be persisted (`commit_result` 5), or an unexpected library error\n"
+"  (`commit_result` 4); 06 a commit while no parameter slot is free (only\n"
+"  if the loop stalls mid-switch for 10 ms); 0B an unknown unit id. A\n"
+"  request that gets an exception changes nothing, except 04 with\n"
+"  `commit_result` 5: that set runs.\n"
+"- Write: the access a client needs to write the register (docs/pneufracd.md,\n"
+"  \"Security\"): operate or engineer; reading needs read. Open: writable\n"
+"  while another client holds `param_lock`.\n"
+"- Staged registers belong to the connection that writes them: each client\n"
+"  reads its own staged set (the committed set plus its own staged writes),\n"
+"  and its commit applies exactly those writes.\n"
 "- A multi-register write is validated whole, then applied together;\n"
 "  `commit`, `command` and `tick` act after the data registers of the same\n"
 "  request, in that order.\n"

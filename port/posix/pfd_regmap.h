@@ -24,10 +24,14 @@ enum pfd_type { PFD_T_U16 = 0, PFD_T_I16, PFD_T_U32, PFD_T_F32 };
 enum pfd_access { PFD_R = 0, PFD_RW, PFD_W };
 
 /* pfd_reg.flags */
-#define PFD_F_STAGED 0x01u  /**< staged parameter: refused while locked */
+#define PFD_F_STAGED 0x01u  /**< staged parameter: each client's own (pfd_stage.h) */
 #define PFD_F_REFRESH 0x02u /**< a write refreshes the watchdog */
 #define PFD_F_ACTION 0x04u  /**< commit, command, tick: acts, reads as 0 */
 #define PFD_F_LIVE 0x10u    /**< goes to the loop at once */
+#define PFD_F_OPERATE 0x20u /**< the operate access may write it (else only
+                                 engineer; pfd_access.h) */
+#define PFD_F_OPEN 0x40u    /**< stays writable under another client's
+                                 param_lock: the process inputs and tick */
 
 /** Sizes of the two register spaces (every address below is mapped). */
 #define PFD_HOLD_SIZE 66
@@ -80,7 +84,8 @@ void pfd_reg_format_range(const pfd_reg *r, char *buf, size_t n);
 
 /** Everything a read can show. */
 typedef struct pfd_view {
-    const pfd_inst *inst;   /* hold, committed, commit status */
+    const pfd_inst *inst;   /* committed, commit status */
+    const pfd_hold *hold;   /* the holding registers as this client sees them */
     const pfd_snap *snap;   /* the loop's latest sample */
     uint16_t status;        /* composed status bits (pfd_modbus.c) */
     uint16_t n_instances;
@@ -99,6 +104,8 @@ typedef struct pfd_wlist {
     pfd_write w[128];
     unsigned n;
     unsigned staged, refresh, live, lock; /* any write of that kind */
+    unsigned guarded;                     /* any register a lock closes */
+    int access;                           /* the access the request needs */
     uint16_t commit, command, tick;       /* action values; 0 = none */
 } pfd_wlist;
 

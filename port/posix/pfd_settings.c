@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "pfd_access.h"
 #include "pfd_parse.h"
 #include "pfd_state.h"
 #include "pfh_fmt.h"
@@ -14,6 +15,7 @@ const char *pfd_clock_name(int external)
     return external == 1 ? "external" : external == 0 ? "internal" : "?";
 }
 
+#define SECURE .flags = PFD_SF_SECURE
 #define IN_SETTINGS(m) .off = offsetof(pfd_settings, m), .size = sizeof(((pfd_settings *)0)->m)
 #define IN_RUN(m) .off = offsetof(pfd_run, m), .size = sizeof(((pfd_run *)0)->m)
 
@@ -29,28 +31,63 @@ const pfd_setting pfd_settings_table[] = {
      .lo = 0, .hi = 1, .choice = pfd_clock_name, IN_SETTINGS(external_clock),
      .help = "external: only the tick register advances samples, for lockstep"},
     {.flag = "--max-clients", .key = "max_clients", .type = PFD_ST_INT,
-     .group = PFD_SG_DAEMON, .lo = 1, .hi = 256, IN_SETTINGS(max_clients),
+     .group = PFD_SG_DAEMON, SECURE, .lo = 1, .hi = 256, IN_SETTINGS(max_clients),
      .metavar = "N", .help = "simultaneous clients"},
     {.flag = "--allow", .key = "allow", .type = PFD_ST_NETS, .group = PFD_SG_DAEMON,
-     IN_SETTINGS(allow), .metavar = "CIDR[,CIDR...]",
+     SECURE, IN_SETTINGS(allow), .metavar = "CIDR[,CIDR...]",
      .help = "client networks allowed to connect"},
     {.flag = "--read-only", .key = "read_only", .type = PFD_ST_BOOL,
-     .group = PFD_SG_DAEMON, .flag_value = 1, IN_SETTINGS(read_only),
-     .help = "refuse every write (exception 01)"},
+     .group = PFD_SG_DAEMON, SECURE, .flag_value = 1, IN_SETTINGS(read_only),
+     .help = "refuse every write (exception 01)", .fallback = "yes"},
     {.flag = "--param-lock", .key = "param_lock", .type = PFD_ST_BOOL,
-     .group = PFD_SG_DAEMON, .flag_value = 1, IN_SETTINGS(param_lock),
-     .help = "lock staged parameters and commit for this run"},
+     .group = PFD_SG_DAEMON, SECURE, .flag_value = 1, IN_SETTINGS(param_lock),
+     .help = "lock parameters, commit, commands and the output settings for this run, "
+             "for every client", .fallback = "yes"},
     {.flag = "--rt-priority", .key = "rt_priority", .type = PFD_ST_INT,
      .group = PFD_SG_DAEMON, .lo = 0, .hi = 99, IN_SETTINGS(rt_priority),
      .metavar = "N", .help = "SCHED_FIFO priority of the loop; 0 = do not ask"},
     {.flag = "--no-mlock", .key = "mlock", .type = PFD_ST_BOOL, .group = PFD_SG_DAEMON,
      .flag_value = 0, IN_SETTINGS(mlock), .help = "do not mlockall()"},
     {.flag = "--byte-timeout-ms", .key = "byte_timeout_ms", .type = PFD_ST_INT,
-     .group = PFD_SG_DAEMON, .lo = 1, .hi = 10000, IN_SETTINGS(byte_timeout_ms),
+     .group = PFD_SG_DAEMON, SECURE, .lo = 1, .hi = 10000, IN_SETTINGS(byte_timeout_ms),
      .metavar = "N", .help = "drop a client that stalls this long mid-frame"},
     {.flag = "--idle-timeout-s", .key = "idle_timeout_s", .type = PFD_ST_INT,
-     .group = PFD_SG_DAEMON, .lo = 0, .hi = 86400, IN_SETTINGS(idle_timeout_s),
-     .metavar = "N", .help = "drop a client silent this long; 0 = never"},
+     .group = PFD_SG_DAEMON, SECURE, .lo = 0, .hi = 86400, IN_SETTINGS(idle_timeout_s),
+     .metavar = "N", .help = "drop a client that has completed no request for this long; "
+                             "0 = never"},
+    {.flag = "--max-clients-per-addr", .key = "max_clients_per_addr", .type = PFD_ST_INT,
+     .group = PFD_SG_DAEMON, SECURE, .lo = 1, .hi = 256, IN_SETTINGS(max_per_addr),
+     .metavar = "N", .help = "simultaneous clients from one IPv4 address; one more from "
+                             "that address replaces one of its own, idle ones first"},
+    {.flag = "--first-request-timeout-ms", .key = "first_request_timeout_ms",
+     .type = PFD_ST_INT, .group = PFD_SG_DAEMON, SECURE, .lo = 100, .hi = 60000,
+     IN_SETTINGS(first_request_ms), .metavar = "N",
+     .help = "drop a connection that has not completed its TLS handshake and a "
+             "first request this long after it was accepted"},
+    {.flag = "--plain-access", .key = "plain_access", .type = PFD_ST_CHOICE,
+     .group = PFD_SG_DAEMON, SECURE, .lo = 0, .hi = PFD_ACCESS_COUNT - 1,
+     .choice = pfd_access_name, IN_SETTINGS(plain_access),
+     .help = "what plain Modbus TCP clients may do (docs/register-map.md, column "
+             "Write); none: no plain listener"},
+    {.flag = "--tls-listen", .key = "tls_listen", .type = PFD_ST_ENDPOINT,
+     .group = PFD_SG_DAEMON, .flags = PFD_SF_SECURE | PFD_SF_OFF, .lo = 802,
+     IN_SETTINGS(tls_listen), .metavar = "ADDR[:PORT]|none",
+     .help = "Modbus/TCP Security listener: TLS 1.2+, client certificate required "
+             "(port 802 if omitted)"},
+    {.flag = "--tls-cert", .key = "tls_cert", .type = PFD_ST_FILE, .group = PFD_SG_DAEMON,
+     SECURE, IN_SETTINGS(tls_cert), .metavar = "FILE",
+     .help = "the server's certificate chain (PEM)"},
+    {.flag = "--tls-key", .key = "tls_key", .type = PFD_ST_FILE, .group = PFD_SG_DAEMON,
+     SECURE, IN_SETTINGS(tls_key), .metavar = "FILE",
+     .help = "the server's private key (PEM)"},
+    {.flag = "--tls-ca", .key = "tls_ca", .type = PFD_ST_FILE, .group = PFD_SG_DAEMON,
+     SECURE, IN_SETTINGS(tls_ca), .metavar = "FILE",
+     .help = "CA certificates (PEM) that client certificates must chain to"},
+    {.flag = "--tls-roles", .key = "tls_roles", .type = PFD_ST_ROLES,
+     .group = PFD_SG_DAEMON, SECURE, IN_SETTINGS(tls_roles),
+     .metavar = "ROLE:ACCESS[,...]",
+     .help = "access granted to each role a client certificate carries (OID "
+             "1.3.6.1.4.1.50316.802.1); other roles are refused"},
 
     /* the default instances */
     {.flag = "--instances", .type = PFD_ST_INT, .group = PFD_SG_INSTANCES, .lo = 1,
@@ -72,9 +109,9 @@ const pfd_setting pfd_settings_table[] = {
              "shutdown are written back to it"},
     {.flag = "--config-fallback-defaults", .type = PFD_ST_BOOL, .group = PFD_SG_RUN,
      .flag_value = 1, IN_RUN(fallback),
-     .help = "run the defaults (and log why) if FILE is missing, corrupt or holds a "
-             "set that cannot be designed; FILE is renamed to FILE.corrupt "
-             "(FILE.corrupt.N if that exists)"},
+     .help = "if FILE is missing, corrupt or holds a set that cannot be designed, "
+             "run the default instances read-only and with parameters locked, and "
+             "log why; FILE is left as it is and never rewritten by this run"},
     {.flag = "--run-for", .type = PFD_ST_REAL, .group = PFD_SG_RUN, .flags = PFD_SF_NODEF,
      .lo = 0.001, .hi = 1e7, IN_RUN(run_for), .metavar = "S",
      .help = "stop by itself after S seconds, for tests"},
@@ -99,7 +136,7 @@ const unsigned pfd_settings_count = sizeof pfd_settings_table / sizeof pfd_setti
 
 /* Masks of given settings have one bit a row. */
 typedef char pfd_settings_fit_a_mask[sizeof pfd_settings_table /
-                                     sizeof pfd_settings_table[0] <= 32 ? 1 : -1];
+                                     sizeof pfd_settings_table[0] <= 64 ? 1 : -1];
 
 const pfd_setting *pfd_setting_by_flag(const char *flag)
 {
@@ -123,9 +160,9 @@ const pfd_setting *pfd_setting_by_key(const char *key)
     return NULL;
 }
 
-unsigned pfd_setting_bit(const pfd_setting *r)
+pfd_mask pfd_setting_bit(const pfd_setting *r)
 {
-    return 1u << (unsigned)(r - pfd_settings_table);
+    return (pfd_mask)1 << (unsigned)(r - pfd_settings_table);
 }
 
 int pfd_setting_takes_value(const pfd_setting *r)
@@ -170,12 +207,30 @@ static int refuse(char *msg, size_t n, const char *fmt, ...)
     return -1;
 }
 
+/* ADDR:PORT; with a default port (lo > 0) also ADDR alone, and with
+ * PFD_SF_OFF also "none" (addr ""). */
+static int parse_endpoint(const pfd_setting *r, const char *text, pfd_endpoint *out)
+{
+    char buf[64];
+    if ((r->flags & PFD_SF_OFF) && !strcmp(text, "none")) {
+        out->addr[0] = '\0';
+        out->port = 0;
+        return 0;
+    }
+    if (r->lo > 0 && strchr(text, ':') == NULL && strlen(text) < 40) {
+        snprintf(buf, sizeof buf, "%s:%d", text, (int)r->lo);
+        text = buf;
+    }
+    return pfd_endpoint_parse(text, out);
+}
+
 int pfd_setting_parse(const pfd_setting *r, const char *text, pfd_settings *s,
                       pfd_run *run, char *msg, size_t n)
 {
     void *f = field(r, s, run);
     char names[128];
     pfd_allow al;
+    pfd_roles roles;
     long l;
     double x;
     int v;
@@ -208,13 +263,18 @@ int pfd_setting_parse(const pfd_setting *r, const char *text, pfd_settings *s,
         *(int *)f = v;
         break;
     case PFD_ST_ENDPOINT:
-        if (pfd_endpoint_parse(text, (pfd_endpoint *)f) != 0)
-            return refuse(msg, n, "'%s' is not IPV4ADDR:PORT (e.g. 127.0.0.1:1502)", text);
+        if (parse_endpoint(r, text, (pfd_endpoint *)f) != 0)
+            return refuse(msg, n, "'%s' is not IPV4ADDR:PORT%s (e.g. 127.0.0.1:1502)", text,
+                          (r->flags & PFD_SF_OFF) ? ", IPV4ADDR or none" : "");
         break;
+    case PFD_ST_FILE:
+    case PFD_ST_ROLES:
     case PFD_ST_NETS:
-        if (strlen(text) >= r->size)
-            return refuse(msg, n, "list too long");
-        if (pfd_allow_parse(text, &al, msg, n) != 0)
+        /* Text kept as given, once it is known to mean something. */
+        if (strlen(text) >= r->size || strchr(text, '\n') != NULL)
+            return refuse(msg, n, "'%.40s...' is too long", text);
+        if ((r->type == PFD_ST_NETS && pfd_allow_parse(text, &al, msg, n) != 0) ||
+            (r->type == PFD_ST_ROLES && pfd_roles_parse(text, &roles, msg, n) != 0))
             return -1;
         strcpy((char *)f, text);
         break;
@@ -248,10 +308,15 @@ void pfd_setting_format(const pfd_setting *r, const pfd_settings *s,
         break;
     case PFD_ST_ENDPOINT: {
         const pfd_endpoint *e = (const pfd_endpoint *)f;
-        snprintf(buf, n, "%s:%d", e->addr, e->port);
+        if (e->addr[0] == '\0')
+            snprintf(buf, n, "none");
+        else
+            snprintf(buf, n, "%s:%d", e->addr, e->port);
         break;
     }
     case PFD_ST_NETS:
+    case PFD_ST_FILE:
+    case PFD_ST_ROLES:
         snprintf(buf, n, "%s", (const char *)f);
         break;
     default:
@@ -260,7 +325,7 @@ void pfd_setting_format(const pfd_setting *r, const pfd_settings *s,
     }
 }
 
-void pfd_settings_copy(pfd_settings *dst, const pfd_settings *src, unsigned mask)
+void pfd_settings_copy(pfd_settings *dst, const pfd_settings *src, pfd_mask mask)
 {
     unsigned i;
     for (i = 0; i < pfd_settings_count; i++) {
@@ -284,6 +349,24 @@ void pfd_settings_default(pfd_settings *s)
     s->mlock = 1;
     s->byte_timeout_ms = 100;
     s->idle_timeout_s = 300;
+    s->max_per_addr = 8;
+    s->first_request_ms = 2000;
+    s->plain_access = PFD_ACCESS_ENGINEER;
+    s->tls_listen.addr[0] = '\0';
+    strcpy(s->tls_roles, "viewer:read,operator:operate,engineer:engineer");
+}
+
+void pfd_settings_fallback(pfd_settings *s)
+{
+    unsigned i;
+    pfd_settings_default(s);
+    for (i = 0; i < pfd_settings_count; i++) {
+        const pfd_setting *r = &pfd_settings_table[i];
+        char msg[200];
+        /* The table is tested: a fallback value always parses. */
+        if ((r->flags & PFD_SF_SECURE) && r->fallback != NULL)
+            (void)pfd_setting_parse(r, r->fallback, s, NULL, msg, sizeof msg);
+    }
 }
 
 void pfd_run_default(pfd_run *run)

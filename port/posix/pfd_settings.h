@@ -10,8 +10,15 @@
 #define PFD_SETTINGS_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "pfd_addr.h"
+
+/** Bits of settings-table rows, one per row (pfd_setting_bit). */
+typedef uint64_t pfd_mask;
+
+/** Room for a file name or a list in a setting (PFD_ST_FILE, PFD_ST_ROLES). */
+#define PFD_SETTING_TEXT 256
 
 /** Daemon-wide settings: the rows with a config key (the [daemon]
  *  section), overridden by the same flags on the command line. */
@@ -26,6 +33,15 @@ typedef struct pfd_settings {
     int mlock;
     int byte_timeout_ms;
     int idle_timeout_s;
+    int max_per_addr;    /**< clients from one IPv4 address */
+    int first_request_ms; /**< a connection must complete a request (and its
+                               TLS handshake) this soon after it is accepted */
+    int plain_access;    /**< enum pfd_access_level of plain TCP clients; NONE: no
+                              plain listener */
+    pfd_endpoint tls_listen; /**< Modbus/TCP Security listener; addr "" = off */
+    char tls_cert[PFD_SETTING_TEXT], tls_key[PFD_SETTING_TEXT],
+        tls_ca[PFD_SETTING_TEXT];
+    char tls_roles[PFD_SETTING_TEXT]; /**< NAME:ACCESS list (pfd_access.h) */
 } pfd_settings;
 
 /** What only the command line gives: the rows without a config key. */
@@ -52,6 +68,8 @@ enum pfd_setting_type {
     PFD_ST_CHOICE,   /**< int in [0, hi], written as name(value) */
     PFD_ST_ENDPOINT, /**< pfd_endpoint, ADDR:PORT */
     PFD_ST_NETS,     /**< char[], a CIDR list */
+    PFD_ST_FILE,     /**< char[PFD_SETTING_TEXT], a file name; "" = none */
+    PFD_ST_ROLES,    /**< char[PFD_SETTING_TEXT], certificate roles (pfd_access.h) */
     PFD_ST_PATH      /**< const char *, a file name (command line only) */
 };
 
@@ -67,6 +85,10 @@ enum pfd_setting_group {
 /* pfd_setting.flags */
 #define PFD_SF_STOP 0x1u   /**< parsing stops at this flag (--help, --version) */
 #define PFD_SF_NODEF 0x2u  /**< --help shows no default (it means "off") */
+#define PFD_SF_SECURE 0x4u /**< a security setting: a fallback run never takes
+                                it from the file, only from the command line
+                                or its `fallback` value (pfd_settings_fallback) */
+#define PFD_SF_OFF 0x8u    /**< PFD_ST_ENDPOINT: "none" turns it off */
 
 typedef struct pfd_setting {
     const char *flag;     /**< "--max-clients" */
@@ -74,11 +96,15 @@ typedef struct pfd_setting {
     const char *key;      /**< config key (PFD_SG_DAEMON only), or NULL */
     unsigned char type, group, flags;
     int flag_value;       /**< PFD_ST_BOOL: what the bare flag sets */
-    double lo, hi;        /**< INT, REAL: the closed range; CHOICE: 0, count-1 */
+    double lo, hi;        /**< INT, REAL: the closed range; CHOICE: 0, count-1;
+                               ENDPOINT: lo > 0 is the port when none is given */
     const char *(*choice)(int); /**< PFD_ST_CHOICE: the name of a value */
     size_t off, size;     /**< the field in pfd_settings or pfd_run */
     const char *metavar;  /**< what the value looks like in --help */
     const char *help;     /**< one line */
+    const char *fallback; /**< PFD_SF_SECURE: the value a fallback run forces
+                               unless the command line gives one; NULL: the
+                               default */
 } pfd_setting;
 
 extern const pfd_setting pfd_settings_table[];
@@ -92,7 +118,7 @@ const pfd_setting *pfd_setting_by_key(const char *key);
 
 /** The row's bit in a mask of given settings (pfd_cli.given,
  *  pfd_config.set_mask). */
-unsigned pfd_setting_bit(const pfd_setting *r);
+pfd_mask pfd_setting_bit(const pfd_setting *r);
 
 /** Whether the row takes a value on the command line (BOOL rows do not). */
 int pfd_setting_takes_value(const pfd_setting *r);
@@ -110,13 +136,19 @@ void pfd_setting_format(const pfd_setting *r, const pfd_settings *s,
                         const pfd_run *run, char *buf, size_t n);
 
 /** Copy the fields of the rows whose bits are in @p mask from @p src. */
-void pfd_settings_copy(pfd_settings *dst, const pfd_settings *src, unsigned mask);
+void pfd_settings_copy(pfd_settings *dst, const pfd_settings *src, pfd_mask mask);
 
 /** "internal" or "external" (pfd_settings.external_clock 0 or 1). */
 const char *pfd_clock_name(int external);
 
 /** Built-in defaults: 127.0.0.1:1502, internal clock, 16 clients, ... */
 void pfd_settings_default(pfd_settings *s);
+
+/** What a run that falls back to the defaults uses (--config-fallback-
+ *  defaults): the defaults, with every PFD_SF_SECURE row that has a
+ *  `fallback` value set to it (read-only, parameters locked). The file
+ *  that could not be used gives nothing. */
+void pfd_settings_fallback(pfd_settings *s);
 
 /** One default instance (pfd_iparams_default), nothing else set. */
 void pfd_run_default(pfd_run *run);

@@ -4,9 +4,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "pfd_log.h"
+#include "pfd_plausible.h"
 
 static void default_instances(pfd_config *c, const pfd_run *run)
 {
@@ -29,6 +29,12 @@ void pfd_start_describe(char *buf, size_t n, const char *path,
 
     if (why->st == PF_E_NULL)
         snprintf(d, sizeof d, "out of memory");
+    else if (why->st == PFD_E_UNSTABLE && why->param != (int)PF_P_COUNT)
+        snprintf(d, sizeof d, "the sampled loop is unstable (its output would grow without "
+                 "bound); '%s' makes it so", pfd_param_name(why->param));
+    else if (why->st == PFD_E_UNSTABLE)
+        snprintf(d, sizeof d, "the sampled loop is unstable (its output would grow without "
+                 "bound)");
     else if (why->st == PF_E_SCALE)
         snprintf(d, sizeof d, "q15: a coefficient does not fit (change in_fs/out_fs)");
     else if (why->param != (int)PF_P_COUNT && why->st == PFD_E_DAEMON)
@@ -52,21 +58,25 @@ void pfd_start_describe(char *buf, size_t n, const char *path,
 static int design_all(const char *path, const pfd_config *c, char *err, size_t n)
 {
     pf_ctrl_design *scratch = malloc(sizeof *scratch);
+    pf_ctrl_check_work *work = malloc(sizeof *work);
     pfd_slot *slot = malloc(sizeof *slot);
     int i, rc = 0;
 
-    if (scratch == NULL || slot == NULL) {
+    if (scratch == NULL || slot == NULL || work == NULL) {
         snprintf(err, n, "config %s: out of memory", path);
         rc = -1;
     }
     for (i = 0; i < c->n && rc == 0; i++) {
         pfd_fail why;
-        if (pfd_slot_build(slot, &c->inst[i].ip, scratch, &why) != 0) {
+        pfd_iparams ref;
+        pfd_plausible_ref(&c->inst[i].ip, NULL, &ref);
+        if (pfd_slot_prepare(slot, &c->inst[i].ip, &ref, scratch, work, &why) != 0) {
             pfd_start_describe(err, n, path, &c->inst[i], &why);
             rc = -1;
         }
     }
     free(slot);
+    free(work);
     free(scratch);
     return rc;
 }
@@ -77,31 +87,6 @@ static int load_and_design(const char *path, pfd_config *c, int need_checksum,
     if (pfd_config_load(path, c, need_checksum, err, n) != 0)
         return -1;
     return design_all(path, c, err, n);
-}
-
-/* Move an unusable FILE aside, to FILE.corrupt, or FILE.corrupt.N if that
- * exists already: an earlier bad file may be the one someone still wants
- * to look at. */
-static void move_aside(const char *path)
-{
-    char aside[4200];
-    int k;
-
-    if (access(path, F_OK) != 0)
-        return;
-    for (k = 0; k < 1000; k++) {
-        if (k == 0)
-            snprintf(aside, sizeof aside, "%s.corrupt", path);
-        else
-            snprintf(aside, sizeof aside, "%s.corrupt.%d", path, k);
-        if (access(aside, F_OK) != 0)
-            break;
-    }
-    if (k < 1000 && rename(path, aside) == 0)
-        pfd_log(PFD_LOG_WARN, "config-fallback", "moved=%s", aside);
-    else
-        pfd_log(PFD_LOG_WARN, "config-fallback", "moved=none error=\"cannot move %s aside\"",
-                path);
 }
 
 int pfd_start_config(const pfd_run *run, pfd_config *c)
@@ -118,10 +103,15 @@ int pfd_start_config(const pfd_run *run, pfd_config *c)
         pfd_fatal("%s", err);
         return -1;
     }
-    move_aside(run->config);
-    pfd_log(PFD_LOG_WARN, "config-fallback", "using=defaults error=\"%s\"", err);
+    /* The file cannot be trusted, so neither can anything it might have
+     * said about security: the run is read-only, and the file is never
+     * moved or rewritten, so that its instances and settings are there
+     * again once it is repaired. */
+    pfd_log(PFD_LOG_WARN, "config-fallback",
+            "using=defaults mode=read-only persistence=off file=%s error=\"%s\"", run->config,
+            err);
     default_instances(c, run);
-    return 0;
+    return 1;
 }
 
 int pfd_start_seal(const char *path)

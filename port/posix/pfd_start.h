@@ -3,7 +3,7 @@
  * The configuration a run starts from: the file of --config, accepted only
  * once every instance in it has been designed, or the default instances of
  * the command line; with --config-fallback-defaults, a file that fails is
- * moved aside and the defaults run. Also --seal-config and
+ * left alone and the defaults run, read-only (docs/pneufracd.md). Also --seal-config and
  * --print-default-config, which check and write the same files.
  */
 #ifndef PFD_START_H
@@ -17,7 +17,11 @@
 /** Exit status for bad arguments or a bad config file. */
 #define PFD_EXIT_USAGE 2
 
-/** Fill @p c for this run. @return 0, or -1 after a fatal message. */
+/** Fill @p c for this run. With --config-fallback-defaults, a FILE that
+ *  is missing, corrupt or cannot be designed gives the default instances
+ *  instead, and is left as it is. @return 0, 1 for such a fallback (the
+ *  run must not trust or rewrite FILE: see pfd_settings_fallback), or -1
+ *  after a fatal message. */
 int pfd_start_config(const pfd_run *run, pfd_config *c);
 
 /** Why instance @p ci failed, "config FILE:LINE: [instance U]: why" (or

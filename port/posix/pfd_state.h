@@ -86,8 +86,12 @@ typedef struct pfd_inst {
         pfd_snap s;
     } rt;
 
-    /* Modbus side, under pfd_daemon.regs_mx */
-    pfd_hold hold;
+    /* Modbus side, under pfd_daemon.regs_mx. The staged registers are each
+     * client's own (pfd_stage.h). */
+    pfd_live live;          /* the live holding registers */
+    uint16_t param_lock;
+    uint64_t lock_holder;   /* the connection (pfd_who.id) holding param_lock;
+                               0: none, which with --param-lock is everyone */
     pfd_iparams committed;
     uint16_t commit_result, err_addr, err_param;
     /* Generation of the last set handed to the loop; every accepted commit
@@ -105,8 +109,9 @@ enum {
     PFD_COMMIT_SCALE = 2,   /**< q15: a coefficient does not fit; change in_fs/out_fs */
     PFD_COMMIT_BUSY = 3,    /**< no free slot (the loop is mid-switch) */
     PFD_COMMIT_FAILED = 4,  /**< any other library error */
-    PFD_COMMIT_UNSAVED = 5  /**< applied and running, but the config file
+    PFD_COMMIT_UNSAVED = 5, /**< applied and running, but the config file
                                  could not be written */
+    PFD_COMMIT_UNSTABLE = 6 /**< the set's sampled loop would be unstable */
 };
 
 /** Period jitter over every sample of every instance, in 1 us bins; the
@@ -118,8 +123,10 @@ typedef struct pfd_jitter {
     int64_t max_ns;
 } pfd_jitter;
 
-struct pfd_client;  /* pfd_modbus.c */
+struct pfd_client;  /* pfd_server.c */
 struct pfd_config;  /* pfd_config.h */
+struct pfd_tls;     /* pfd_tls.h */
+struct pf_ctrl_check_work; /* pf_controller.h */
 
 typedef struct pfd_daemon {
     pfd_settings set;
@@ -129,6 +136,7 @@ typedef struct pfd_daemon {
     pthread_mutex_t regs_mx;
     pthread_mutex_t commit_mx;
     pf_ctrl_design *scratch; /* design scratch, under commit_mx */
+    struct pf_ctrl_check_work *check; /* stability check scratch, under commit_mx */
     int stop;                /* atomic */
     /* lockstep hand-shake */
     pthread_mutex_t tick_mx;
@@ -141,14 +149,19 @@ typedef struct pfd_daemon {
         pfd_jitter jitter; /* written by the loop only, read after it stopped */
     } loop;
 
-    /* the Modbus server (pfd_modbus.c) */
+    /* the Modbus server (pfd_server.c) */
     struct {
-        int listen_fd; /* -1: none */
+        int listen_fd, tls_fd; /* -1: none */
+        int reserve_fd;        /* spare fd, given up to refuse a client when
+                                  the process is out of fds; -1: none */
+        struct pfd_tls *tls;   /* NULL: no TLS listener */
         pthread_t accept_th;
         int accept_running;
         pfd_allow allow;
         pthread_mutex_t clients_mx;
-        struct pfd_client *clients; /* set.max_clients slots, under clients_mx */
+        struct pfd_client *clients; /* n_slots slots, under clients_mx */
+        int n_slots;           /* 2 x max_clients: evicted ones wind down */
+        uint64_t next_id;      /* connection serial numbers, from 1 */
     } server;
 
     /* persistence (pfd_commit.c) */

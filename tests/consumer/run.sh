@@ -93,7 +93,7 @@ mkdir -p "$W/no-pc"
 PKG_CONFIG_LIBDIR="$W/no-pc" PKG_CONFIG_PATH="" cmake -S "$SRC" -B "$W/nomodbus" \
   -DPNEUFRAC_BUILD_TOOLS=OFF -DPNEUFRAC_BUILD_TESTS=OFF -DPNEUFRAC_BUILD_BENCH=OFF \
   -DPNEUFRAC_BUILD_PORT=ON >"$W/log" 2>&1 || { cat "$W/log" >&2; fail "configure without libmodbus"; }
-grep -q "libmodbus not found.*pneufracd is" "$W/log" || fail "no message about the skipped daemon"
+grep -q "libmodbus (Debian: libmodbus-dev) not found; pneufracd is" "$W/log" || fail "no message about the skipped daemon"
 quiet cmake --build "$W/nomodbus" --parallel "$jobs"
 
 log "7. the firmware copy of docs/firmware.md"

@@ -55,12 +55,38 @@ REG = _load_regmap()
 class Daemon:
     """pneufracd on 127.0.0.1, port 0 (the kernel picks a free one)."""
 
-    def __init__(self, tmp_path, *args, run_for=300, wait_ready=True):
+    def __init__(self, tmp_path, *args, run_for=300, wait_ready=True, limits=None):
+        """@p limits: {resource.RLIMIT_*: soft limit, or (soft, hard)} for
+        the daemon. The log then goes through a pipe, so that RLIMIT_FSIZE
+        does not bite the log file."""
         self.log_path = Path(tmp_path) / f"pneufracd-{time.monotonic_ns()}.log"
         self.args = [DAEMON, "--listen", "127.0.0.1:0", "--run-for", str(run_for), *args]
         self._log = open(self.log_path, "w")
-        self.proc = subprocess.Popen(self.args, stdin=subprocess.DEVNULL,
-                                     stdout=subprocess.DEVNULL, stderr=self._log)
+        self._pump = None
+        if limits:
+            import resource
+            import threading
+
+            def preexec():
+                for res, lim in limits.items():
+                    if not isinstance(lim, tuple):
+                        lim = (lim, resource.getrlimit(res)[1])
+                    resource.setrlimit(res, lim)
+
+            self.proc = subprocess.Popen(self.args, stdin=subprocess.DEVNULL,
+                                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                                         preexec_fn=preexec)
+
+            def pump():
+                for line in iter(self.proc.stderr.readline, b""):
+                    self._log.write(line.decode(errors="replace"))
+                    self._log.flush()
+
+            self._pump = threading.Thread(target=pump, daemon=True)
+            self._pump.start()
+        else:
+            self.proc = subprocess.Popen(self.args, stdin=subprocess.DEVNULL,
+                                         stdout=subprocess.DEVNULL, stderr=self._log)
         self.port = None
         if wait_ready:
             self.wait_ready()
@@ -93,6 +119,8 @@ class Daemon:
             except subprocess.TimeoutExpired:
                 self.proc.kill()
                 self.proc.wait()
+        if self._pump is not None:
+            self._pump.join(timeout=10)
         self._log.close()
         return self.proc.returncode
 

@@ -54,6 +54,12 @@ def f32(x):
     return [hi, lo]
 
 
+def raw_f32(raw, name):
+    """A float holding register as the Raw connection sees it."""
+    rsp = raw.request(1, fc03(REG[name][1], 2))
+    return struct.unpack(">f", rsp[2:6])[0]
+
+
 @pytest.fixture
 def lockstep(daemon):
     d = daemon("--clock", "external")
@@ -227,15 +233,17 @@ def test_refused_commit_keeps_old_parameters_running(lockstep):
     assert r.read("status") & (1 << 2)
     assert committed_image(c) == committed
     # Staging + commit in one request: refused, and the staged write of
-    # that request is not applied either.
+    # that request is not applied either. Staged registers are the
+    # connection's own: raw sees its staging, c does not.
     q = REG["q"][1]
-    before_q = r.read("q")
+    before_q = raw_f32(raw, "q")
     rsp = raw.request(1, fc16(q, f32(0.7)))
     assert exception_code(rsp) is None
     rsp = raw.request(1, fc16(REG["commit"][1], [1]))
     assert exception_code(rsp) == 3
     assert committed_image(c) == committed
-    assert r.read("q") != before_q  # staged by the earlier, valid request
+    assert raw_f32(raw, "q") != before_q  # staged by the earlier, valid request
+    assert r.read("q") == before_q
 
     for _ in range(100):
         r.tick(1)
@@ -244,9 +252,10 @@ def test_refused_commit_keeps_old_parameters_running(lockstep):
     assert len(pcs) == 200 and worst <= 1e-6
 
     # Discard the staged changes: staged equals committed again.
-    r.write("command", 1)
-    assert not r.read("status") & (1 << 7)
-    assert r.read("pmin") == r.read("committed_pmin")
+    assert struct.unpack(">BBH", raw.request(1, fc04(REG["status"][1], 1)))[2] & (1 << 7)
+    assert exception_code(raw.request(1, fc06(REG["command"][1], 1))) is None
+    assert not struct.unpack(">BBH", raw.request(1, fc04(REG["status"][1], 1)))[2] & (1 << 7)
+    assert raw_f32(raw, "pmin") == r.read("committed_pmin")
 
 
 def test_staged_write_and_refused_commit_in_one_request(lockstep):

@@ -132,7 +132,7 @@ def test_set_that_cannot_be_designed(daemon, conf):
     """A file whose checksum is right and whose values each are in range,
     but whose set the library refuses (pmin > pmax): without the fallback
     the start fails naming the instance; with it the daemon runs the
-    defaults and moves the file aside, never over an older FILE.corrupt."""
+    defaults, read-only, and leaves the file exactly as it was."""
     bad = sealed_unchecked(re.sub(r"^pmax = .*$", "pmax = 0.5", conf.read_text(),
                                   count=1, flags=re.M))
     conf.write_text(bad)
@@ -140,17 +140,56 @@ def test_set_that_cannot_be_designed(daemon, conf):
     assert rc == 2
     assert re.fullmatch(rf"pneufracd: config {re.escape(str(conf))}:\d+: \[instance 1\]: "
                         r"invalid parameter 'pmax'\n", err), err
-    older = conf.parent / (conf.name + ".corrupt")
-    older.write_text("an earlier bad file\n")
     d = daemon("--config", str(conf), "--config-fallback-defaults")
     r = Regs(d.client())
     assert r.read("committed_config") == 1 and r.read("committed_pmax") == r.read("pmax")
-    assert "msg=config-fallback" in d.log() and "invalid parameter 'pmax'" in d.log()
-    assert older.read_text() == "an earlier bad file\n"
-    assert (conf.parent / (conf.name + ".corrupt.1")).read_text() == bad
-    assert not conf.exists()
-    r.write("commit", 1)  # a fresh FILE, from the defaults
-    assert conf.exists() and conf.read_text() != bad
+    assert re.search(r"msg=config-fallback using=defaults mode=read-only persistence=off "
+                     r".*invalid parameter 'pmax'", d.log()), d.log()
+    assert r.read("status") & (1 << 5)  # read-only
+    assert r.write_raw("commit", 1).exception_code == 1
+    assert d.stop() == 0
+    assert conf.read_text() == bad
+    assert [p.name for p in conf.parent.iterdir() if p.name.startswith(conf.name)] == [conf.name]
+
+
+def test_fallback_keeps_security_and_instances(daemon, conf):
+    """F1: a file with two instances and security settings in [daemon]
+    (param_lock, max_clients, allow) is truncated. The fallback run must
+    not weaken any of them: it refuses every write (read-only, locked). It
+    never rewrites the file, neither on a write attempt nor at shutdown,
+    so once the file is repaired both instances and every setting are
+    back."""
+    text = subprocess.run([DAEMON, "--print-default-config", "--instances", "2"], check=True,
+                          capture_output=True, text=True).stdout
+    head, rest = text.split("\n[instance 1]", 1)
+    conf.write_text(head + "\n[daemon]\nparam_lock = yes\nmax_clients = 4\n"
+                    "allow = 127.0.0.1/32\n\n[instance 1]" + rest)
+    p = subprocess.run([DAEMON, "--seal-config", str(conf)], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    good = conf.read_bytes()
+    conf.write_bytes(good[:len(good) // 2])
+    corrupt = conf.read_bytes()
+
+    d = daemon("--config", str(conf), "--config-fallback-defaults")
+    r = Regs(d.client())
+    st = r.read("status")
+    assert st & (1 << 5) and st & (1 << 4), bin(st)  # read-only, locked
+    for name, value in [("param_lock", 0), ("mode", 1), ("failsafe_out", -1e9),
+                        ("watchdog_ms", 1), ("q", 0.5), ("commit", 1), ("command", 2),
+                        ("command", 3)]:
+        resp = r.write_raw(name, value)
+        assert resp.isError() and resp.exception_code == 1, (name, resp)
+    assert r.read("mode") == 0 and r.read("param_lock") == 1
+    assert d.stop() == 0
+    assert conf.read_bytes() == corrupt  # not rewritten at shutdown either
+
+    conf.write_bytes(good)  # repaired
+    d2 = daemon("--config", str(conf))
+    assert "max_clients=4" in d2.log() and 'allow="127.0.0.1/32"' in d2.log()
+    c = d2.client()
+    for unit in (1, 2):
+        r2 = Regs(c, unit)
+        assert r2.read("unit_id") == unit and r2.read("param_lock") == 1
 
 
 def test_commit_not_persisted(daemon, conf):
@@ -184,7 +223,19 @@ def test_fallback_to_defaults(daemon, conf):
     r = Regs(d.client())
     assert r.read("committed_config") == 1 and r.read("committed_q") == f32(0.9)
     assert "msg=config-fallback" in d.log()
-    assert (conf.parent / (conf.name + ".corrupt")).exists()
+    assert r.read("status") & (1 << 5)
+    assert d.stop() == 0
+    assert len(conf.read_bytes()) == 100
+
+
+def test_fallback_on_missing_file(daemon, tmp_path):
+    """A missing file is a fallback too: defaults, read-only, and no file
+    is created behind the operator's back."""
+    path = tmp_path / "none.conf"
+    d = daemon("--config", str(path), "--config-fallback-defaults")
+    assert Regs(d.client()).write_raw("mode", 1).exception_code == 1
+    assert d.stop() == 0
+    assert not path.exists()
 
 
 SET_A = {"q": 0.8, "beta": 0.85, "RC": 0.05, "tau": 0.002, "k2": 0.2}

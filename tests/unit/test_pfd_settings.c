@@ -104,7 +104,8 @@ static void defaults_read_back(void **state)
             continue; /* "off", outside the range on purpose */
         if (pfd_setting_parse(r, text, &s1, &run1, msg, sizeof msg) != 0)
             fail_msg("%s: default '%s' does not parse: %s", r->flag, text, msg);
-        if (r->type == PFD_ST_NETS || r->type == PFD_ST_ENDPOINT) {
+        if (r->type == PFD_ST_NETS || r->type == PFD_ST_ENDPOINT || r->type == PFD_ST_FILE ||
+            r->type == PFD_ST_ROLES) {
             /* text fields: what follows the string's end is not the value */
             char again[600];
             pfd_setting_format(r, &s1, &run1, again, sizeof again);

@@ -1,0 +1,174 @@
+/* SPDX-License-Identifier: MIT */
+#include "pfd_conn.h"
+
+#include <errno.h>
+#include <openssl/err.h>
+#include <openssl/ssl.h>
+#include <poll.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <time.h>
+
+int64_t pfd_now_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
+}
+
+/* Wait for @p events, at most @p ms and never past @p deadline_ns (0:
+ * none). @return 1 ready, 0 timed out, PFD_CONN_CLOSED. */
+static int wait_fd(int fd, short events, int ms, int64_t deadline_ns)
+{
+    struct pollfd p;
+    int rc;
+
+    if (deadline_ns > 0) {
+        int64_t left = (deadline_ns - pfd_now_ns() + 999999) / 1000000;
+        if (left <= 0)
+            return 0;
+        if (left < ms)
+            ms = (int)left;
+    }
+    p.fd = fd;
+    p.events = events;
+    p.revents = 0;
+    do {
+        rc = poll(&p, 1, ms);
+    } while (rc < 0 && errno == EINTR);
+    if (rc < 0)
+        return PFD_CONN_CLOSED;
+    /* HUP or an error: the next read or write reports it. */
+    return rc > 0 ? 1 : 0;
+}
+
+int pfd_conn_wait(pfd_conn *c, int ms)
+{
+    if (c->ssl != NULL && SSL_pending(c->ssl) > 0)
+        return 1;
+    return wait_fd(c->fd, POLLIN, ms, 0);
+}
+
+/* One read or write attempt. @return bytes moved (> 0), 0 to wait for
+ * *events, or PFD_CONN_CLOSED. */
+static long io_once(pfd_conn *c, void *buf, size_t n, int writing, short *events)
+{
+    if (c->ssl == NULL) {
+        ssize_t k = writing ? send(c->fd, buf, n, MSG_NOSIGNAL) : recv(c->fd, buf, n, 0);
+        if (k > 0)
+            return (long)k;
+        if (k < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) {
+            *events = writing ? POLLOUT : POLLIN;
+            return 0;
+        }
+        return PFD_CONN_CLOSED; /* 0: the peer closed */
+    } else {
+        int k = writing ? SSL_write(c->ssl, buf, (int)n) : SSL_read(c->ssl, buf, (int)n);
+        if (k > 0)
+            return k;
+        switch (SSL_get_error(c->ssl, k)) {
+        case SSL_ERROR_WANT_READ:
+            *events = POLLIN;
+            return 0;
+        case SSL_ERROR_WANT_WRITE:
+            *events = POLLOUT;
+            return 0;
+        default:
+            ERR_clear_error();
+            return PFD_CONN_CLOSED;
+        }
+    }
+}
+
+/* Move all @p n bytes: each wait at most @p gap_ms, and none past
+ * @p deadline_ns (0: none). */
+static int transfer(pfd_conn *c, void *buf, size_t n, int writing, int gap_ms,
+                    int64_t deadline_ns)
+{
+    unsigned char *p = (unsigned char *)buf;
+    while (n > 0) {
+        short ev = 0;
+        /* OpenSSL retries a write with the same buffer and length. */
+        long k = io_once(c, p, n, writing, &ev);
+        int w;
+        if (k < 0)
+            return PFD_CONN_CLOSED;
+        if (k > 0) {
+            p += k;
+            n -= (size_t)k;
+            continue;
+        }
+        w = wait_fd(c->fd, ev, gap_ms, deadline_ns);
+        if (w < 0)
+            return PFD_CONN_CLOSED;
+        if (w == 0)
+            return PFD_CONN_TIMEOUT;
+    }
+    return 0;
+}
+
+int pfd_conn_read(pfd_conn *c, void *buf, size_t n, int gap_ms, int64_t deadline_ns)
+{
+    return transfer(c, buf, n, 0, gap_ms, deadline_ns);
+}
+
+int pfd_conn_write(pfd_conn *c, const void *buf, size_t n, int ms)
+{
+    return transfer(c, (void *)buf, n, 1, ms, pfd_now_ns() + (int64_t)ms * 1000000);
+}
+
+int pfd_conn_handshake(pfd_conn *c, int64_t deadline_ns, char *why, size_t n)
+{
+    for (;;) {
+        int k = SSL_accept(c->ssl), w;
+        short ev;
+        if (k == 1)
+            return 0;
+        switch (SSL_get_error(c->ssl, k)) {
+        case SSL_ERROR_WANT_READ:
+            ev = POLLIN;
+            break;
+        case SSL_ERROR_WANT_WRITE:
+            ev = POLLOUT;
+            break;
+        default: {
+            unsigned long e = ERR_peek_last_error();
+            long v = SSL_get_verify_result(c->ssl);
+            const char *app = (const char *)SSL_get_app_data(c->ssl);
+            if (v == X509_V_ERR_APPLICATION_VERIFICATION && app != NULL)
+                snprintf(why, n, "%s", app); /* pfd_tls.c's verify callback */
+            else if (v != X509_V_OK)
+                snprintf(why, n, "%s", X509_verify_cert_error_string(v));
+            else if (e != 0)
+                snprintf(why, n, "%s", ERR_reason_error_string(e) ? ERR_reason_error_string(e)
+                                                                  : "handshake failed");
+            else
+                snprintf(why, n, "handshake failed");
+            ERR_clear_error();
+            return PFD_CONN_CLOSED;
+        }
+        }
+        w = wait_fd(c->fd, ev, 1000, deadline_ns);
+        if (w < 0) {
+            snprintf(why, n, "socket error");
+            return PFD_CONN_CLOSED;
+        }
+        if (w == 0) {
+            snprintf(why, n, "handshake timeout");
+            return PFD_CONN_TIMEOUT;
+        }
+    }
+}
+
+void pfd_conn_end_tls(pfd_conn *c)
+{
+    if (c->ssl == NULL)
+        return;
+    /* Best effort: the socket is non-blocking, so this never waits. */
+    if (SSL_is_init_finished(c->ssl))
+        (void)SSL_shutdown(c->ssl);
+    ERR_clear_error();
+    SSL_free(c->ssl);
+    c->ssl = NULL;
+}

@@ -1,0 +1,527 @@
+/* SPDX-License-Identifier: MIT */
+#include "pfd_server.h"
+
+#include <arpa/inet.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <poll.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/ioctl.h>
+#include <sys/resource.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include "pfd_conn.h"
+#include "pfd_log.h"
+#include "pfd_modbus.h"
+#include "pfd_slots.h"
+#include "pfd_tls.h"
+
+#define CLIENT_STACK (256 * 1024)
+#define POLL_MS 200       /* how often threads look at the stop flag */
+#define SEND_TIMEOUT_MS 1000 /* a client that does not read its answers */
+
+/* One slot of pfd_daemon.server.clients. */
+typedef struct pfd_client {
+    pfd_daemon *d;
+    pthread_t th;
+    pfd_conn conn;
+    int tls;          /* came in on the TLS listener */
+    int in_use;       /* slot taken (under clients_mx) */
+    int done;         /* thread finished, join pending (atomic) */
+    uint32_t addr;    /* IPv4, host order */
+    uint64_t id;
+    char peer[48];
+    /* what the slot policy reads (atomic) */
+    int64_t since_ns; /* last completed request, or accepted */
+    int active, heard, busy, evicted;
+} pfd_client;
+
+static pfd_ratelimit rl_refused = PFD_RATELIMIT("client-refused");
+static pfd_ratelimit rl_evicted = PFD_RATELIMIT("client-evicted");
+static pfd_ratelimit rl_accept = PFD_RATELIMIT("accept-failed");
+static pfd_ratelimit rl_tls = PFD_RATELIMIT("tls-refused");
+
+/* ---- client thread ----------------------------------------------------- */
+
+/* When the client must have completed its next request. */
+static int64_t deadline_of(const pfd_client *c)
+{
+    const pfd_settings *set = &c->d->set;
+    int64_t since = __atomic_load_n(&c->since_ns, __ATOMIC_ACQUIRE);
+    if (!__atomic_load_n(&c->active, __ATOMIC_ACQUIRE))
+        return since + (int64_t)set->first_request_ms * 1000000;
+    return set->idle_timeout_s > 0 ? since + (int64_t)set->idle_timeout_s * 1000000000 : 0;
+}
+
+/* The TLS handshake and the client's role. @return 0, or -1 with @p why. */
+static int tls_start(pfd_client *c, pfd_session *s, char *role, size_t n, const char **why)
+{
+    pfd_daemon *d = c->d;
+    char reason[160];
+    int rc;
+
+    c->conn.ssl = pfd_tls_session(d->server.tls, c->conn.fd);
+    if (c->conn.ssl == NULL) {
+        *why = "out-of-memory";
+        return -1;
+    }
+    rc = pfd_conn_handshake(&c->conn, deadline_of(c), reason, sizeof reason);
+    if (rc == 0) {
+        s->who.access = pfd_tls_peer(d->server.tls, c->conn.ssl, role, n);
+        if (s->who.access >= 0)
+            return 0;
+        snprintf(reason, sizeof reason, "no role");
+    }
+    if (!pfd_stopping(d) && pfd_log_ratelimit(&rl_tls))
+        pfd_log(PFD_LOG_WARN, "tls-refused", "peer=%s reason=\"%s\"", c->peer, reason);
+    *why = "tls-refused";
+    return -1;
+}
+
+/* Read one request ADU into @p req. @return its length, or a
+ * PFD_CONN_* code with @p why set. */
+static int read_request(pfd_client *c, uint8_t *req, const char **why)
+{
+    const int gap = c->d->set.byte_timeout_ms;
+    int rc, len;
+
+    rc = pfd_conn_read(&c->conn, req, PFD_MBAP_LEN, gap, deadline_of(c));
+    if (rc == 0) {
+        len = pfd_mbap_length(req);
+        if (len < 0) {
+            *why = "bad-frame";
+            return PFD_CONN_CLOSED;
+        }
+        rc = pfd_conn_read(&c->conn, req + PFD_MBAP_LEN, (size_t)(len - PFD_MBAP_LEN), gap,
+                           deadline_of(c));
+        if (rc == 0)
+            return len;
+    }
+    *why = rc == PFD_CONN_TIMEOUT ? "byte-timeout" : "peer-closed";
+    return rc;
+}
+
+static void *client_main(void *arg)
+{
+    pfd_client *c = (pfd_client *)arg;
+    pfd_daemon *d = c->d;
+    pfd_session *s = calloc(1, sizeof *s);
+    uint8_t req[PFD_ADU_MAX], rsp[PFD_ADU_MAX];
+    char role[PFD_ROLE_NAME_MAX] = "plain";
+    const char *why = "closed";
+
+    if (s == NULL) {
+        why = "out-of-memory";
+        goto out;
+    }
+    s->who.id = c->id;
+    s->who.peer = c->peer;
+    s->who.role = role;
+    s->who.access = d->set.plain_access;
+    if (c->tls && tls_start(c, s, role, sizeof role, &why) != 0)
+        goto out;
+    pfd_log(PFD_LOG_DEBUG, "client-connected", "peer=%s role=%s access=%s", c->peer, role,
+            pfd_access_name(s->who.access));
+
+    while (!pfd_stopping(d)) {
+        int64_t deadline;
+        int rc, len;
+
+        rc = pfd_conn_wait(&c->conn, POLL_MS);
+        if (rc > 0)
+            __atomic_store_n(&c->heard, 1, __ATOMIC_RELEASE);
+        if (__atomic_load_n(&c->evicted, __ATOMIC_ACQUIRE)) {
+            why = "evicted";
+            break;
+        }
+        if (rc < 0) {
+            why = "poll-error";
+            break;
+        }
+        if (rc == 0) {
+            deadline = deadline_of(c);
+            if (deadline > 0 && pfd_now_ns() >= deadline) {
+                why = __atomic_load_n(&c->active, __ATOMIC_ACQUIRE) ? "idle-timeout"
+                                                                    : "first-request-timeout";
+                break;
+            }
+            continue;
+        }
+        len = read_request(c, req, &why);
+        if (len < 0)
+            break;
+        __atomic_store_n(&c->busy, 1, __ATOMIC_RELEASE);
+        rc = pfd_request(d, s, req, len, rsp);
+        if (rc < 0) {
+            why = pfd_stopping(d) ? "shutdown" : "bad-frame";
+        } else if (pfd_conn_write(&c->conn, rsp, (size_t)rc, SEND_TIMEOUT_MS) != 0) {
+            why = "send-failed";
+            rc = -1;
+        }
+        __atomic_store_n(&c->since_ns, pfd_now_ns(), __ATOMIC_RELEASE);
+        __atomic_store_n(&c->active, 1, __ATOMIC_RELEASE);
+        __atomic_store_n(&c->busy, 0, __ATOMIC_RELEASE);
+        if (rc < 0)
+            break;
+    }
+    if (pfd_stopping(d))
+        why = "shutdown";
+out:
+    if (s != NULL) {
+        pfd_session_end(d, s);
+        free(s);
+    }
+    pfd_log(PFD_LOG_DEBUG, "client-closed", "peer=%s reason=%s", c->peer, why);
+    pfd_conn_end_tls(&c->conn);
+    /* reap() closes the fd after the join, so that pfd_server_stop() and
+     * an eviction can shutdown() any fd of a slot in use without racing a
+     * reuse of its number. */
+    __atomic_store_n(&c->done, 1, __ATOMIC_RELEASE);
+    return NULL;
+}
+
+/* ---- accept thread ----------------------------------------------------- */
+
+/* Under clients_mx. */
+static void reap(pfd_daemon *d, int all)
+{
+    int i;
+    for (i = 0; i < d->server.n_slots; i++) {
+        pfd_client *c = &d->server.clients[i];
+        if (c->in_use && (all || __atomic_load_n(&c->done, __ATOMIC_ACQUIRE))) {
+            pthread_join(c->th, NULL);
+            close(c->conn.fd);
+            c->in_use = 0;
+        }
+    }
+}
+
+static void refuse(int fd, const char *peer, const char *why)
+{
+    if (pfd_log_ratelimit(&rl_refused))
+        pfd_log(PFD_LOG_WARN, "client-refused", "peer=%s reason=%s", peer, why);
+    close(fd);
+}
+
+/* Under clients_mx: tell @p v to go; its thread ends within a poll. */
+static void evict(pfd_client *v, const char *for_peer, const char *why)
+{
+    __atomic_store_n(&v->evicted, 1, __ATOMIC_RELEASE);
+    shutdown(v->conn.fd, SHUT_RDWR);
+    if (pfd_log_ratelimit(&rl_evicted))
+        pfd_log(PFD_LOG_WARN, "client-evicted", "peer=%s active=%d idle_ms=%lld for=%s reason=%s",
+                v->peer, __atomic_load_n(&v->active, __ATOMIC_ACQUIRE),
+                (long long)((pfd_now_ns() - __atomic_load_n(&v->since_ns, __ATOMIC_ACQUIRE)) /
+                            1000000),
+                for_peer, why);
+}
+
+/* Whether a client that has not spoken yet has bytes waiting: its thread
+ * has not got round to them. */
+static int waiting(const pfd_client *c)
+{
+    int n = 0;
+    if (!c->in_use || __atomic_load_n(&c->active, __ATOMIC_ACQUIRE))
+        return 0;
+    return ioctl(c->conn.fd, FIONREAD, &n) == 0 && n > 0;
+}
+
+/* Whether client @p id holds a lock: a holder is never evicted, or a
+ * flood of connections could take the lock from it (its disconnect
+ * releases it). */
+static int holds_lock(pfd_daemon *d, uint64_t id)
+{
+    int i, held = 0;
+    pthread_mutex_lock(&d->regs_mx);
+    for (i = 0; i < d->n && !held; i++)
+        held = d->inst[i]->param_lock && d->inst[i]->lock_holder == id;
+    pthread_mutex_unlock(&d->regs_mx);
+    return held;
+}
+
+/* Under clients_mx: a slot for a client from @p addr, evicting one if
+ * the policy says so. @return the slot, or NULL with @p why. */
+static pfd_client *take_slot(pfd_daemon *d, uint32_t addr, const char *peer, const char **why)
+{
+    pfd_slot_view v[512];
+    pfd_slot_choice ch;
+    int i, n = d->server.n_slots;
+
+    for (i = 0; i < n; i++) {
+        const pfd_client *c = &d->server.clients[i];
+        v[i].in_use = c->in_use;
+        v[i].evicted = __atomic_load_n(&c->evicted, __ATOMIC_ACQUIRE) ||
+                       __atomic_load_n(&c->done, __ATOMIC_ACQUIRE);
+        v[i].active = __atomic_load_n(&c->active, __ATOMIC_ACQUIRE);
+        v[i].heard = __atomic_load_n(&c->heard, __ATOMIC_ACQUIRE) || waiting(c);
+        v[i].busy = __atomic_load_n(&c->busy, __ATOMIC_ACQUIRE) ||
+                    (c->in_use && holds_lock(d, c->id));
+        v[i].addr = c->addr;
+        v[i].since_ns = __atomic_load_n(&c->since_ns, __ATOMIC_ACQUIRE);
+    }
+    ch = pfd_slots_choose(v, n, addr, d->set.max_clients, d->set.max_per_addr, pfd_now_ns(),
+                          (int64_t)d->set.first_request_ms * 1000000);
+    *why = ch.why;
+    if (ch.slot < 0)
+        return NULL;
+    if (ch.victim >= 0)
+        evict(&d->server.clients[ch.victim], peer, ch.why);
+    return &d->server.clients[ch.slot];
+}
+
+/* Out of fds: accept the waiting connection on the spare fd and close it,
+ * so the client learns at once instead of timing out, and the listener
+ * does not stay readable (which made the accept loop spin). */
+static void shed(pfd_daemon *d, int lfd)
+{
+    int fd;
+    if (d->server.reserve_fd >= 0) {
+        close(d->server.reserve_fd);
+        fd = accept(lfd, NULL, NULL);
+        if (fd >= 0)
+            close(fd);
+        d->server.reserve_fd = open("/dev/null", O_RDONLY | O_CLOEXEC);
+    }
+}
+
+/* Accept one connection on @p lfd (the TLS listener if @p tls). */
+static void accept_one(pfd_daemon *d, int lfd, int tls)
+{
+    struct sockaddr_in sa;
+    socklen_t sl = sizeof sa;
+    char peer[48], ip[INET_ADDRSTRLEN];
+    pthread_attr_t attr;
+    pfd_client *c;
+    const char *why;
+    uint32_t addr;
+    int fd, one = 1;
+
+    fd = accept(lfd, (struct sockaddr *)&sa, &sl);
+    if (fd >= 0 && (fcntl(fd, F_SETFD, FD_CLOEXEC) != 0 ||
+                    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK) != 0)) {
+        close(fd);
+        return;
+    }
+    if (fd < 0) {
+        if (errno == EMFILE || errno == ENFILE || errno == ENOBUFS || errno == ENOMEM) {
+            if (pfd_log_ratelimit(&rl_accept))
+                pfd_log(PFD_LOG_ERROR, "accept-failed", "error=\"%s\" action=refused",
+                        strerror(errno));
+            shed(d, lfd);
+            /* No fd was freed: do not come back at once. */
+            if (d->server.reserve_fd < 0)
+                poll(NULL, 0, 100);
+        }
+        return;
+    }
+    if (sa.sin_family != AF_INET || inet_ntop(AF_INET, &sa.sin_addr, ip, sizeof ip) == NULL)
+        strcpy(ip, "?");
+    snprintf(peer, sizeof peer, "%s:%u", ip, (unsigned)ntohs(sa.sin_port));
+    addr = ntohl(sa.sin_addr.s_addr);
+    if (sa.sin_family != AF_INET || !pfd_allow_match(&d->server.allow, addr)) {
+        refuse(fd, peer, "not-in-allow-list");
+        return;
+    }
+    pthread_mutex_lock(&d->server.clients_mx);
+    reap(d, 0);
+    c = take_slot(d, addr, peer, &why);
+    if (c == NULL) {
+        pthread_mutex_unlock(&d->server.clients_mx);
+        refuse(fd, peer, why);
+        return;
+    }
+    setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    memset(c, 0, sizeof *c);
+    c->d = d;
+    c->conn.fd = fd;
+    c->tls = tls;
+    c->addr = addr;
+    c->id = ++d->server.next_id;
+    c->since_ns = pfd_now_ns();
+    strcpy(c->peer, peer);
+    pthread_attr_init(&attr);
+    pthread_attr_setstacksize(&attr, CLIENT_STACK);
+    if (pthread_create(&c->th, &attr, client_main, c) != 0) {
+        pthread_attr_destroy(&attr);
+        pthread_mutex_unlock(&d->server.clients_mx);
+        refuse(fd, peer, "thread-create-failed");
+        return;
+    }
+    pthread_attr_destroy(&attr);
+    c->in_use = 1;
+    pthread_mutex_unlock(&d->server.clients_mx);
+}
+
+static void *accept_main(void *arg)
+{
+    pfd_daemon *d = (pfd_daemon *)arg;
+
+    while (!pfd_stopping(d)) {
+        struct pollfd p[2];
+        int n = 0, i;
+
+        pthread_mutex_lock(&d->server.clients_mx);
+        reap(d, 0);
+        pthread_mutex_unlock(&d->server.clients_mx);
+        if (d->server.listen_fd >= 0) {
+            p[n].fd = d->server.listen_fd;
+            p[n].events = POLLIN;
+            p[n++].revents = 0;
+        }
+        if (d->server.tls_fd >= 0) {
+            p[n].fd = d->server.tls_fd;
+            p[n].events = POLLIN;
+            p[n++].revents = 0;
+        }
+        if (poll(p, (nfds_t)n, POLL_MS) <= 0)
+            continue;
+        for (i = 0; i < n; i++)
+            if (p[i].revents & POLLIN)
+                accept_one(d, p[i].fd, p[i].fd == d->server.tls_fd);
+    }
+    return NULL;
+}
+
+/* ---- start and stop ---------------------------------------------------- */
+
+static void close_fd(int *fd)
+{
+    if (*fd >= 0) {
+        close(*fd);
+        *fd = -1;
+    }
+}
+
+/* A listening socket on @p ep. @return the fd (its port in @p port), or
+ * -1 after a fatal message. */
+static int listen_on(const pfd_endpoint *ep, const char *what, unsigned *port)
+{
+    struct sockaddr_in sa;
+    socklen_t sl = sizeof sa;
+    int one = 1, fd;
+
+    memset(&sa, 0, sizeof sa);
+    sa.sin_family = AF_INET;
+    sa.sin_port = htons((uint16_t)ep->port);
+    if (inet_pton(AF_INET, ep->addr, &sa.sin_addr) != 1) {
+        pfd_fatal("%s: '%s' is not an IPv4 address", what, ep->addr);
+        return -1;
+    }
+    fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+    if (fd < 0) {
+        pfd_fatal("socket: %s", strerror(errno));
+        return -1;
+    }
+    setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+    if (bind(fd, (struct sockaddr *)&sa, sizeof sa) != 0 || listen(fd, 64) != 0) {
+        pfd_fatal("cannot listen on %s:%d: %s", ep->addr, ep->port, strerror(errno));
+        close(fd);
+        return -1;
+    }
+    getsockname(fd, (struct sockaddr *)&sa, &sl);
+    *port = ntohs(sa.sin_port);
+    return fd;
+}
+
+/* Room for every client, both listeners and the spare: raise the soft fd
+ * limit as far as the hard one allows, and say so if that is not enough
+ * (clients beyond it are refused, see shed()). */
+static void fd_budget(const pfd_daemon *d)
+{
+    struct rlimit rl;
+    rlim_t need = (rlim_t)d->server.n_slots + 32;
+    if (getrlimit(RLIMIT_NOFILE, &rl) != 0 || rl.rlim_cur >= need)
+        return;
+    rl.rlim_cur = rl.rlim_max == RLIM_INFINITY || rl.rlim_max >= need ? need : rl.rlim_max;
+    (void)setrlimit(RLIMIT_NOFILE, &rl);
+    if (getrlimit(RLIMIT_NOFILE, &rl) == 0 && rl.rlim_cur < need)
+        pfd_log(PFD_LOG_WARN, "fd-limit", "limit=%llu wanted=%llu",
+                (unsigned long long)rl.rlim_cur, (unsigned long long)need);
+}
+
+int pfd_server_start(pfd_daemon *d)
+{
+    char err[400];
+    unsigned port = 0, tls_port = 0;
+
+    d->server.listen_fd = d->server.tls_fd = d->server.reserve_fd = -1;
+    if (pfd_allow_parse(d->set.allow, &d->server.allow, err, sizeof err) != 0) {
+        pfd_fatal("allow: %s", err);
+        return -1;
+    }
+    if (d->set.tls_listen.addr[0] != '\0') {
+        d->server.tls = pfd_tls_new(&d->set, err, sizeof err);
+        if (d->server.tls == NULL) {
+            pfd_fatal("%s", err);
+            return -1;
+        }
+    }
+    if (d->set.plain_access == PFD_ACCESS_NONE && d->server.tls == NULL) {
+        pfd_fatal("--plain-access none needs --tls-listen: there would be no listener");
+        pfd_server_stop(d);
+        return -1;
+    }
+    d->server.n_slots = 2 * d->set.max_clients;
+    d->server.clients = calloc((size_t)d->server.n_slots, sizeof *d->server.clients);
+    if (d->server.clients == NULL) {
+        pfd_fatal("out of memory");
+        pfd_server_stop(d);
+        return -1;
+    }
+    fd_budget(d);
+    if ((d->set.plain_access != PFD_ACCESS_NONE &&
+         (d->server.listen_fd = listen_on(&d->set.listen, "--listen", &port)) < 0) ||
+        (d->server.tls != NULL &&
+         (d->server.tls_fd = listen_on(&d->set.tls_listen, "--tls-listen", &tls_port)) < 0)) {
+        pfd_server_stop(d);
+        return -1;
+    }
+    d->server.reserve_fd = open("/dev/null", O_RDONLY | O_CLOEXEC);
+    if (pthread_create(&d->server.accept_th, NULL, accept_main, d) != 0) {
+        pfd_fatal("cannot start the accept thread");
+        pfd_server_stop(d);
+        return -1;
+    }
+    d->server.accept_running = 1;
+    if (d->server.tls_fd >= 0)
+        pfd_log(PFD_LOG_INFO, "listening-tls", "addr=%s port=%u roles=\"%s\"",
+                d->set.tls_listen.addr, tls_port, d->set.tls_roles);
+    /* Last: tests and scripts wait for this line. */
+    pfd_log(PFD_LOG_INFO, "listening",
+            "addr=%s port=%u max_clients=%d max_clients_per_addr=%d allow=\"%s\" "
+            "read_only=%d plain_access=%s",
+            d->server.listen_fd >= 0 ? d->set.listen.addr : "none", port, d->set.max_clients,
+            d->set.max_per_addr, d->set.allow[0] ? d->set.allow : PFD_ALLOW_DEFAULT,
+            d->set.read_only, pfd_access_name(d->set.plain_access));
+    return 0;
+}
+
+void pfd_server_stop(pfd_daemon *d)
+{
+    int i;
+    pfd_request_stop(d);
+    if (d->server.accept_running) {
+        pthread_join(d->server.accept_th, NULL);
+        d->server.accept_running = 0;
+    }
+    close_fd(&d->server.listen_fd);
+    close_fd(&d->server.tls_fd);
+    close_fd(&d->server.reserve_fd);
+    if (d->server.clients != NULL) {
+        pthread_mutex_lock(&d->server.clients_mx);
+        for (i = 0; i < d->server.n_slots; i++)
+            if (d->server.clients[i].in_use)
+                shutdown(d->server.clients[i].conn.fd, SHUT_RDWR);
+        reap(d, 1);
+        pthread_mutex_unlock(&d->server.clients_mx);
+        free(d->server.clients);
+        d->server.clients = NULL;
+    }
+    pfd_tls_free(d->server.tls);
+    d->server.tls = NULL;
+}

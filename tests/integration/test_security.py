@@ -1,0 +1,483 @@
+# SPDX-License-Identifier: MIT
+"""pneufracd under a hostile network (issue 12): function codes 0x80 and
+up, the file-size limit, running out of file descriptors, client slots
+under 1000 hostile sockets, the parameter lock, per-client staging, the
+plausibility check and the audit log. Every server binds to 127.x; every
+attack loop is bounded in count and time."""
+
+import random
+import re
+import resource
+import socket
+import struct
+import subprocess
+import threading
+import time
+
+import pytest
+
+from pfd import DAEMON, REG, SLOW, Daemon, Raw, Regs, exception_code, simulate
+
+
+def fc03(addr, count):
+    return struct.pack(">BHH", 3, addr, count)
+
+
+def adu(tid, unit, pdu):
+    return struct.pack(">HHHB", tid, 0, len(pdu) + 1, unit) + pdu
+
+
+def f32(x):
+    return struct.unpack(">f", struct.pack(">f", x))[0]
+
+
+@pytest.fixture
+def conf(tmp_path):
+    path = tmp_path / "pneufracd.conf"
+    path.write_text(subprocess.run([DAEMON, "--print-default-config"], check=True,
+                                   capture_output=True, text=True).stdout)
+    return path
+
+
+# ---- F4: function codes 0x80 and up --------------------------------------
+
+@pytest.mark.parametrize("fc", [0x80, 0x81, 0x83, 0x86, 0x90, 0xAB, 0xFF])
+def test_function_codes_0x80_and_up(daemon, fc):
+    """The exception's function code is the request's with bit 7 set:
+    FC 0x83 gets 83 01, not 03 01 (what libmodbus 3.1.6 sent). Raw
+    sockets, with and without data after the function code."""
+    d = daemon()
+    raw = Raw(d.port)
+    for payload in (b"", b"\x00\x00\x00\x01", bytes(range(200))):
+        assert raw.request(1, bytes([fc]) + payload) == bytes([fc, 0x01])
+    assert exception_code(raw.request(1, fc03(0, 2))) is None  # still in step
+
+
+# ---- F2: the file-size limit ---------------------------------------------
+
+def test_file_size_limit(tmp_path, conf):
+    """Under `ulimit -f` (RLIMIT_FSIZE) smaller than the config file, a
+    commit's write fails with EFBIG: the daemon answers exception 04 with
+    commit_result 5 and keeps running, instead of dying of SIGXFSZ."""
+    before = conf.read_bytes()
+    d = Daemon(tmp_path, "--config", str(conf), limits={resource.RLIMIT_FSIZE: 256})
+    try:
+        r = Regs(d.client())
+        r.write("q", 0.5)
+        resp = r.write_raw("commit", 1)
+        assert resp.isError() and resp.exception_code == 4, resp
+        assert r.read("commit_result") == 5 and r.read("committed_q") == f32(0.5)
+        n = r.read("samples")
+        time.sleep(0.05)
+        assert r.read("samples") > n and d.proc.poll() is None
+        assert "msg=persist-failed" in d.log() and "File too large" in d.log()
+    finally:
+        rc = d.stop()
+    assert rc == 1, d.log()[-2000:]  # the shutdown's write failed too: status 1, not 153
+    assert conf.read_bytes() == before
+
+
+# ---- F3: out of file descriptors -----------------------------------------
+
+def cpu_seconds(pid):
+    fields = open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / __import__("os").sysconf("SC_CLK_TCK")
+
+
+def test_fd_exhaustion(tmp_path):
+    """With 40 fds (soft and hard) and room for 64 clients, the daemon runs
+    out of fds. It says so (rate-limited), closes each further connection
+    at once instead of leaving it to time out, does not spin, and serves
+    again as soon as fds are free."""
+    d = Daemon(tmp_path, "--clock", "external", "--max-clients", "64",
+               "--max-clients-per-addr", "64", "--first-request-timeout-ms", "60000",
+               limits={resource.RLIMIT_NOFILE: (40, 40)})
+    held = []
+    try:
+        assert "msg=fd-limit" in d.log()
+        for _ in range(60):
+            s = socket.create_connection(("127.0.0.1", d.port), timeout=5 * SLOW)
+            held.append(s)
+        deadline = time.monotonic() + 10 * SLOW
+        while "msg=accept-failed" not in d.log():
+            assert time.monotonic() < deadline, d.log()
+            time.sleep(0.05)
+        # A newcomer learns at once that it is refused.
+        for _ in range(5):
+            s = socket.create_connection(("127.0.0.1", d.port), timeout=5 * SLOW)
+            s.settimeout(3 * SLOW)
+            s.sendall(adu(1, 1, fc03(0, 1)))
+            try:
+                assert s.recv(16) == b""
+            except ConnectionResetError:
+                pass
+            s.close()
+        # No spinning: the process is idle while its fds stay exhausted.
+        t0 = cpu_seconds(d.proc.pid)
+        time.sleep(2.0)
+        cpu = cpu_seconds(d.proc.pid) - t0
+        print({"held": len(held), "cpu_s_in_2s": cpu,
+               "accept_failed_lines": d.log().count("msg=accept-failed")})
+        assert cpu < 0.3, "the accept loop spins"
+        assert d.log().count("msg=accept-failed") <= 10  # rate-limited
+        for s in held:
+            s.close()
+        held = []
+        deadline = time.monotonic() + 10 * SLOW
+        while True:
+            try:
+                assert Regs(d.client()).read("unit_id") == 1
+                break
+            except Exception:
+                assert time.monotonic() < deadline, d.log()[-2000:]
+                time.sleep(0.2)
+    finally:
+        for s in held:
+            s.close()
+        assert d.stop() == 0, d.log()[-2000:]
+
+
+# ---- O1: client slots ------------------------------------------------------
+
+def connect_from(addr, port):
+    s = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+    s.bind((addr, 0))
+    s.settimeout(5 * SLOW)
+    s.connect(("127.0.0.1", port))
+    return s
+
+
+def ask(s, tid=1):
+    """One FC03 on socket @p s; True if answered."""
+    s.sendall(adu(tid, 1, fc03(0, 2)))
+    try:
+        return len(s.recv(64)) > 0
+    except OSError:
+        return False
+
+
+def test_slot_policy(daemon):
+    """Per-address limit, and who is evicted for whom: an address at its
+    limit makes room among its own connections; a full table gives up the
+    connections that never completed a request, never a client that polls."""
+    d = daemon("--max-clients", "4", "--max-clients-per-addr", "2",
+               "--first-request-timeout-ms", "500")
+    a = connect_from("127.0.0.1", d.port)
+    assert ask(a)
+    time.sleep(0.6)  # a: idle past the protection time (500 ms)
+    b = connect_from("127.0.0.1", d.port)
+    assert ask(b)
+    c = connect_from("127.0.0.1", d.port)  # third from 127.0.0.1: a (idle longest) goes
+    assert ask(c)
+    assert not ask(a) and ask(b)
+    f = connect_from("127.0.0.1", d.port)  # b and c poll: f is refused, they stay
+    assert not ask(f) and ask(b) and ask(c)
+    idle = [connect_from(f"127.0.0.{k}", d.port) for k in (2, 3)]  # never ask
+    time.sleep(0.1)
+    e = connect_from("127.0.0.4", d.port)  # table full: an idle one goes
+    assert ask(e)
+    assert ask(b) and ask(c)
+    log = d.log()
+    assert re.search(r"msg=client-evicted peer=127\.0\.0\.1:\d+ active=1 .*"
+                     r"reason=max-clients-per-addr", log), log
+    assert re.search(r"msg=client-evicted peer=127\.0\.0\.[23]:\d+ active=0 .*"
+                     r"reason=max-clients", log), log
+    for s in [a, b, c, e, f] + idle:
+        s.close()
+
+
+def test_1000_hostile_sockets(daemon):
+    """O1: 1000 hostile sockets come and go from 127.0.1.x (idle, half-open:
+    half a header then silence, slowloris: one byte of a long frame every
+    80 ms), 48 at a time, against 16 slots. Meanwhile a client that polls,
+    and a client that connects afresh for each request, from 127.0.0.1, are
+    each served within 1 s every time."""
+    d = daemon(run_for=600)
+    stop = threading.Event()
+    times, failures, retries = [], [], []
+
+    def polling():
+        c = Raw(d.port)
+        while not stop.is_set():
+            t = time.monotonic()
+            try:
+                ok = exception_code(c.request(1, fc03(0, 2))) is None
+            except Exception as ex:  # noqa: BLE001 - any failure counts
+                ok = False
+                failures.append(("poll", repr(ex)))
+                c = Raw(d.port)
+            times.append(time.monotonic() - t)
+            if not ok:
+                failures.append(("poll", "no answer"))
+            time.sleep(0.05)
+
+    def fresh():
+        # A new connection for each request. A newcomer that has not yet
+        # sent its request can lose its slot to the flood (it looks like
+        # any of them); it connects again, as a PLC does, and the time
+        # counts from its first attempt.
+        while not stop.is_set():
+            t = time.monotonic()
+            ok = False
+            while not ok and time.monotonic() - t < 2.0:
+                try:
+                    c = Raw(d.port, timeout=2)
+                    ok = exception_code(c.request(1, fc03(0, 2))) is None
+                    c.close()
+                except (ConnectionError, OSError):
+                    retries.append(time.monotonic() - t)
+            times.append(time.monotonic() - t)
+            if not ok:
+                failures.append(("fresh", "no answer"))
+            time.sleep(0.1)
+
+    legit = [threading.Thread(target=polling), threading.Thread(target=fresh)]
+    for t in legit:
+        t.start()
+    rng = random.Random(12)
+    live, opened, kinds = [], 0, {"idle": 0, "half-open": 0, "slowloris": 0}
+    t_end = time.monotonic() + 40
+    try:
+        while (opened < 1000 or live) and time.monotonic() < t_end:
+            now = time.monotonic()
+            while opened < 1000 and len(live) < 48:
+                kind = rng.choice(list(kinds))
+                try:
+                    s = connect_from(f"127.0.1.{1 + opened % 250}", d.port)
+                except OSError:
+                    continue
+                s.setblocking(False)
+                if kind == "half-open":
+                    s.send(struct.pack(">HHH", opened & 0xFFFF, 0, 6)[:5])
+                live.append([s, kind, now + rng.uniform(0.2, 1.5), now])
+                kinds[kind] += 1
+                opened += 1
+            for h in list(live):
+                s, kind, until, last = h
+                if kind == "slowloris" and now - last >= 0.08:
+                    try:
+                        s.send(b"\x00")  # a frame that announced 254 bytes
+                    except OSError:
+                        pass
+                    h[3] = now
+                if now >= until:
+                    s.close()
+                    live.remove(h)
+            time.sleep(0.01)
+    finally:
+        for h in live:
+            h[0].close()
+        time.sleep(0.5)
+        stop.set()
+        for t in legit:
+            t.join(timeout=30)
+    srt = sorted(times)
+    print({"hostile": opened, **kinds, "legit_requests": len(times),
+           "p50_s": round(srt[len(srt) // 2], 4), "p99_s": round(srt[int(len(srt) * 0.99)], 4),
+           "worst_s": round(srt[-1], 3), "fresh_reconnects": len(retries),
+           "failures": failures[:5]})
+    assert opened == 1000 and min(kinds.values()) > 250
+    assert not failures, failures[:5]
+    assert len(times) > 100 and max(times) < 1.0, max(times)
+    assert "msg=client-evicted" in d.log()
+
+
+# ---- O2: the parameter lock ------------------------------------------------
+
+LOCKED = [("mode", 1), ("manual_out", 0.5), ("failsafe_out", -1e9), ("watchdog_ms", 1),
+          ("input_sel", 1), ("param_lock", 0), ("param_lock", 1), ("q", 0.5), ("commit", 1),
+          ("command", 1), ("command", 2), ("command", 3)]
+OPEN = [("e", 0.25), ("sp", 0.1), ("pv", 0.05), ("e_i16", 100), ("tick", 1)]
+
+
+def test_lock_has_a_holder(daemon):
+    """With param_lock, only its holder (the client that set it) can write
+    anything but the process inputs and tick: the O2 attack (watchdog_ms 1,
+    failsafe_out -1e9 from another client) is refused and the output never
+    reads -1e9. The lock ends when its holder writes 0 or disconnects."""
+    d = daemon("--clock", "external")
+    a, b = Regs(d.client()), Regs(d.client())
+    a.write("param_lock", 1)
+    for name, value in LOCKED:
+        resp = b.write_raw(name, value)
+        assert resp.isError() and resp.exception_code == 1, (name, resp)
+    for name, value in OPEN:
+        b.write(name, value)
+    b.tick(50)
+    assert b.read("pc") != f32(-1e9) and b.read("watchdog_ms") == 0
+    assert b.read("mode") == 0 and b.read("param_lock") == 1
+    # the holder may
+    a.write("failsafe_out", 0.001)
+    a.write("mode", 1)
+    a.write("mode", 0)
+    a.write("param_lock", 0)
+    b.write("mode", 1)  # unlocked: anyone
+    b.write("mode", 0)
+    a.write("param_lock", 1)
+    a.c.close()  # the holder goes: its lock goes with it
+    deadline = time.monotonic() + 10 * SLOW
+    while b.read("param_lock") != 0:
+        assert time.monotonic() < deadline
+        time.sleep(0.05)
+    b.write("mode", 1)
+    assert "reg=param_lock old=1 new=0 result=released-at-disconnect" in d.log()
+
+
+def test_lock_holder_is_not_evicted(daemon):
+    """A flood of connections must not take a lock away by evicting its
+    idle holder (its disconnect would release the lock)."""
+    d = daemon("--clock", "external", "--max-clients", "2",
+               "--first-request-timeout-ms", "100")
+    holder = connect_from("127.0.0.1", d.port)
+    holder.sendall(adu(1, 1, struct.pack(">BHH", 6, REG["param_lock"][1], 1)))
+    assert len(holder.recv(64)) == 12
+    time.sleep(0.3)  # the longest idle, past the protection time
+    flood = []
+    for k in range(20):
+        s = connect_from(f"127.0.2.{k + 1}", d.port)
+        ask(s)
+        flood.append(s)
+        time.sleep(0.15)  # each one idle past the protection time in turn
+    assert "msg=client-evicted" in d.log()
+    assert not re.search(r"msg=client-evicted peer=127\.0\.0\.1:", d.log())
+    holder.sendall(adu(2, 1, struct.pack(">BHH", 6, REG["mode"][1], 1)))
+    assert len(holder.recv(64)) == 12
+    for s in flood:
+        s.close()
+    time.sleep(0.5)
+    other = Regs(d.client())
+    assert other.read("param_lock") == 1 and other.read("mode") == 1
+    assert other.write_raw("mode", 0).exception_code == 1
+    holder.close()
+
+
+def test_param_lock_flag_locks_everyone(daemon):
+    d = daemon("--param-lock", "--clock", "external")
+    a, b = Regs(d.client()), Regs(d.client())
+    for r in (a, b):
+        for name, value in LOCKED:
+            resp = r.write_raw(name, value)
+            assert resp.isError() and resp.exception_code == 1, (name, resp)
+        for name, value in OPEN:
+            r.write(name, value)
+
+
+# ---- O3: per-client staging -------------------------------------------------
+
+def test_staging_is_per_client(daemon):
+    """O3: two clients stage partial changes at the same time; each commit
+    applies exactly what its client staged, on top of what is committed
+    (the other's earlier commit is kept, never reverted, never half
+    taken). First one interleaving by hand, then 2 x 150 concurrent
+    commits checked through the audit log."""
+    d = daemon("--clock", "external")
+    a, b = Regs(d.client()), Regs(d.client())
+    q0, rc0 = a.read("committed_q"), a.read("committed_RC")
+    a.write("q", 0.7)
+    b.write("RC", 0.02)
+    assert a.read("RC") == rc0 and b.read("q") == q0  # each sees only its own
+    a.write("commit", 1)
+    assert a.read("committed_q") == f32(0.7) and a.read("committed_RC") == rc0
+    assert b.read("q") == f32(0.7)  # b's view: committed + its own RC
+    b.write("commit", 1)
+    assert b.read("committed_q") == f32(0.7) and b.read("committed_RC") == f32(0.02)
+
+    errors = []
+
+    def worker(name, reg, values):
+        c = Regs(d.client())
+        for v in values:
+            try:
+                c.write(reg, v)
+                c.write("commit", 1)
+            except AssertionError as ex:
+                errors.append((name, ex))
+
+    qs = [0.5 + 0.001 * i for i in range(150)]
+    rcs = [0.01 + 0.0001 * i for i in range(150)]
+    ta = threading.Thread(target=worker, args=("a", "q", qs))
+    tb = threading.Thread(target=worker, args=("b", "RC", rcs))
+    ta.start(), tb.start()
+    ta.join(timeout=300), tb.join(timeout=300)
+    assert not errors, errors[:3]
+    assert a.read("committed_q") == f32(qs[-1]) and a.read("committed_RC") == f32(rcs[-1])
+    # Every committed change names one register per commit: q from one
+    # client, RC from the other, never both in one commit.
+    lines = [l for l in d.log().splitlines() if "result=committed" in l]
+    by_peer = {}
+    for l in lines:
+        m = re.search(r"peer=(\S+) .* reg=(\w+) ", l)
+        by_peer.setdefault(m.group(1), set()).add(m.group(2))
+    mixed = [p for p, regs in by_peer.items() if len(regs) > 1]
+    print({"committed_lines": len(lines), "clients": len(by_peer), "mixed": len(mixed)})
+    assert not mixed, by_peer
+    assert sum(1 for l in lines if " reg=q " in l) >= 150
+    assert sum(1 for l in lines if " reg=RC " in l) >= 150
+
+
+# ---- O4: plausibility ----------------------------------------------------
+
+@pytest.mark.parametrize("gain", [1e9, 1e5])
+def test_unstable_set_is_refused(daemon, gain):
+    """O4: k1 = k2 = 1e9 (or 1e5) passes every range check, but Example 6's
+    sampled loop is then unstable: the commit is refused with exception 03,
+    commit_result 6 and commit_err_addr naming k1 (the change that alone
+    makes it so), and the running set goes on as if nothing happened."""
+    d = daemon("--clock", "external")
+    r = Regs(d.client())
+    ref = simulate("--config", "dd", "--fs", "1000", "--duration", "0.05", "--arith", "float")
+    r.write("e", 1.0)
+    r.write("k1", gain)
+    r.write("k2", gain)
+    resp = r.write_raw("commit", 1)
+    assert resp.isError() and resp.exception_code == 3, resp
+    assert r.read("commit_result") == 6
+    assert r.read("commit_err_addr") == REG["k1"][1]
+    assert r.read("commit_err_param") == 2  # PF_P_K1
+    assert r.read("committed_k1") != f32(gain)
+    pcs = []
+    for _ in range(50):
+        r.tick(1)
+        pcs.append(r.read("pc"))
+    assert max(abs(p - float(row["pc"])) for p, row in zip(pcs, ref)) <= 1e-6
+    assert re.search(r"msg=commit-refused .*result=6 param=k1 status=\"unstable sampled loop\"",
+                     d.log())
+
+
+def test_unstable_config_file_is_refused(conf):
+    text = re.sub(r"^k1 = .*$", "k1 = 1e9", conf.read_text(), count=1, flags=re.M)
+    text = re.sub(r"^k2 = .*$", "k2 = 1e9", text, count=1, flags=re.M)
+    conf.write_text(text)
+    p = subprocess.run([DAEMON, "--seal-config", str(conf)], capture_output=True, text=True)
+    assert p.returncode == 2
+    assert "the sampled loop is unstable" in p.stderr and "'k1'" in p.stderr, p.stderr
+
+
+# ---- O5: audit -------------------------------------------------------------
+
+def test_audit_log(daemon):
+    """Every write that changes behaviour is logged with the client's
+    address, the unit, the register, old and new value and the result;
+    refused writes are warnings, at most 10 per 10 s."""
+    d = daemon("--clock", "external", "--instances", "2")
+    a, b = Regs(d.client(), unit=2), Regs(d.client(), unit=2)
+    a.write("mode", 1)
+    a.write("failsafe_out", 0.002)
+    a.write("q", 0.6)
+    a.write("commit", 1)
+    a.write("command", 2)
+    a.write("param_lock", 1)
+    for _ in range(30):
+        assert b.write_raw("mode", 0).exception_code == 1
+    log = d.log()
+    port = r"127\.0\.0\.1:\d+ role=plain unit=2"
+    for pat in [rf"msg=write peer={port} reg=mode old=0 new=1 result=ok",
+                rf"msg=write peer={port} reg=failsafe_out old=0 new=0\.002\d* result=ok",
+                rf"msg=write peer={port} reg=q old=0\.9\d* new=0\.6\d* result=committed",
+                rf"msg=commit peer={port} config=dd",
+                rf"msg=command peer={port} command=reset result=ok",
+                rf"msg=write peer={port} reg=param_lock old=0 new=1 result=ok",
+                rf"msg=write-refused peer={port} addr=10 count=1 reg=mode exception=1 "
+                r"reason=locked"]:
+        assert re.search(pat, log), (pat, log)
+    assert log.count("msg=write-refused") == 10
