@@ -90,6 +90,16 @@ else
   "$venv_python" -m pip install --quiet --disable-pip-version-check -e tools/python
 fi
 
+# The firmware emulator (tools/mcuemu, editable): on-target tests and the
+# cycle table; it brings unicorn, capstone and pyelftools.
+emu_check="import mcuemu, unicorn, capstone, elftools, pathlib, sys; sys.exit(pathlib.Path(mcuemu.__file__).resolve().parent != pathlib.Path('tools/mcuemu/mcuemu').resolve())"
+if "$venv_python" -c "$emu_check" >/dev/null 2>&1; then
+  log "mcuemu: installed"
+else
+  log "installing mcuemu (tools/mcuemu, editable)"
+  "$venv_python" -m pip install --quiet --disable-pip-version-check -e tools/mcuemu
+fi
+
 # --- 3. Build ----------------------------------------------------------------
 log "configuring build/ (Release, tests on)"
 cmake -S . -B build --log-level=WARNING \

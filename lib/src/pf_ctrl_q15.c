@@ -7,6 +7,18 @@
  * Overflow: every node is a sum of unsaturated 64-bit products clamped
  * once to +-2^30 (4x its design peak); the output saturates to the int16
  * range.
+ *
+ * In-loop effects. Backlash (a play of half-width r on x) and saturation
+ * of p_c are monotone and piecewise linear, so the loop is solved exactly
+ * piece by piece, with the same algebra as the linear case. With
+ *   X(p_c) = ce e - x_pc p_c - (t_q S_Q + t_v S_V - t_w S_W)
+ * the lever's x for a given p_c, and P(xe) = sat(pc_x xe + pc_p S_P) the
+ * p_c a play output xe gives, the solution is x = X(P(play(x))), and
+ * X(P(.)) is non-increasing: if the play stuck at its last output xb gives
+ * an x more than r above xb, the play moves up (xe = x - r), more than r
+ * below, down; otherwise it stays. Moving, xe follows from the linear
+ * solution x_lin as x_lin -+ r/(1 + L0), unless that p_c is beyond a
+ * supply limit, where p_c sits on the limit and x = X(limit).
  */
 #include <stddef.h>
 #include <string.h>
@@ -30,7 +42,7 @@ static int16_t output_line(pf_ctrl_q15 *S, int32_t pc)
     const pf_ctrl_coeffs_q15 *c = S->c;
     int16_t o;
     if (c->lag_m > 0) {
-        S->lag = pf_q_advance(S->lag, c->lag_m, (int64_t)pc - pf_q_state(S->lag),
+        S->lag = pf_q_advance(S->lag, c->lag_m, pf_q_sat32((int64_t)pc - pf_q_state(S->lag)),
                                c->lag_sh);
         pc = pf_q_state(S->lag);
     }
@@ -45,10 +57,46 @@ static int16_t output_line(pf_ctrl_q15 *S, int32_t pc)
     return o;
 }
 
+/* x for a given p_c (the loop closed through a known p_c) */
+static int32_t x_of_pc(const pf_ctrl_coeffs_q15 *c, int32_t e, int32_t pc, int32_t sQ,
+                       int32_t sV, int32_t sW)
+{
+    return pf_q_sat(pf_mulw(c->ce, e) - pf_mulw(c->x_pc, pc) - pf_mulw(c->t_q, sQ) -
+                    pf_mulw(c->t_v, sV) + pf_mulw(c->t_w, sW));
+}
+
+/* p_c before the supply limits, for a play output xe */
+static int32_t pc_of_xe(const pf_ctrl_coeffs_q15 *c, int32_t xe, int32_t sP)
+{
+    return pf_q_sat(pf_mulw(c->pc_x, xe) + pf_mulw(c->pc_p, sP));
+}
+
+/* The play's new output and x, from the linear solution x_lin (see the
+ * head of the file). */
+static int32_t play_solve(const pf_ctrl_q15 *S, int32_t e, int32_t x_lin, int32_t sP,
+                          int32_t sQ, int32_t sV, int32_t sW, int32_t *x)
+{
+    const pf_ctrl_coeffs_q15 *c = S->c;
+    int32_t xb = S->xb, r = c->play_r, xe, pc;
+    int32_t xs = x_of_pc(c, e, clamp_pc(c, pc_of_xe(c, xb, sP)), sQ, sV, sW);
+    int dir = (int64_t)xs - xb > r ? 1 : ((int64_t)xs - xb < -(int64_t)r ? -1 : 0);
+    if (dir == 0) {
+        *x = xs;
+        return xb;
+    }
+    xe = pf_q_sat((int64_t)x_lin - (int64_t)dir * c->play_ri);
+    pc = pc_of_xe(c, xe, sP);
+    if (clamp_pc(c, pc) != pc) /* on a supply limit: x from it */
+        xe = pf_q_sat((int64_t)(*x = x_of_pc(c, e, clamp_pc(c, pc), sQ, sV, sW)) - (int64_t)dir * r);
+    else
+        *x = pf_q_sat((int64_t)xe + (int64_t)dir * r);
+    return xe;
+}
+
 int16_t pf_ctrl_step_q15(pf_ctrl_q15 *S, int16_t e_q15)
 {
     const pf_ctrl_coeffs_q15 *c = S->c;
-    int32_t e, sP, sQ = 0, sV = 0, sW = 0, x, pb, v, w, pc, rv = 0, rw = 0, m;
+    int32_t e, sP, sQ = 0, sV = 0, sW = 0, x, xe, pb, v, w, pc, rv = 0, rw = 0, m;
     int64_t fP, fQ = 0, fV = 0, fW = 0;
 
     e = pf_mulc(c->e_in, c->hold ? (int32_t)e_q15 + S->e1 : (int32_t)e_q15);
@@ -65,17 +113,22 @@ int16_t pf_ctrl_step_q15(pf_ctrl_q15 *S, int16_t e_q15)
      * saturation, however small x is against the terms that form it. */
     x = pf_q_sat(pf_mulw(c->x_e, e) - pf_mulw(c->x_q, sQ) - pf_mulw(c->x_v, sV) +
                  pf_mulw(c->x_w, sW) - pf_mulw(c->x_p, sP));
-    if (c->saturate) {
-        /* Saturation is the only in-loop effect here, and it is monotone:
-         * if the linear solution's p_c is beyond a limit, the true one sits
-         * on that limit, and x follows from it directly. */
-        int32_t pc_lin = pf_q_sat(pf_mulw(c->pc_x, x) + pf_mulw(c->pc_p, sP));
+    if (c->play_r > 0) {
+        xe = play_solve(S, e, x, sP, sQ, sV, sW, &x);
+        S->xb = xe;
+    } else if (c->saturate) {
+        /* Saturation alone is monotone: if the linear solution's p_c is
+         * beyond a limit, the true one sits on that limit, and x follows
+         * from it directly. */
+        int32_t pc_lin = pc_of_xe(c, x, sP);
         int32_t pc_c = clamp_pc(c, pc_lin);
         if (pc_c != pc_lin)
-            x = pf_q_sat(pf_mulw(c->ce, e) - pf_mulw(c->x_pc, pc_c) - pf_mulw(c->t_q, sQ) -
-                         pf_mulw(c->t_v, sV) + pf_mulw(c->t_w, sW));
+            x = x_of_pc(c, e, pc_c, sQ, sV, sW);
+        xe = x;
+    } else {
+        xe = x;
     }
-    pb = pf_mulc(c->k1, x);
+    pb = pf_mulc(c->k1, xe);
     v = pf_q_sat(pf_mulw(c->relay_v_pb, pb) + pf_mulw(c->relay_v_s, sP));
     w = pf_q_op_update(&S->P, v, fP);
     pc = clamp_pc(c, pf_q_sat(pf_mulw(c->relay_z_pb, pb) + pf_mulw(c->relay_z_w, w)));
@@ -113,7 +166,7 @@ void pf_ctrl_reset_q15(pf_ctrl_q15 *S)
     pf_fracop_reset_q15(&S->Q);
     pf_fracop_reset_q15(&S->V);
     pf_fracop_reset_q15(&S->W);
-    S->x = S->pb = S->y = S->pc = 0;
+    S->x = S->pb = S->y = S->pc = S->xb = 0;
     S->e1 = 0;
     S->lag = 0;
     S->didx = 0;

@@ -77,10 +77,11 @@ pf_status pf_ctrl_coeffs_q15_make(pf_ctrl_coeffs_q15 *cq,
     if (st != PF_OK)
         return st;
     c = &d->rt;
-    /* Backlash and the nozzle curve need the iterative loop solution; the
-     * refined approximant's extra pole has a branch gain 1e6..1e13 times
-     * the others, more than one shared branch shift can hold. */
-    if (c->play_r > 0.0 || c->nozzle_xh > 0.0 || d->opt.approx == PF_APPROX_REFINED)
+    /* The nozzle curve needs the iterative loop solution; the refined
+     * approximant's extra pole has a branch gain 1e6..1e13 times the
+     * others, more than one shared branch shift can hold. (Backlash, like
+     * saturation, is piecewise linear: solved exactly, pf_ctrl_q15.c.) */
+    if (c->nozzle_xh > 0.0 || d->opt.approx == PF_APPROX_REFINED)
         return PF_E_UNSUPPORTED;
     node_scales(d, in_fs, s);
     memset(cq, 0, sizeof *cq);
@@ -142,6 +143,9 @@ pf_status pf_ctrl_coeffs_q15_make(pf_ctrl_coeffs_q15 *cq,
         st = pf_qc_make(&cq->pc_out, 32768.0 / (out_fs * s[PF_N_PC]));
     if (st == PF_OK && c->lag_lam > 0.0)
         st = pf_qc_leak(&cq->lag_m, &cq->lag_sh, c->lag_lam);
+    /* A play wider than the x node's range never moves: clamped there. */
+    cq->play_r = q_limit(c->play_r * s[PF_N_X]);
+    cq->play_ri = q_limit(c->play_r * c->loop_inv * s[PF_N_X]);
     cq->sat_lo = q_limit(c->sat_lo * s[PF_N_PC]);
     cq->sat_hi = q_limit(c->sat_hi * s[PF_N_PC]);
     /* Monitoring: x and y in Q15 of in_fs, p_b of k1*in_fs, p_c of out_fs. */

@@ -216,8 +216,8 @@ expect_err "effect: repeated key" "'lo' given twice" "${SIM[@]}" --effect satura
 expect_err "effect: given twice" "lag given twice" "${SIM[@]}" --effect lag:tau=1 --effect lag:tau=2
 expect_err "effect: negative value is invalid" "invalid parameter 'lag'" "${SIM[@]}" --effect lag:tau=-1
 expect_err "effect: saturation lo >= hi" "invalid parameter 'sat_hi'" "${SIM[@]}" --effect saturation:lo=1,hi=0
-expect_err "effect: backlash not in q15" "q15 does not support" "${SIM[@]}" --arith q15 \
-  --in-fs 1 --out-fs 1 --effect backlash:width=0.1
+expect_err "effect: nozzle not in q15" "q15 does not support" "${SIM[@]}" --arith q15 \
+  --in-fs 1 --out-fs 1 --effect nozzle:xh=0.1
 
 # --- bad arguments ----------------------------------------------------------
 expect_err "no command" "no command" 

@@ -65,8 +65,9 @@ static void test_f32_header(void **state)
     }
 }
 
-/* Every operator, both integer arrays, lag and dead time: a pid with
- * effects (tests/CMakeLists.txt: pf_pid_fx_*.h), designed here the same. */
+/* Every operator, both integer arrays, backlash, lag and dead time: a pid
+ * with effects (tests/CMakeLists.txt: pf_pid_fx_*.h), designed here the
+ * same. */
 static void test_pid_fx_headers(void **state)
 {
     static pf_ctrl_design d;
@@ -78,11 +79,13 @@ static void test_pid_fx_headers(void **state)
     (void)state;
     pf_params_default(&p, PF_TOPO_PID);
     memset(&fx, 0, sizeof fx);
+    fx.backlash = 0.01;
     fx.lag = 0.01;
     fx.dead_time = 0.001;
     pf_design_opts_default(&o, 20000.0);
     assert_int_equal(pf_ctrl_design_make(&d, &p, &fx, &o), PF_OK);
     assert_int_equal(pf_ctrl_coeffs_q15_make(&q, &d, 1.0, 20.0), PF_OK);
+    assert_true(q.play_r > 0);
     pf_ctrl_coeffs_f32_make(&f, &d.rt);
     assert_memory_equal(&q, &pf_pid_fx_q15, sizeof q);
     assert_memory_equal(&f, &pf_pid_fx_f32, sizeof f);

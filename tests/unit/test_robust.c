@@ -755,15 +755,14 @@ static int full_scale_ok(double v)
 }
 
 /* pf_ctrl_coeffs_q15_make: in_fs, out_fs in (0, 1e12], else PF_E_PARAM
- * naming it; backlash, the nozzle curve and the refined approximation give
+ * naming it; the nozzle curve and the refined approximation give
  * PF_E_UNSUPPORTED (which of the two refusals comes first is not
  * documented); inside the range only PF_E_SCALE may refuse the rest. */
 static void run_q15(rng *r, stats *s, long n, const trial *t, double pk)
 {
     const double out_fs = t->out_fs_fixed ? t->out_fs_val
                                           : (pk > 0.0 ? pk * t->out_fs_mul : 1.0);
-    const int lin_only = g_d.fx.backlash == 0.0 && g_d.fx.nozzle_xh == 0.0 &&
-                         g_d.opt.approx != PF_APPROX_REFINED;
+    const int lin_only = g_d.fx.nozzle_xh == 0.0 && g_d.opt.approx != PF_APPROX_REFINED;
     const int in_ok = full_scale_ok(t->in_fs), out_ok = full_scale_ok(out_fs);
     pf_status st = pf_ctrl_coeffs_q15_make(&g_cq, &g_d, t->in_fs, out_fs);
     pf_ctrl_q15 iq;
@@ -784,7 +783,7 @@ static void run_q15(rng *r, stats *s, long n, const trial *t, double pk)
     }
     if (!lin_only) {
         if (st != PF_E_UNSUPPORTED && st != PF_E_SCALE) {
-            report(s, &s->fail_q15, n, t, "q15_make with backlash/nozzle/refined = %d (%s)", st,
+            report(s, &s->fail_q15, n, t, "q15_make with nozzle/refined = %d (%s)", st,
                    pf_param_name(pf_status_param(st)));
         }
         s->q15_unsup++;

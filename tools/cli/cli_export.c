@@ -28,21 +28,27 @@ static void qc_array(FILE *f, const char *field, const pf_qc *q, int n)
     fprintf(f, "},\n");
 }
 
-static void i32_array(FILE *f, const char *field, const int32_t *v, int n)
+/* An integer array of `size`-byte elements (1: unsigned, 2 and 4: signed). */
+static void int_array(FILE *f, const char *field, const void *v, size_t size, int n)
 {
+    const unsigned char *p = v;
     int i;
     fprintf(f, "    .%s = {", field);
-    for (i = 0; i < n; i++)
-        fprintf(f, "%s%ld", i ? ", " : "", (long)v[i]);
-    fprintf(f, "%s},\n", n == 0 ? "0" : ""); /* C99 has no empty {} */
-}
-
-static void u8_array(FILE *f, const char *field, const uint8_t *v, int n)
-{
-    int i;
-    fprintf(f, "    .%s = {", field);
-    for (i = 0; i < n; i++)
-        fprintf(f, "%s%u", i ? ", " : "", (unsigned)v[i]);
+    for (i = 0; i < n; i++) {
+        long x;
+        if (size == 1) {
+            x = p[i];
+        } else if (size == 2) {
+            int16_t h;
+            memcpy(&h, p + 2 * i, 2);
+            x = h;
+        } else {
+            int32_t w;
+            memcpy(&w, p + 4 * (size_t)i, 4);
+            x = w;
+        }
+        fprintf(f, "%s%ld", i ? ", " : "", x);
+    }
     fprintf(f, "%s},\n", n == 0 ? "0" : ""); /* C99 has no empty {} */
 }
 
@@ -58,13 +64,13 @@ static void f32_array(FILE *f, const char *field, const float *v, int n)
 static void op_q15(FILE *f, const char *field, const pf_fracop_coeffs_q15 *o)
 {
     fprintf(f, "  .%s = {\n", field);
-    fprintf(f, "    .n_int = %d, .int_rho = %d, .n_sec = %u, .hold = %u, .G_sh = %u,\n",
-            o->n_int, o->int_rho, (unsigned)o->n_sec, (unsigned)o->hold,
-            (unsigned)o->G_sh);
+    fprintf(f, "    .n_int = %d, .int_rho = %d, .n_sec = %u, .hold = %u, .n_slow = %u,\n",
+            o->n_int, o->int_rho, (unsigned)o->n_sec, (unsigned)o->hold, (unsigned)o->n_slow);
     qc(f, "d", o->d);
-    i32_array(f, "lam_m", o->lam_m, o->n_sec);
-    u8_array(f, "lam_sh", o->lam_sh, o->n_sec);
-    i32_array(f, "G_m", o->G_m, o->n_sec);
+    fprintf(f, "    .G_sh = %u,\n", (unsigned)o->G_sh);
+    int_array(f, "lam_m", o->lam_m, sizeof o->lam_m[0], o->n_sec);
+    int_array(f, "lam_sh", o->lam_sh, sizeof o->lam_sh[0], o->n_sec);
+    int_array(f, "G_m", o->G_m, sizeof o->G_m[0], o->n_sec);
     qc_array(f, "int_d", o->int_d, PF_MAX_INT);
     qc_array(f, "int_k", o->int_k, PF_MAX_INT);
     qc(f, "in_q", o->in_q);
@@ -113,8 +119,9 @@ int cli_export_c_q15(FILE *f, const char *name, const char *comment,
     QC(relay_v_s); QC(relay_z_pb); QC(relay_z_w); QC(v_a); QC(v_b); QC(w_a);
     QC(w_b); QC(m_v); QC(m_pc); QC(m_w); QC(kA_m); QC(dv_pc); QC(dv_r);
     QC(dw_pc); QC(dw_r); QC(pc_out);
-    fprintf(f, "  .sat_lo = %ld, .sat_hi = %ld, .lag_m = %ld, .lag_sh = %u,\n",
-            (long)c->sat_lo, (long)c->sat_hi, (long)c->lag_m, (unsigned)c->lag_sh);
+    fprintf(f, "  .sat_lo = %ld, .sat_hi = %ld, .play_r = %ld, .play_ri = %ld,\n",
+            (long)c->sat_lo, (long)c->sat_hi, (long)c->play_r, (long)c->play_ri);
+    fprintf(f, "  .lag_m = %ld, .lag_sh = %u,\n", (long)c->lag_m, (unsigned)c->lag_sh);
     fprintf(f, "  .delay_len = %luu,\n", (unsigned long)c->delay_len);
     QC(mon_x); QC(mon_pb); QC(mon_y);
 #undef QC

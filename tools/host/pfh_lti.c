@@ -10,10 +10,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Every state of a pf_ctrl_f64: per operator its sections, integer stages
- * and held input; then the controller's held input and output lag. */
-#define MAX_STATES (4 * (PF_MAX_SEC + PF_MAX_INT + 1) + 2)
-
 const char *pfh_lti_strerror(int err)
 {
     switch (err) {
@@ -32,76 +28,25 @@ const char *pfh_lti_strerror(int err)
     }
 }
 
-/* Pointers to the state variables of S that design c uses. */
-static int state_list(pf_ctrl_f64 *S, const pf_ctrl_coeffs_f64 *c, double **st)
-{
-    pf_fracop_f64 *ops[4];
-    const int used[4] = {1, c->has_q, c->has_v, c->has_w};
-    int n = 0, i, k;
-    ops[0] = &S->P;
-    ops[1] = &S->Q;
-    ops[2] = &S->V;
-    ops[3] = &S->W;
-    for (i = 0; i < 4; i++) {
-        const pf_fracop_design *o = ops[i]->c;
-        if (!used[i])
-            continue;
-        for (k = 0; k < o->n_sec; k++)
-            st[n++] = &ops[i]->s[k];
-        for (k = 0; k < abs(o->n_int); k++)
-            st[n++] = &ops[i]->si[k];
-        if (o->hold)
-            st[n++] = &ops[i]->u1;
-    }
-    if (c->hold)
-        st[n++] = &S->e1;
-    if (c->lag_lam > 0)
-        st[n++] = &S->lag;
-    return n;
-}
-
 int pfh_lti_ss_make(pfh_lti_ss *ss, const pf_ctrl_design *d)
 {
-    pf_ctrl_f64 *S;
-    double *st[MAX_STATES];
-    int n, i, j;
+    const size_t max = PF_CTRL_MAX_STATES;
 
     memset(ss, 0, sizeof *ss);
     if (d->rt.in_loop_fx)
         return PFH_LTI_NONLINEAR;
     if (d->rt.delay_len > 0)
         return PFH_LTI_DEADTIME;
-    S = malloc(sizeof *S);
-    if (S == NULL || pf_ctrl_init_f64(S, &d->rt, NULL, 0) != PF_OK) {
-        free(S);
-        return PFH_LTI_NOMEM;
-    }
-    n = state_list(S, &d->rt, st);
-    ss->A = calloc((size_t)n * (size_t)n, sizeof *ss->A);
-    ss->B = calloc((size_t)n, sizeof *ss->B);
-    ss->C = calloc((size_t)n, sizeof *ss->C);
+    ss->A = malloc(sizeof *ss->A * max * max);
+    ss->B = malloc(sizeof *ss->B * max);
+    ss->C = malloc(sizeof *ss->C * max);
     if (ss->A == NULL || ss->B == NULL || ss->C == NULL) {
-        free(S);
         pfh_lti_ss_free(ss);
         return PFH_LTI_NOMEM;
     }
-    ss->n = n;
+    /* The whole realised controller: the output lag included. */
+    ss->n = pf_ctrl_state_space(d, 1, ss->A, ss->B, ss->C, &ss->D);
     ss->fs = d->opt.fs;
-    /* The step is linear in (state, input) when no nonlinearity is on: one
-     * sample from each unit state with e = 0 gives a column of A and an
-     * entry of C; one from rest with e = 1 gives B and D. */
-    for (j = 0; j < n; j++) {
-        pf_ctrl_reset_f64(S);
-        *st[j] = 1.0;
-        ss->C[j] = pf_ctrl_step_f64(S, 0.0);
-        for (i = 0; i < n; i++)
-            ss->A[(size_t)i * (size_t)n + (size_t)j] = *st[i];
-    }
-    pf_ctrl_reset_f64(S);
-    ss->D = pf_ctrl_step_f64(S, 1.0);
-    for (i = 0; i < n; i++)
-        ss->B[i] = *st[i];
-    free(S);
     return PFH_LTI_OK;
 }
 

@@ -18,9 +18,9 @@
  *  - second-order sections [b0 b1 b2 1 a1 a2], H = prod (b0 + b1 z^-1 +
  *    b2 z^-2) / (1 + a1 z^-1 + a2 z^-2): scipy's sos layout, a0 = 1.
  *
- * The state space is read off the runtime itself (pf_ctrl_step_f64 from
- * each unit state and from a unit input), so it is the controller that
- * runs, not a second derivation of it. Linear designs only: backlash, the
+ * The state space is read off the runtime itself (pf_ctrl_state_space:
+ * pf_ctrl_step_f64 from each unit state and from a unit input), so it is
+ * the controller that runs, not a second derivation of it. Linear designs only: backlash, the
  * nozzle curve and saturation have no transfer function, and a dead time
  * of D samples would add D states (append z^-D instead).
  */

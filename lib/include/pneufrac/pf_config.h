@@ -23,6 +23,12 @@
  *  2N+1 from the product, plus 2 for the refined variant's correction factor. */
 #define PF_MAX_SEC (2 * PF_MAX_ORDER + 3)
 
+/** Largest number of sections of a Q15 operator: the Q15 runtime holds the
+ *  Oustaloup realisation (2N+1 sections); the refined variant's two extra
+ *  ones are float/double only, so Q15 instances and coefficient sets are
+ *  sized by this. */
+#define PF_Q15_MAX_SEC (2 * PF_MAX_ORDER + 1)
+
 /** Largest |integer part| of an operator order (|alpha| < 2 rounds to <= 2). */
 #define PF_MAX_INT 2
 

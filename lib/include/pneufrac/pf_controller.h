@@ -142,9 +142,22 @@ typedef struct pf_ctrl_f32 {
 void pf_ctrl_freqresp(const pf_ctrl_design *d, double omega, double *re,
                       double *im);
 
-/** Most states a controller runtime has: the held input, and each of the
- *  four operators' leaky branches and integer stages. */
-#define PF_CTRL_MAX_STATES (1 + 4 * (PF_MAX_SEC + PF_MAX_INT))
+/** Most states a controller's linear runtime has: the held input, each of
+ *  the four operators' leaky branches and integer stages, the output lag. */
+#define PF_CTRL_MAX_STATES (2 + 4 * (PF_MAX_SEC + PF_MAX_INT))
+
+/** The design's linear runtime as a discrete state space, read off the
+ *  double runtime (one step from each unit state with e = 0, one from rest
+ *  with e = 1): x[k+1] = A x[k] + B e[k], p_c[k] = C x[k] + D e[k], in the
+ *  runtime's own coordinates: the held input (when held), then per used
+ *  operator its leaky branches and integer stages, then with @p with_lag
+ *  the output lag. Backlash, the nozzle curve, saturation and the dead time
+ *  are left out (and the lag without @p with_lag). A is n x n, row-major,
+ *  in room for PF_CTRL_MAX_STATES^2 values; B and C hold n; B, C and D may
+ *  be NULL. See pf_ctrl_lti.c.
+ *  @return n (1..PF_CTRL_MAX_STATES), or -1 for a NULL @p d or @p A. */
+int pf_ctrl_state_space(const pf_ctrl_design *d, int with_lag, double *A, double *B,
+                        double *C, double *D);
 
 /** Work space of pf_ctrl_spectral_radius(): two square matrices. */
 typedef struct pf_ctrl_check_work {
@@ -224,6 +237,8 @@ typedef struct pf_ctrl_coeffs_q15 {
     pf_qc dv_pc, dv_r, dw_pc, dw_r;/**< p_c, r -> restrictor operator input */
     pf_qc pc_out;                  /**< internal p_c -> Q15 output (also p_c's monitor) */
     int32_t sat_lo, sat_hi;        /**< saturation limits, internal p_c */
+    int32_t play_r, play_ri;       /**< backlash: half-width r and r/(1 + L0),
+                                        internal x (0: no backlash) */
     int32_t lag_m; uint8_t lag_sh; /**< output lag leak */
     uint32_t delay_len;
     pf_qc mon_x, mon_pb, mon_y;    /**< monitored node -> Q15 of its full scale */
@@ -234,6 +249,7 @@ typedef struct pf_ctrl_q15 {
     const pf_ctrl_coeffs_q15 *c;
     pf_fracop_q15 P, Q, V, W;
     int32_t x, pb, y, pc;          /**< last internal values, for monitoring */
+    int32_t xb;                    /**< backlash output (internal x) */
     int16_t e1;                    /**< previous input (held-input model) */
     int64_t lag;                   /**< output-line lag state (30 fraction bits) */
     int16_t *dbuf;
@@ -242,7 +258,7 @@ typedef struct pf_ctrl_q15 {
 
 /** Derive the Q15 coefficient set. e = in_fs maps to Q15 +1.0 at the input,
  *  p_c = out_fs to +1.0 at the output (ranges: pf_param_info).
- *  Supports saturation, lag and dead time; backlash, the nozzle curve and
+ *  Supports backlash, saturation, lag and dead time; the nozzle curve and
  *  the refined approximation are float/double only (PF_E_UNSUPPORTED).
  *  @return PF_OK, PF_E_PARAM(PF_P_IN_FS | PF_P_OUT_FS), PF_E_UNSUPPORTED,
  *          or PF_E_SCALE when a coefficient between two node scales does
