@@ -232,6 +232,8 @@ int main(int argc, char **argv)
         return pfd_start_print_default(&a.run);
     if (a.run.seal != NULL)
         return pfd_start_seal(a.run.seal);
+    if (a.run.init != NULL)
+        return pfd_start_init(&a.run, a.run.init);
 
     c = malloc(sizeof *c);
     if (c == NULL) {

@@ -150,6 +150,10 @@ const pfd_setting pfd_settings_table[] = {
     {.flag = "--print-default-config", .type = PFD_ST_BOOL, .group = PFD_SG_EXIT,
      .flag_value = 1, IN_RUN(print_config),
      .help = "print a config file for the default instances"},
+    {.flag = "--init-config", .type = PFD_ST_PATH, .group = PFD_SG_EXIT, IN_RUN(init),
+     .metavar = "FILE",
+     .help = "write that config file to FILE, unless FILE exists, which is left as it "
+             "is: a first start's config (the service's ExecStartPre)"},
     {.flag = "--seal-config", .type = PFD_ST_PATH, .group = PFD_SG_EXIT, IN_RUN(seal),
      .metavar = "FILE", .help = "check FILE and rewrite its checksum"},
     {.flag = "--version", .type = PFD_ST_BOOL, .group = PFD_SG_EXIT,

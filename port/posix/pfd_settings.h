@@ -61,7 +61,7 @@ typedef struct pfd_run {
     int verbose;
     /* print something and exit */
     int print_map, print_config;
-    const char *seal;
+    const char *seal, *init;
     int version, help;
 } pfd_run;
 
