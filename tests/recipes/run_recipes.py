@@ -58,6 +58,17 @@ def commands(body):
     return out
 
 
+def other_prefix(build):
+    """Why `cmake --install build`, as the docs write it, would install
+    outside the sandbox's /usr/local, or None."""
+    cache = (build / "CMakeCache.txt").read_text(errors="replace")
+    m = re.search(r"^CMAKE_INSTALL_PREFIX:PATH=(.*)$", cache, re.M)
+    prefix = m.group(1) if m else None
+    if prefix != "/usr/local":
+        return f"{build} installs into {prefix}, and the docs' recipes into /usr/local"
+    return None
+
+
 def main():
     if len(sys.argv) < 3:
         sandbox.fail("usage: run_recipes.py BUILD_DIR FILE.md...")
@@ -68,7 +79,7 @@ def main():
         if not bs:
             sandbox.fail(f"{f}: no {MARK} block")
     if not sandbox.inside():
-        reason = sandbox.why_not()
+        reason = sandbox.why_not() or other_prefix(build)
         if reason:
             sandbox.skip(reason)
     sandbox.enter()
