@@ -2,7 +2,8 @@
 /*
  * Exported coefficient headers (pneufrac design --format c), compiled back
  * in: they must be the in-process design, byte for byte, and run to the
- * same outputs bit for bit.
+ * same outputs bit for bit: Example 6 in Q15 and float, and an id with the
+ * in-loop effects (nozzle curve, backlash) in Q15.
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -13,6 +14,7 @@
 #include <string.h>
 
 #include "pneufrac/pneufrac.h"
+#include "pf_effects_q15.h"
 #include "pf_example6_f32.h"
 #include "pf_example6_q15.h"
 
@@ -44,6 +46,39 @@ static void test_q15_header(void **state)
     }
 }
 
+/* With the nozzle curve and backlash (id): the set and the table it
+ * points to, each byte for byte (but for the pointer), and the outputs. */
+static void test_q15_effects_header(void **state)
+{
+    static pf_ctrl_design d;
+    static pf_ctrl_coeffs_q15 mine, theirs;
+    static pf_nozzle_q15 nz;
+    static pf_ctrl_q15 a, b;
+    pf_params p;
+    pf_design_opts o;
+    pf_effects fx;
+    long n;
+    (void)state;
+    memset(&fx, 0, sizeof fx);
+    fx.nozzle_xh = 0.2;
+    fx.backlash = 0.05;
+    pf_params_default(&p, PF_TOPO_ID);
+    pf_design_opts_default(&o, 20000.0);
+    assert_int_equal(pf_ctrl_design_make(&d, &p, &fx, &o), PF_OK);
+    assert_int_equal(pf_ctrl_coeffs_q15_make_nz(&mine, &nz, &d, 1.0, 20.0), PF_OK);
+    assert_true(mine.play_r > 0 && mine.nz == &nz);
+    assert_memory_equal(&nz, pf_effects_q15.nz, sizeof nz);
+    theirs = pf_effects_q15;
+    theirs.nz = mine.nz;
+    assert_memory_equal(&mine, &theirs, sizeof mine);
+    pf_ctrl_init_q15(&a, &mine, NULL, 0);
+    pf_ctrl_init_q15(&b, &pf_effects_q15, NULL, 0);
+    for (n = 0; n < 20000; n++) {
+        int16_t e = (int16_t)(n % 5000 < 2500 ? 30000 - n : -8000);
+        assert_int_equal(pf_ctrl_step_q15(&a, e), pf_ctrl_step_q15(&b, e));
+    }
+}
+
 static void test_f32_header(void **state)
 {
     static pf_ctrl_coeffs_f32 mine;
@@ -65,6 +100,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_q15_header),
+        cmocka_unit_test(test_q15_effects_header),
         cmocka_unit_test(test_f32_header),
     };
     return cmocka_run_group_tests(tests, setup, NULL);

@@ -29,6 +29,17 @@
  *  sized by this. */
 #define PF_Q15_MAX_SEC (2 * PF_MAX_ORDER + 1)
 
+/** Pieces of the Q15 nozzle curve (pf_nozzle_q15): each a quadratic through
+ *  the curve at its two ends, placed by the curve's third derivative. 32
+ *  keep the curve within 2^-14 of its span (docs/architecture.md, "Effects
+ *  in Q15") for 22 bytes of coefficient set each; a firmware that never
+ *  uses the nozzle may set 2 (the smallest), and its exported coefficient
+ *  sets then hold no nozzle. Host and target must agree on it, as on
+ *  PF_MAX_ORDER. */
+#ifndef PF_Q15_NOZZLE_SEG
+#define PF_Q15_NOZZLE_SEG 32
+#endif
+
 /** Largest |integer part| of an operator order (|alpha| < 2 rounds to <= 2). */
 #define PF_MAX_INT 2
 
