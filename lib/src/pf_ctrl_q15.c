@@ -72,16 +72,31 @@ static int32_t x_of_pc(const pf_ctrl_coeffs_q15 *c, int32_t e, int32_t pc, int32
                     pf_mulw(c->t_v, sV) + pf_mulw(c->t_w, sW));
 }
 
+/* v - dir r for dir in {-1, 0, 1}: the play's offset, without a 64-bit
+ * multiply (a libgcc call on an M0+). */
+static int64_t off(int64_t v, int dir, int32_t r)
+{
+    return dir > 0 ? v - r : (dir < 0 ? v + r : v);
+}
+
 /* p_c before the supply limits, for a nozzle output h */
 static int32_t pc_of_h(const pf_ctrl_coeffs_q15 *c, int32_t h, int32_t sP)
 {
     return pf_q_sat(pf_mulw(c->pc_x, h) + pf_mulw(c->pc_p, sP));
 }
 
+/* The nozzle's table; none in a build without the curve (pf_config.h:
+ * init has refused a set that points to one), whose code then drops out. */
+#if PF_Q15_NOZZLE_SEG > 0
+#define NOZZLE(c) ((c)->nz)
+#else
+#define NOZZLE(c) ((void)(c), (const pf_nozzle_q15 *)NULL)
+#endif
+
 /* The nozzle's output for a play output xe: its curve, or xe (eq. 9). */
 static int32_t nozzle(const pf_ctrl_coeffs_q15 *c, int32_t xe)
 {
-    return c->nz != NULL ? pf_nz_h(c->nz, xe) : xe;
+    return NOZZLE(c) != NULL ? pf_nz_h(NOZZLE(c), xe) : xe;
 }
 
 /* The loop's play output xe, and *h = nozzle(xe), from the linear
@@ -89,9 +104,10 @@ static int32_t nozzle(const pf_ctrl_coeffs_q15 *c, int32_t xe)
  * (0): x = xe + dir r. */
 static int32_t loop_solve(const pf_ctrl_coeffs_q15 *c, int32_t x_lin, int dir, int32_t *h)
 {
-    if (c->nz != NULL)
-        return pf_nz_solve(c->nz, pf_mulw(c->nz->t_x, x_lin) - (int64_t)dir * c->nz->t_r, h);
-    return *h = pf_q_sat((int64_t)x_lin - (int64_t)dir * c->play_ri);
+    const pf_nozzle_q15 *nz = NOZZLE(c);
+    if (nz != NULL)
+        return pf_nz_solve(nz, off(pf_mulw(nz->t_x, x_lin), dir, nz->t_r), h);
+    return *h = pf_q_sat(off(x_lin, dir, c->play_ri));
 }
 
 /* The play's new output and x, from the linear solution x_lin (see the
@@ -112,10 +128,10 @@ static int32_t play_solve(const pf_ctrl_q15 *S, int32_t e, int32_t x_lin, int32_
     pc = pc_of_h(c, *h, sP);
     if (clamp_pc(c, pc) != pc) { /* on a supply limit: x from it */
         *x = x_of_pc(c, e, clamp_pc(c, pc), sQ, sV, sW);
-        xe = pf_q_sat((int64_t)*x - (int64_t)dir * r);
+        xe = pf_q_sat(off(*x, dir, r));
         *h = nozzle(c, xe);
     } else {
-        *x = pf_q_sat((int64_t)xe + (int64_t)dir * r);
+        *x = pf_q_sat(off(xe, -dir, r));
     }
     return xe;
 }
@@ -144,7 +160,11 @@ int16_t pf_ctrl_step_q15(pf_ctrl_q15 *S, int16_t e_q15)
         xe = play_solve(S, e, x, sP, sQ, sV, sW, &x, &h);
         S->xb = xe;
     } else {
-        x = xe = loop_solve(c, x, 0, &h);
+        if (NOZZLE(c) != NULL)
+            x = loop_solve(c, x, 0, &h);
+        else
+            h = x;
+        xe = x;
         if (c->saturate) {
             /* Saturation is monotone too: if the unclipped solution's p_c
              * is beyond a limit, the true one sits on that limit, and x

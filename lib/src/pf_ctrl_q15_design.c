@@ -115,6 +115,8 @@ pf_status pf_ctrl_coeffs_q15_make_nz(pf_ctrl_coeffs_q15 *cq, pf_nozzle_q15 *nz,
      * times the others, more than one shared branch shift can hold. */
     if (d->opt.approx == PF_APPROX_REFINED)
         return PF_E_UNSUPPORTED;
+    if (c->nozzle_xh > 0.0 && PF_Q15_NOZZLE_SEG == 0)
+        return PF_E_UNSUPPORTED; /* left out of this build (pf_config.h) */
     if (c->nozzle_xh > 0.0 && nz == NULL)
         return PF_E_BUFFER;
     node_scales(d, in_fs, s);

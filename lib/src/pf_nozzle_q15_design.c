@@ -30,7 +30,8 @@
 #define NZ_SEG PF_Q15_NOZZLE_SEG
 #define NZ_GRID 512          /* quadrature points per side of u0 */
 
-typedef char pf_nozzle_seg_in_range[NZ_SEG >= 2 && NZ_SEG <= 250 ? 1 : -1];
+/* a flat piece and one on each side of x = 0 at least; n fits a byte */
+typedef char pf_nozzle_seg_in_range[NZ_SEG == 0 || (NZ_SEG >= 4 && NZ_SEG <= 250) ? 1 : -1];
 
 /* The operating point's gap, in units of x_1/2: the inflection of F,
  * where pf_nozzle() is biased (pf_effects.h). */
@@ -138,6 +139,23 @@ static double nz_inverse(const pf_ctrl_coeffs_f64 *c, double sx, double L0, doub
     return 0.5 * (lo + hi);
 }
 
+/* Whether the in-sample loop moves the solution by less than half a unit
+ * of x anywhere: |W(x) - x| <= 1/2 at the knots and within each piece
+ * (W - x = (L0 (h - x) - min(0, L0) x)/max(1, 1 + L0) is smooth between
+ * the knots, and is checked at 1/3 and 2/3 of each piece too). Then the
+ * solution is W's target itself, and the runtime skips the inverse. */
+static int nz_direct(const pf_ctrl_coeffs_f64 *c, double sx, double L0, const pf_nozzle_q15 *nz)
+{
+    int k, i;
+    for (k = 0; k + 1 < nz->n; k++)
+        for (i = 0; i < 3; i++) {
+            double x = nz->x[k] + ((double)nz->x[k + 1] - nz->x[k]) * i / 3.0;
+            if (fabs(nz_map(c, sx, L0, x) - x) > 0.5)
+                return 0;
+        }
+    return fabs(nz_map(c, sx, L0, nz->x[nz->n - 1]) - nz->x[nz->n - 1]) <= 0.5;
+}
+
 /* The shape (a, b) of P(r) = r + r (1 - r)(a + b r) through y at r = 1/3
  * and 2/3 (y1, y2) on the piece from y0 to y3, in Q24. */
 static void nz_shape(double y0, double y1, double y2, double y3, int32_t *a, int32_t *b)
@@ -178,6 +196,8 @@ pf_status pf_nozzle_q15_make(pf_nozzle_q15 *nz, const pf_ctrl_coeffs_f64 *c, dou
     pf_status st = PF_OK;
 
     memset(nz, 0, sizeof *nz);
+    if (NZ_SEG == 0)
+        return PF_E_UNSUPPORTED;
     if (!(xh_i > 0.0) || !isfinite(xh_i) || !isfinite(L0))
         return PF_E_SCALE;
     /* pieces on each side of x = 0 in proportion to the density's mass */
@@ -228,5 +248,6 @@ pf_status pf_nozzle_q15_make(pf_nozzle_q15 *nz, const pf_ctrl_coeffs_f64 *c, dou
     }
     if (st == PF_OK)
         st = pf_qc_make(&nz->t_x, (1.0 + L0) / div);
+    nz->direct = st == PF_OK && nz_direct(c, sx, L0, nz);
     return st;
 }

@@ -99,8 +99,9 @@ static void nozzle_q15(FILE *f, const char *name, const pf_nozzle_q15 *nz)
 {
     int n = nz->n;
     fprintf(f, "static const pf_nozzle_q15 %s_nozzle = {\n", name);
-    fprintf(f, "  .n = %u, .h_sh = %u, .t_x = {%ld, %u}, .t_r = %ld,\n", (unsigned)nz->n,
-            (unsigned)nz->h_sh, (long)nz->t_x.m, (unsigned)nz->t_x.sh, (long)nz->t_r);
+    fprintf(f, "  .n = %u, .direct = %u, .h_sh = %u, .t_x = {%ld, %u}, .t_r = %ld,\n",
+            (unsigned)nz->n, (unsigned)nz->direct, (unsigned)nz->h_sh, (long)nz->t_x.m,
+            (unsigned)nz->t_x.sh, (long)nz->t_r);
     int_array(f, "x", nz->x, sizeof nz->x[0], n);
     int_array(f, "h", nz->h, sizeof nz->h[0], n);
     int_array(f, "w", nz->w, sizeof nz->w[0], n);

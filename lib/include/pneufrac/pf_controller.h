@@ -207,15 +207,17 @@ enum pf_ctrl_node {
  *  The loop is solved by one search among the W_k and one piece: no
  *  iteration. */
 typedef struct pf_nozzle_q15 {
-    int32_t x[PF_Q15_NOZZLE_SEG + 1]; /**< knots (internal x), increasing, from -2^30 to 2^30 */
-    int32_t h[PF_Q15_NOZZLE_SEG + 1]; /**< the curve at the knots, x's scale times 2^h_sh */
-    int32_t w[PF_Q15_NOZZLE_SEG + 1]; /**< the loop map at the knots, non-decreasing */
-    int32_t ha[PF_Q15_NOZZLE_SEG], hb[PF_Q15_NOZZLE_SEG]; /**< the curve's P, per piece */
-    int32_t xa[PF_Q15_NOZZLE_SEG], xb[PF_Q15_NOZZLE_SEG]; /**< the inverse's P */
-    int32_t rx_m[PF_Q15_NOZZLE_SEG], rw_m[PF_Q15_NOZZLE_SEG]; /**< 2^27 over the piece's */
-    uint8_t rx_sh[PF_Q15_NOZZLE_SEG], rw_sh[PF_Q15_NOZZLE_SEG]; /**< width in x, in W */
+    int32_t x[PF_Q15_NOZZLE_CAP + 1]; /**< knots (internal x), increasing, from -2^30 to 2^30 */
+    int32_t h[PF_Q15_NOZZLE_CAP + 1]; /**< the curve at the knots, x's scale times 2^h_sh */
+    int32_t w[PF_Q15_NOZZLE_CAP + 1]; /**< the loop map at the knots, non-decreasing */
+    int32_t ha[PF_Q15_NOZZLE_CAP], hb[PF_Q15_NOZZLE_CAP]; /**< the curve's P, per piece */
+    int32_t xa[PF_Q15_NOZZLE_CAP], xb[PF_Q15_NOZZLE_CAP]; /**< the inverse's P */
+    int32_t rx_m[PF_Q15_NOZZLE_CAP], rw_m[PF_Q15_NOZZLE_CAP]; /**< 2^27 over the piece's */
+    uint8_t rx_sh[PF_Q15_NOZZLE_CAP], rw_sh[PF_Q15_NOZZLE_CAP]; /**< width in x, in W */
     uint8_t h_sh;                   /**< h's scale: x's times 2^h_sh (k1, pc_x take h) */
     uint8_t n;                      /**< knots in use, 3 to PF_Q15_NOZZLE_SEG + 1 */
+    uint8_t direct;                 /**< 1: W = x within half a unit (L0 too small to
+                                         move the solution): x is W's target */
     pf_qc t_x;                      /**< linear solution x_lin -> W: (1 + L0)/max(1, 1 + L0) */
     int32_t t_r;                    /**< backlash half-width r in W: r/max(1, 1 + L0) */
 } pf_nozzle_q15;
@@ -288,13 +290,15 @@ pf_status pf_ctrl_coeffs_q15_make(pf_ctrl_coeffs_q15 *cq,
  *  @return as pf_ctrl_coeffs_q15_make; PF_E_BUFFER if the design has a
  *          nozzle curve and @p nz is NULL; PF_E_UNSUPPORTED if the
  *          in-sample loop through the curve is not monotone (only a loop
- *          gain L0 < 0 with a curve steeper than 1/|L0| can do that). */
+ *          gain L0 < 0 with a curve steeper than 1/|L0| can do that), or
+ *          the build leaves the curve out (PF_Q15_NOZZLE_SEG = 0). */
 pf_status pf_ctrl_coeffs_q15_make_nz(pf_ctrl_coeffs_q15 *cq, pf_nozzle_q15 *nz,
                                      const pf_ctrl_design *d, double in_fs,
                                      double out_fs);
 /** Bind an instance to a coefficient set, at rest. @return PF_OK,
  *  PF_E_NULL, or PF_E_BUFFER when the dead-time buffer is missing or short,
- *  or a nozzle table holds more knots than PF_Q15_NOZZLE_SEG + 1. */
+ *  or a nozzle table claims more knots than PF_Q15_NOZZLE_SEG + 1 (any,
+ *  in a build without the curve) or fewer than 3. */
 pf_status pf_ctrl_init_q15(pf_ctrl_q15 *S, const pf_ctrl_coeffs_q15 *c,
                            int16_t *dbuf, size_t dlen);
 void pf_ctrl_reset_q15(pf_ctrl_q15 *S);
