@@ -27,12 +27,17 @@ static int piece(const int32_t *key, int n, int32_t v)
     return lo;
 }
 
+/* round-half-up(p / 2^sh) for a constant sh: pf_round_shift's integer,
+ * with a shift the compiler writes out (no variable 64-bit shift, which
+ * is a loop or a libgcc call on an M0+). |p| < 2^61. */
+#define PF_NZ_ROUND(p, sh) (((p) + ((int64_t)1 << ((sh) - 1))) >> (sh))
+
 /* y0 + (y1 - y0) P(r) for an offset d from the piece's start (0 <= d <
  * 2^31), the piece's 2^27/width (m, sh) and shape a, b. r is clamped to
  * [0, 1], so the result stays between the knots but for P's own bulge.
  * |y1 - y0| <= 2^30 (a knot at 0 splits the range), |a|, |b| < 2^29. */
-static int64_t cubic(int32_t y0, int32_t y1, int32_t d, int32_t m, uint8_t sh,
-                                  int32_t a, int32_t b)
+static int64_t cubic(int32_t y0, int32_t y1, int32_t d, int32_t m, uint8_t sh, int32_t a,
+                     int32_t b)
 {
     const int32_t one = (int32_t)1 << PF_NZ_R;
     pf_qc rq;
@@ -43,17 +48,17 @@ static int64_t cubic(int32_t y0, int32_t y1, int32_t d, int32_t m, uint8_t sh,
     r64 = pf_mulw(rq, d);
     r = r64 > one ? one : (int32_t)r64;
     /* c = a + b r (Q24), rr = r (1 - r) (Q27), P = r + c rr (Q27) */
-    c = pf_q_sat32(a + pf_round_shift(pf_q_mul64(b, r), PF_NZ_R));
-    rr = (int32_t)pf_round_shift(pf_q_mul64(r, one - r), PF_NZ_R);
-    p = pf_q_sat32(r + pf_round_shift(pf_q_mul64(c, rr), PF_NZ_AB));
-    return y0 + pf_round_shift(pf_q_mul64(pf_q_sat32((int64_t)y1 - y0), p), PF_NZ_R);
+    c = pf_q_sat32(a + PF_NZ_ROUND(pf_q_mul64(b, r), PF_NZ_R));
+    rr = (int32_t)PF_NZ_ROUND(pf_q_mul64(r, one - r), PF_NZ_R);
+    p = pf_q_sat32(r + PF_NZ_ROUND(pf_q_mul64(c, rr), PF_NZ_AB));
+    return y0 + PF_NZ_ROUND(pf_q_mul64(pf_q_sat32((int64_t)y1 - y0), p), PF_NZ_R);
 }
 
 /* h(x) on piece k, x in [x_k, x_{k+1}]. */
 static int32_t curve(const pf_nozzle_q15 *nz, int k, int32_t x)
 {
-    return pf_q_sat(cubic(nz->h[k], nz->h[k + 1], x - nz->x[k], nz->rx_m[k],
-                                nz->rx_sh[k], nz->ha[k], nz->hb[k]));
+    return pf_q_sat(cubic(nz->h[k], nz->h[k + 1], x - nz->x[k], nz->rx_m[k], nz->rx_sh[k],
+                          nz->ha[k], nz->hb[k]));
 }
 
 int32_t pf_nz_h(const pf_nozzle_q15 *nz, int32_t x)

@@ -181,12 +181,13 @@ static double run_compare(pf_topology cfg, double k1_mul, const pf_effects *fx, 
     return worst;
 }
 
-/* Every configuration, x_1/2 from 1e-3 to 30 of in_fs, each shape at a
- * small, a middle and the full amplitude: the full-scale runs drive x far
- * onto both flat ends of the curve (gap closed, and the far tail). */
-static double sweep(double k1_mul)
+/* Every configuration, x_1/2 from lo to hi of in_fs (by decades and
+ * between), each shape at a small, a middle and the full amplitude: the
+ * full-scale runs drive x far onto both flat ends of the curve (gap
+ * closed, and the far tail). */
+static double sweep(double k1_mul, double lo, double hi)
 {
-    static const double xhs[] = {1e-3, 1e-2, 0.05, 0.2, 1.0, 3.0, 30.0};
+    static const double xhs[] = {1e-4, 1e-3, 1e-2, 0.05, 0.2, 1.0, 3.0, 30.0};
     static const double amps[] = {0.05, 0.3, 1.0};
     double worst = 0.0;
     int cfg, shape;
@@ -195,6 +196,8 @@ static double sweep(double k1_mul)
         for (i = 0; i < sizeof xhs / sizeof xhs[0]; i++) {
             pf_effects fx;
             double w = 0.0;
+            if (xhs[i] < lo || xhs[i] > hi)
+                continue;
             memset(&fx, 0, sizeof fx);
             fx.nozzle_xh = xhs[i];
             for (a = 0; a < sizeof amps / sizeof amps[0]; a++)
@@ -212,7 +215,7 @@ static double sweep(double k1_mul)
 static void test_controller_matches_double(void **state)
 {
     (void)state;
-    assert_true(sweep(1.0) <= 1.0);
+    assert_true(sweep(1.0, 1e-3, 30.0) <= 1.0);
 }
 
 /* k1 x 100 (L0 about 1 for id and pid, where the solution leans on the
@@ -220,7 +223,17 @@ static void test_controller_matches_double(void **state)
 static void test_high_loop_gain(void **state)
 {
     (void)state;
-    assert_true(sweep(100.0) <= 1.5);
+    assert_true(sweep(100.0, 1e-3, 30.0) <= 1.5);
+}
+
+/* A curve 1e4 times narrower than the input's range: one unit of x (2^-28
+ * of its design peak) is then about 2^-15 of x_1/2, and x's resolution,
+ * not the table, limits the output: within 2 LSB. */
+static void test_narrow_curve(void **state)
+{
+    (void)state;
+    assert_true(sweep(1.0, 1e-4, 1e-4) <= 2.0);
+    assert_true(sweep(100.0, 1e-4, 1e-4) <= 2.0);
 }
 
 /* The nozzle with backlash (dd), and with backlash and supply limits
@@ -329,6 +342,7 @@ int main(void)
         cmocka_unit_test(test_table_within_bound),
         cmocka_unit_test(test_controller_matches_double),
         cmocka_unit_test(test_high_loop_gain),
+        cmocka_unit_test(test_narrow_curve),
         cmocka_unit_test(test_with_backlash_and_saturation),
         cmocka_unit_test(test_zero_input_and_blocks),
         cmocka_unit_test(test_refusals),

@@ -30,7 +30,7 @@
 #define PF_Q15_MAX_SEC (2 * PF_MAX_ORDER + 1)
 
 /** Pieces of the Q15 nozzle curve's table (pf_nozzle_q15), each a cubic
- *  through the curve: 46 bytes each, in a table apart from the
+ *  through the curve: 38 bytes each, in a table apart from the
  *  coefficient set, so only a design with a nozzle holds one. 32 keep the
  *  curve within 2^-16 of its span for the paper's loop gains (the bound:
  *  docs/architecture.md, "Effects in Q15"). 0 leaves the curve out of the

@@ -211,12 +211,13 @@ enum pf_ctrl_node {
 };
 
 /** The nozzle curve on x in Q15 (built by pf_ctrl_coeffs_q15_make_nz, run
- *  by pf_nozzle_q15.h), kept apart from the coefficient set so that only a
- *  firmware with a nozzle pays for its table (46 bytes per piece). Knots x_k on x carry the curve, h_k = h(x_k), and the
- *  in-sample loop map W_k = (x_k + L0 h_k)/max(1, 1 + L0), which
- *  increases with x because the curve does (the divisor keeps it within
- *  +-2^31 for any accepted L0). Between two knots h is a cubic in x, and
- *  x one in W, each through both knots:
+ *  by pf_nozzle_q15.c), kept apart from the coefficient set so that only a
+ *  firmware with a nozzle pays for its table (38 bytes per piece; see
+ *  docs/architecture.md, "Effects in Q15"). Knots x_k on x carry the
+ *  curve, h_k = h(x_k), and the in-sample loop map W_k = (x_k + L0 h_k)/
+ *  max(1, 1 + L0), which increases with x because the curve does (the
+ *  divisor keeps it within +-2^31 for any accepted L0). Between two knots
+ *  h is a cubic in x, and x one in W, each through both knots:
  *    h = h_k + (h_{k+1} - h_k) P(r),  r = (x - x_k)/(x_{k+1} - x_k)
  *    x = x_k + (x_{k+1} - x_k) P(r),  r = (W - W_k)/(W_{k+1} - W_k)
  *    P(r) = r + r (1 - r) (a + b r),  a, b in Q24, r in Q27
