@@ -9,6 +9,10 @@
  *   bench_accuracy [--quick]     --quick: 20 kHz only
  *   bench_accuracy --grid FILE   the grid band x N x fs x arithmetic for
  *                                every case: Markdown on stdout, CSV in FILE
+ *   bench_accuracy --orders      at 20 kHz with the library's band, every
+ *                                case against N = 1 .. PF_MAX_ORDER in double
+ *                                and Q15, and Q15's distance from double in
+ *                                LSB: how few sections a target error needs
  */
 #include <math.h>
 #include <stdio.h>
@@ -105,6 +109,66 @@ static int grid(const char *csv_path)
     return fclose(csv) == 0 ? 0 : 1;
 }
 
+/* Q15 against double, max |difference| in LSB of out_fs, over the run. */
+typedef struct lsb_ctx {
+    double *y;
+    long n;
+    double worst, lsb;
+} lsb_ctx;
+
+static void keep_f64(void *ctx, long n, double y)
+{
+    lsb_ctx *c = ctx;
+    if (n < c->n)
+        c->y[n] = y;
+}
+
+static void cmp_q15(void *ctx, long n, double y)
+{
+    lsb_ctx *c = ctx;
+    if (n < c->n && fabs(y - c->y[n]) / c->lsb > c->worst)
+        c->worst = fabs(y - c->y[n]) / c->lsb;
+}
+
+static int order_sweep(void)
+{
+    const double fs = 20000.0;
+    static double ybuf[40001];
+    int i, n;
+    printf("| case |");
+    for (n = 1; n <= PF_MAX_ORDER; n++)
+        printf(" N = %d (%d sections per operator) |", n, 2 * n + 1);
+    printf("\n|---|");
+    for (n = 1; n <= PF_MAX_ORDER; n++)
+        printf("---|");
+    printf("\n");
+    for (i = 0; i < cases.n; i++) {
+        const pf_params *p = &cases.p[i];
+        pfh_acc_ref ref;
+        fprintf(stderr, "[bench] orders: %s\n", cases.name[i]);
+        if (pfh_acc_ref_make(&ref, p, fs, 1e-3, 2.0) != 0)
+            return 1;
+        printf("| %s |", cases.name[i]);
+        for (n = 1; n <= PF_MAX_ORDER; n++) {
+            pf_design_opts o;
+            double e64, eq;
+            /* Q15 as pfh_acc_error runs it: half-scale step, out_fs = 1.25 peak */
+            lsb_ctx c = {ybuf, 40001, 0.0, 1.25 * ref.peak / 32768.0};
+            pf_design_opts_default(&o, fs);
+            o.order = n;
+            e64 = pfh_acc_error(&ref, &o, PF_ARITH_F64, NULL);
+            eq = pfh_acc_error(&ref, &o, PF_ARITH_Q15, NULL);
+            if (pfh_acc_run(p, &o, PF_ARITH_F64, 0.0, c.n - 1, keep_f64, &c) != 0 ||
+                pfh_acc_run(p, &o, PF_ARITH_Q15, 1.25 * ref.peak, c.n - 1, cmp_q15, &c) != 0)
+                c.worst = -1.0;
+            printf(" %.3g %% / %.3g %% / %.2f LSB |", 100 * e64, 100 * eq, c.worst);
+        }
+        printf("\n");
+        pfh_acc_ref_free(&ref);
+    }
+    return 0;
+}
+
 /* The paper's likely setting: a toolbox-default band at 10 kHz, N = 5, in
  * double, for Example 4 (beta = 0.8, q = 0.9); the error at t = 1 ms
  * relative to the local value, and the worst over [1 ms, 2 s] relative to
@@ -145,6 +209,8 @@ int main(int argc, char **argv)
                 REF_DATA_DIR "/paper_step_cases.json");
         return 1;
     }
+    if (argc > 1 && strcmp(argv[1], "--orders") == 0)
+        return order_sweep();
     if (argc > 2 && strcmp(argv[1], "--grid") == 0) {
         toolbox_example();
         return grid(argv[2]);

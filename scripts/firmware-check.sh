@@ -65,17 +65,6 @@ check() {
   done < <(undefined_symbols "$archive")
 }
 
-# Chained with && because errexit is off inside an "if" condition.
-build() {
-  local cpu=$1 dir=$2
-  log "building lib/ for $cpu in $dir/"
-  cmake -S . -B "$dir" --log-level=WARNING \
-    -DCMAKE_TOOLCHAIN_FILE="$PWD/cmake/arm-none-eabi.cmake" \
-    -DCMAKE_BUILD_TYPE=MinSizeRel \
-    -DPNEUFRAC_CPU="$cpu" &&
-    cmake --build "$dir" --parallel "$(nproc 2>/dev/null || echo 2)"
-}
-
 # The example firmware (port/cortex-m) needs the host-exported coefficients.
 gen_dir=build-arm-gen
 host_cli=build/tools/pneufrac
@@ -110,7 +99,8 @@ status=0
 for target in cortex-m0plus:build-arm-m0 cortex-m4:build-arm-m4; do
   cpu=${target%%:*}
   dir=${target#*:}
-  if ! build "$cpu" "$dir"; then
+  log "building lib/ for $cpu in $dir/"
+  if ! fw_build "$cpu" "$dir" -Os; then
     log "FAIL: the $cpu build did not compile"
     status=1
     continue

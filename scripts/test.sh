@@ -8,6 +8,8 @@
 #   asan      the same tests built with ASan + UBSan in build-asan/
 #   lint      cppcheck over lib/, tools/ and port/
 #   firmware  cross builds for Cortex-M0+/M4 and their symbol rules
+#   target    the cross builds on emulated Cortex-M0+/M4 cores: golden vectors
+#             bit-exact with the host build, and the cycle budgets
 #   pytest    Python tests in tests/python/, when there are any
 #   clone     a plain `git clone` of HEAD, alone in an empty folder, builds
 #             and passes test_reference: nothing beside the repository needed
@@ -70,6 +72,10 @@ step_firmware() {
   ./scripts/firmware-check.sh
 }
 
+step_target() {
+  PNEUFRAC_BUILD_DIR="$PWD/build" .venv/bin/python -m pytest -q tests/target
+}
+
 step_pytest() {
   if [[ ! -d tests/python ]] ||
      [[ -z $(find tests/python -name 'test_*.py' -o -name '*_test.py' | head -n 1) ]]; then
@@ -112,6 +118,7 @@ run_step ctest step_ctest
 run_step asan step_asan
 run_step lint step_lint
 run_step firmware step_firmware
+run_step target step_target
 run_step pytest step_pytest
 run_step clone step_clone
 

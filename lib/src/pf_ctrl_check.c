@@ -5,9 +5,8 @@
  * of its discrete closed-loop poles.
  *
  * The runtime solves its loops exactly within each sample, so it is a
- * linear state-space system x' = A x + B e with the operator states as x.
- * A is built column by column by stepping the double runtime once, with
- * zero input, from each unit state: exactly the arithmetic that runs.
+ * linear state-space system x' = A x + B e with the operator states as x;
+ * pf_ctrl_state_space (pf_ctrl_lti.c) reads A off the double runtime.
  * rho(A) = lim ||A^k||^(1/k) (Gelfand's formula) is then evaluated by
  * repeated squaring, k = 2^PF_CHECK_SQUARINGS, rescaling at each step so
  * nothing overflows. Since ||A^k|| >= rho^k, the estimate approaches rho
@@ -23,36 +22,6 @@
 #include "pneufrac/pf_controller.h"
 
 #define PF_CHECK_SQUARINGS 48
-
-/* Pointers to every state the linear runtime has, in a fixed order.
- * @return their number. */
-static int states(pf_ctrl_f64 *r, double **s)
-{
-    pf_fracop_f64 *ops[4];
-    int used[4], k = 0, o, j, n_int;
-
-    ops[0] = &r->P;
-    ops[1] = &r->Q;
-    ops[2] = &r->V;
-    ops[3] = &r->W;
-    used[0] = 1;
-    used[1] = r->c->has_q;
-    used[2] = r->c->has_v;
-    used[3] = r->c->has_w;
-    if (r->c->hold)
-        s[k++] = &r->e1;
-    for (o = 0; o < 4; o++) {
-        const pf_fracop_design *c = ops[o]->c;
-        if (!used[o])
-            continue;
-        for (j = 0; j < c->n_sec; j++)
-            s[k++] = &ops[o]->s[j];
-        n_int = c->n_int < 0 ? -c->n_int : c->n_int;
-        for (j = 0; j < n_int; j++)
-            s[k++] = &ops[o]->si[j];
-    }
-    return k;
-}
 
 /* C = A B, n x n, row major; C may not alias A or B. */
 static void matmul(const double *a, const double *b, double *c, int n)
@@ -121,33 +90,17 @@ static void balance(double *a, int n)
 pf_status pf_ctrl_spectral_radius(const pf_ctrl_design *d, pf_ctrl_check_work *w,
                                   double *rho)
 {
-    pf_ctrl_coeffs_f64 lin;
-    pf_ctrl_f64 r;
-    double *s[PF_CTRL_MAX_STATES], *a, *b, log_norm = 0.0, nrm;
-    int n, i, j, m;
+    double *a, *b, log_norm = 0.0, nrm;
+    int n, i, m;
 
     if (d == NULL || w == NULL || rho == NULL)
         return PF_E_NULL;
-    /* The linear model: the effects are nonlinear or outside the loop. */
-    lin = d->rt;
-    lin.in_loop_fx = 0;
-    lin.play_r = 0.0;
-    lin.nozzle_xh = 0.0;
-    lin.saturate = 0;
-    lin.lag_lam = 0.0;
-    lin.delay_len = 0;
-    if (pf_ctrl_init_f64(&r, &lin, NULL, 0) != PF_OK)
-        return PF_E_NULL;
-    n = states(&r, s);
     a = w->a;
     b = w->b;
-    for (j = 0; j < n; j++) {
-        pf_ctrl_reset_f64(&r);
-        *s[j] = 1.0;
-        (void)pf_ctrl_step_f64(&r, 0.0);
-        for (i = 0; i < n; i++)
-            a[(size_t)i * n + j] = *s[i];
-    }
+    /* The loop's own poles: without the effects and the output line. */
+    n = pf_ctrl_state_space(d, 0, a, NULL, NULL, NULL);
+    if (n < 0)
+        return PF_E_NULL;
     balance(a, n);
     for (m = 0; m <= PF_CHECK_SQUARINGS; m++) {
         /* a = A^(2^m) / exp(log_norm), log_norm over 2^m so far. */

@@ -30,7 +30,7 @@ double complex pf_op_resp(const pf_fracop_design *op, double omega,
                           double complex *frac);
 
 /* Quantise v to m * 2^-sh with |m| in [2^30, 2^31). PF_E_SCALE if
- * |v| >= 2^31. The leak format (pf_qc_leak) is a gain below 2 with shift
+ * |v| >= 2^28 (pf_mulw's terms must stay below 2^59). The leak format (pf_qc_leak) is a gain below 2 with shift
  * >= 30, as pf_q_advance needs. */
 pf_status pf_qc_make(pf_qc *q, double v);
 pf_status pf_qc_leak(int32_t *m, uint8_t *sh, double lam);

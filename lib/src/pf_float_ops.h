@@ -8,16 +8,16 @@
  * A sample is split in two so that loops can be solved in between:
  *   S = op_state(op, &sf)      what the state contributes (u unknown yet);
  *   y = op_update(op, u, sf)   y = D*u + S, and the state advances with u.
+ * The branch sum sum_k G_k s_k is formed by op_update for the next sample
+ * (same terms in the same order as summing at op_state: same results).
  */
 #include "pf_tmpl.h"
 
 static inline PF_T PF_FN(op_state_)(const PF_OPI *S, PF_T *sf)
 {
     const PF_OPC *c = S->c;
-    PF_T s = 0;
+    PF_T s = S->sum;
     int k;
-    for (k = 0; k < c->n_sec; k++)
-        s += c->G[k] * S->s[k];
     *sf = s;
     for (k = 0; k < (c->n_int < 0 ? -c->n_int : c->n_int); k++)
         s = c->int_d * s + S->si[k];
@@ -27,12 +27,17 @@ static inline PF_T PF_FN(op_state_)(const PF_OPI *S, PF_T *sf)
 static inline PF_T PF_FN(op_update_)(PF_OPI *S, PF_T u, PF_T sf)
 {
     const PF_OPC *c = S->c;
-    PF_T y = c->d * u + sf;
+    PF_T y = c->d * u + sf, sum = 0;
     int k;
     /* Leaky form: the state moves toward u by lam of the distance, so a pole
-     * at 1 - 1e-7 costs no precision in lam itself. */
-    for (k = 0; k < c->n_sec; k++)
-        S->s[k] += c->lam[k] * (u - S->s[k]);
+     * at 1 - 1e-7 costs no precision in lam itself. The branch sum the next
+     * sample needs is formed here, while each new state is at hand. */
+    for (k = 0; k < c->n_sec; k++) {
+        PF_T sk = S->s[k] + c->lam[k] * (u - S->s[k]);
+        S->s[k] = sk;
+        sum += c->G[k] * sk;
+    }
+    S->sum = sum;
     for (k = 0; k < (c->n_int < 0 ? -c->n_int : c->n_int); k++) {
         PF_T yk = c->int_d * y + S->si[k];
         PF_T si = (c->int_rho > 0 ? S->si[k] : -S->si[k]) + c->int_k * y;

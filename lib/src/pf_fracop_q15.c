@@ -20,6 +20,7 @@ void pf_fracop_reset_q15(pf_fracop_q15 *S)
         return;
     memset(S->s, 0, sizeof S->s);
     memset(S->si, 0, sizeof S->si);
+    S->sv = 0;
     S->u1 = 0;
 }
 

@@ -43,7 +43,14 @@ static pf_status qc_norm(int32_t *m, uint8_t *sh, double v, int bits)
     return PF_OK;
 }
 
-pf_status pf_qc_make(pf_qc *q, double v) { return qc_norm(&q->m, &q->sh, v, 31); }
+/* Below 2^28, so that a term c x (|x| < 2^31) stays below 2^59 and a node's
+ * sum of up to eight terms cannot wrap (pf_mulw). */
+pf_status pf_qc_make(pf_qc *q, double v)
+{
+    if (fabs(v) >= 268435456.0)
+        return PF_E_SCALE;
+    return qc_norm(&q->m, &q->sh, v, 31);
+}
 
 /* The state-gain format of pf_q_advance: |v| < 2 with shift >= 30, so the
  * increment is one arithmetic right shift. Below 1 the mantissa keeps 30
@@ -82,13 +89,38 @@ double pf_grid_omega(const pf_fracop_design *op, double wb, int i)
     return lo * pow(hi / lo, (double)i / (PF_GRID - 1));
 }
 
+/* A section's leak in the kernel's format (pf_q15_ops.h): lam = m 2^-sh
+ * with a 15-bit mantissa m in [2^14, 2^15) and sh in [14, 44], which
+ * holds every leak the design allows (lam >= 1e-9). */
+static pf_status q15_leak(int16_t *m, uint8_t *sh, double lam)
+{
+    int e, s;
+    double r;
+    if (!(lam > 0.0 && lam < 2.0))
+        return PF_E_SCALE;
+    (void)frexp(lam, &e); /* lam in [2^(e-1), 2^e) */
+    s = 15 - e;
+    r = round(ldexp(lam, s));
+    if (r >= 32768.0) {   /* rounding carried into bit 15 */
+        s--;
+        r = round(ldexp(lam, s));
+    }
+    if (s < 14 || s > 44)
+        return PF_E_SCALE;
+    *m = (int16_t)r;
+    *sh = (uint8_t)s;
+    return PF_OK;
+}
+
 pf_status pf_q15_op_make(pf_fracop_coeffs_q15 *cq, const pf_fracop_design *op,
                          double s_in, double s_frac, double s_out)
 {
     pf_status st;
-    int k, n = abs(op->n_int);
-    double gmax = 0.0, prev = s_frac;
+    int k, j, n = abs(op->n_int), order[PF_MAX_SEC];
+    double prev = s_frac;
     memset(cq, 0, sizeof *cq);
+    if (op->n_sec > PF_Q15_MAX_SEC)
+        return PF_E_UNSUPPORTED; /* the refined approximant's extra sections */
     cq->n_int = (int8_t)op->n_int;
     cq->int_rho = (int8_t)op->int_rho;
     cq->n_sec = (uint8_t)op->n_sec;
@@ -96,22 +128,32 @@ pf_status pf_q15_op_make(pf_fracop_coeffs_q15 *cq, const pf_fracop_design *op,
     if (n == 0)
         s_frac = s_out;
     st = pf_qc_make(&cq->d, op->d * s_frac / s_in);
+    /* Slowest first (insertion sort: at most PF_MAX_SEC), so that the
+     * kernel runs the sections with a fraction word in one loop. */
+    for (k = 0; k < op->n_sec; k++) {
+        for (j = k; j > 0 && op->lam[order[j - 1]] > op->lam[k]; j--)
+            order[j] = order[j - 1];
+        order[j] = k;
+    }
     for (k = 0; st == PF_OK && k < op->n_sec; k++) {
-        st = pf_qc_leak(&cq->lam_m[k], &cq->lam_sh[k], op->lam[k]);
-        if (fabs(op->G[k]) > gmax)
-            gmax = fabs(op->G[k]);
+        st = q15_leak(&cq->lam_m[k], &cq->lam_sh[k], op->lam[order[k]]);
+        if (st == PF_OK && cq->lam_sh[k] >= 18)
+            cq->n_slow = (uint8_t)(k + 1);
     }
     if (st == PF_OK && op->n_sec > 0) {
         /* One shift for all branches, the largest |G_m| in [2^25, 2^26):
-         * 19 products of 2^56 sum below 2^61. */
+         * 19 products of 2^57 sum below 2^62. */
+        double gmax = 0.0;
         int e, sh;
+        for (k = 0; k < op->n_sec; k++)
+            gmax = fmax(gmax, fabs(op->G[k]));
         (void)frexp(gmax * s_frac / s_in, &e);
         sh = 26 - e;
         if (sh < 0 || sh > 62)
             return PF_E_SCALE;
         cq->G_sh = (uint8_t)sh;
         for (k = 0; k < op->n_sec; k++)
-            cq->G_m[k] = (int32_t)llround(ldexp(op->G[k] * s_frac / s_in, sh));
+            cq->G_m[k] = (int32_t)llround(ldexp(op->G[order[k]] * s_frac / s_in, sh));
     }
     for (k = 0; st == PF_OK && k < n; k++) {
         /* Integer stages: the last ends in s_out; an intermediate one

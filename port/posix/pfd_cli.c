@@ -3,17 +3,24 @@
 
 #include <string.h>
 
+#include "pfd_start.h"
+
 /* Cross-checks of options that the table cannot express row by row. */
 static int check_combination(const pfd_cli *a, char *err, size_t errlen)
 {
     pfd_mask inst = 0;
     unsigned i;
+    char names[160] = "";
     for (i = 0; i < pfd_settings_count; i++)
-        if (pfd_settings_table[i].group == PFD_SG_INSTANCES)
+        if (pfd_settings_table[i].group == PFD_SG_INSTANCES) {
             inst |= pfd_setting_bit(&pfd_settings_table[i]);
+            if (names[0] != '\0')
+                strncat(names, ", ", sizeof names - strlen(names) - 1);
+            strncat(names, pfd_settings_table[i].flag, sizeof names - strlen(names) - 1);
+        }
     if (a->run.config != NULL && (a->given & inst)) {
-        snprintf(err, errlen, "--instances, --controller, --fs and --arith describe the "
-                 "default instances; with --config set them in the file");
+        snprintf(err, errlen, "%s describe the default instances; with --config set "
+                 "them in the file", names);
         return -1;
     }
     if (a->run.fallback && a->run.config == NULL) {
@@ -159,4 +166,7 @@ void pfd_cli_help(FILE *f)
             if (pfd_settings_table[i].group == g)
                 help_row(f, &pfd_settings_table[i], &s0, &run0);
     }
+    fprintf(f, "\nExit status: 0 clean stop (SIGTERM, SIGINT, --run-for) or printed what was\n"
+               "asked; 1 run-time failure (socket, thread, persisting the config); %d bad\n"
+               "arguments or config.\n", PFD_EXIT_USAGE);
 }

@@ -9,6 +9,7 @@
 #include "pfd_ini.h"
 #include "pfd_parse.h"
 #include "pfd_regmap.h"
+#include "pfh_fmt.h"
 
 #define MAX_FILE (1024 * 1024)
 
@@ -230,14 +231,19 @@ static void print_value(FILE *f, const pfd_reg *r, double v)
             fprintf(f, "%s = %s\n", r->name, named[i].name((int)v));
             return;
         }
-    if (r->type == PFD_T_U16)
+    if (r->type == PFD_T_U16) {
         fprintf(f, "%s = %u\n", r->name, (unsigned)v);
-    else if (r->flags & PFD_F_STAGED)
-        /* A staged value is a double, a live one a float: %.17g and %.9g
-         * read back bit for bit. */
-        fprintf(f, "%s = %.17g\n", r->name, v);
-    else
-        fprintf(f, "%s = %.9g\n", r->name, v);
+    } else {
+        /* A staged value is a double, a live one a float: the shortest
+         * text of each reads back bit for bit ("0.1", not
+         * "0.10000000000000001"). */
+        char num[PFH_FMT_LEN];
+        if (r->flags & PFD_F_STAGED)
+            pfh_fmt_double(num, v);
+        else
+            pfh_fmt_float(num, (float)v);
+        fprintf(f, "%s = %s\n", r->name, num);
+    }
 }
 
 static void print_instance(FILE *f, const pfd_config_inst *ci)
@@ -318,8 +324,11 @@ int pfd_config_print(const pfd_config *c, FILE *f)
     return rc;
 }
 
-int pfd_config_write(const char *path, const pfd_config *c, char *err,
-                     size_t errlen)
+/* Write @p c's text to @p path with @p put (pfd_file_replace or
+ * pfd_file_create); its result, with "config PATH: ..." in @p err. */
+static int put_text(const char *path, const pfd_config *c,
+                    int (*put)(const char *, const char *, size_t, char *, size_t),
+                    char *err, size_t errlen)
 {
     size_t n;
     char *text = render(c, &n);
@@ -330,9 +339,21 @@ int pfd_config_write(const char *path, const pfd_config *c, char *err,
         snprintf(err, errlen, "config %s: out of memory", path);
         return -1;
     }
-    rc = pfd_file_replace(path, text, n, why, sizeof why);
+    rc = put(path, text, n, why, sizeof why);
     free(text);
-    if (rc != 0)
+    if (rc < 0)
         snprintf(err, errlen, "config %s: %s", path, why);
     return rc;
+}
+
+int pfd_config_write(const char *path, const pfd_config *c, char *err,
+                     size_t errlen)
+{
+    return put_text(path, c, pfd_file_replace, err, errlen);
+}
+
+int pfd_config_create(const char *path, const pfd_config *c, char *err,
+                      size_t errlen)
+{
+    return put_text(path, c, pfd_file_create, err, errlen);
 }

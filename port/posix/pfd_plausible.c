@@ -3,7 +3,8 @@
 
 #include <math.h>
 #include <stdlib.h>
-#include <string.h>
+
+#include "pfd_rate.h"
 
 static int stable(const pf_ctrl_design *d, pf_ctrl_check_work *work)
 {
@@ -11,40 +12,61 @@ static int stable(const pf_ctrl_design *d, pf_ctrl_check_work *work)
     return pf_ctrl_spectral_radius(d, work, &rho) == PF_OK && rho <= 1.0 + PF_CTRL_RHO_TOL;
 }
 
-/* Parameter k of a set: the paper's (pf_param_id), or fs as PF_P_FS. */
+/* Parameter k of a set: the paper's (pf_param_id), fs as PF_P_FS, or
+ * substeps as PFD_P_SUBSTEPS. */
 static double get(const pfd_iparams *ip, int k)
 {
-    return k == PF_P_FS ? ip->fs : pf_params_get(&ip->p, (pf_param_id)k);
+    if (k == PF_P_FS)
+        return ip->fs;
+    if (k == PFD_P_SUBSTEPS)
+        return (double)ip->substeps;
+    return pf_params_get(&ip->p, (pf_param_id)k);
 }
 
 static void set(pfd_iparams *ip, int k, double v)
 {
     if (k == PF_P_FS)
         ip->fs = v;
+    else if (k == PFD_P_SUBSTEPS)
+        ip->substeps = (unsigned)v;
     else
         (void)pf_params_set(&ip->p, (pf_param_id)k, v);
 }
 
-/* Whether @p ip designs, at its rate, into a stable loop. */
-static int designs_stable(const pfd_iparams *ip, pf_ctrl_design *d, pf_ctrl_check_work *work)
+/* Why a built set (@p s, designed in @p d) is not plausible: 0 if it is,
+ * else PFD_E_UNSTABLE or PFD_E_RATE. */
+static pf_status implausible(const pfd_slot *s, const pf_ctrl_design *d,
+                             pf_ctrl_check_work *work)
 {
-    pf_design_opts o;
-    memset(&o, 0, sizeof o);
-    o.fs = ip->fs; /* the other options at the library's defaults, as pfd_slot_build */
-    return pf_ctrl_design_make(d, &ip->p, NULL, &o) == PF_OK && stable(d, work);
+    if (!stable(d, work))
+        return PFD_E_UNSTABLE;
+    return pfd_rate_capped(&s->rate) ? PFD_E_RATE : 0;
 }
 
-/* The parameter to blame for @p ip's instability, against @p ref. */
+/* Whether @p ip builds as a commit would build it (the same limits, the
+ * same substeps, designed at the same internal rate fs x substeps) into a
+ * plausible set. */
+static int builds_plausible(const pfd_iparams *ip, pfd_slot *s, pf_ctrl_design *d,
+                            pf_ctrl_check_work *work)
+{
+    pfd_fail why;
+    return pfd_slot_build(s, ip, d, &why) == 0 && implausible(s, d, work) == 0;
+}
+
+/* The parameter to blame for @p ip's implausibility, against @p ref: the
+ * paper's parameters the configuration uses, then fs and substeps, which
+ * together set the rate the loop is sampled at. */
 static int culprit(const pfd_iparams *ip, const pfd_iparams *ref, pf_ctrl_check_work *work)
 {
     pf_ctrl_design *d = malloc(sizeof *d);
+    pfd_slot *s = malloc(sizeof *s);
     int k, worst = PF_P_COUNT;
     double worst_ratio = 0.0;
 
-    for (k = PF_P_A; k <= PF_P_FS; k++) {
+    for (k = PF_P_A; k <= PFD_P_SUBSTEPS; k++) {
         double a, b, ratio;
         pfd_iparams alt;
-        if (k > PF_P_RCI && k != PF_P_FS)
+        if (k > PF_P_RCI && k != PF_P_FS && k != PFD_P_SUBSTEPS)
             continue;
         if (k < PF_P_CONFIG && !pf_param_used(ip->p.topology, (pf_param_id)k))
             continue;
@@ -54,7 +76,7 @@ static int culprit(const pfd_iparams *ip, const pfd_iparams *ref, pf_ctrl_check_
             continue;
         alt = *ip;
         set(&alt, k, b);
-        if (d != NULL && designs_stable(&alt, d, work)) {
+        if (d != NULL && s != NULL && builds_plausible(&alt, s, d, work)) {
             worst = k;
             break;
         }
@@ -64,6 +86,7 @@ static int culprit(const pfd_iparams *ip, const pfd_iparams *ref, pf_ctrl_check_
             worst = k;
         }
     }
+    free(s);
     free(d);
     return worst;
 }
@@ -71,12 +94,15 @@ static int culprit(const pfd_iparams *ip, const pfd_iparams *ref, pf_ctrl_check_
 int pfd_slot_prepare(pfd_slot *s, const pfd_iparams *ip, const pfd_iparams *ref,
                      pf_ctrl_design *scratch, pf_ctrl_check_work *work, pfd_fail *why)
 {
+    pf_status st;
+
     if (pfd_slot_build(s, ip, scratch, why) != 0)
         return -1;
     /* pfd_slot_build left the design in scratch. */
-    if (stable(scratch, work))
+    st = implausible(s, scratch, work);
+    if (st == 0)
         return 0;
-    why->st = PFD_E_UNSTABLE;
+    why->st = st;
     why->param = culprit(ip, ref, work);
     return -1;
 }

@@ -7,7 +7,9 @@
 
 #include "pfd_access.h"
 #include "pfd_parse.h"
+#include "pfd_regmap.h"
 #include "pfd_state.h"
+#include "pfh_fmt.h"
 
 const char *pfd_clock_name(int external)
 {
@@ -22,13 +24,20 @@ const char *pfd_clock_name(int external)
  * [daemon] section; --help lists the groups in enum order. */
 const pfd_setting pfd_settings_table[] = {
     /* daemon-wide: command line and config file */
+    /* A security setting: it decides who can reach the port at all
+     * (docs/pneufracd.md, "What each setting protects"). */
     {.flag = "--listen", .key = "listen", .type = PFD_ST_ENDPOINT, .group = PFD_SG_DAEMON,
-     IN_SETTINGS(listen), .metavar = "ADDR:PORT",
+     SECURE, IN_SETTINGS(listen), .metavar = "ADDR:PORT",
      .help = "IPv4 address and port to serve; port 0 picks a free one, logged as "
              "msg=listening"},
     {.flag = "--clock", .key = "clock", .type = PFD_ST_CHOICE, .group = PFD_SG_DAEMON,
      .lo = 0, .hi = 1, .choice = pfd_clock_name, IN_SETTINGS(external_clock),
      .help = "external: only the tick register advances samples, for lockstep"},
+    {.flag = "--word-order", .key = "word_order", .type = PFD_ST_CHOICE,
+     .group = PFD_SG_DAEMON, .lo = 0, .hi = PFD_WORDS_COUNT - 1,
+     .choice = pfd_word_order_name, IN_SETTINGS(word_order),
+     .help = "register order of every 32-bit value (f32, u32), read and written: "
+             "abcd high word first, cdab low word first (docs/register-map.md)"},
     {.flag = "--max-clients", .key = "max_clients", .type = PFD_ST_INT,
      .group = PFD_SG_DAEMON, SECURE, .lo = 1, .hi = 256, IN_SETTINGS(max_clients),
      .metavar = "N", .help = "simultaneous clients"},
@@ -45,8 +54,21 @@ const pfd_setting pfd_settings_table[] = {
     {.flag = "--rt-priority", .key = "rt_priority", .type = PFD_ST_INT,
      .group = PFD_SG_DAEMON, .lo = 0, .hi = 99, IN_SETTINGS(rt_priority),
      .metavar = "N", .help = "SCHED_FIFO priority of the loop; 0 = do not ask"},
+    /* A security setting: it bounds what a client that may commit can make
+     * the loop cost (issue 12, O4), so a fallback never takes it from the
+     * file; it runs at the default (docs/pneufracd.md, "Loop budget"). */
+    {.flag = "--loop-budget", .key = "loop_budget", .type = PFD_ST_INT,
+     .group = PFD_SG_DAEMON, SECURE, .lo = 1, .hi = 95, IN_SETTINGS(loop_budget),
+     .metavar = "PERCENT",
+     .help = "share of one core the loop may need, by the costs measured at start and "
+             "at each commit; a start or commit that needs more is refused (internal "
+             "clock)"},
     {.flag = "--no-mlock", .key = "mlock", .type = PFD_ST_BOOL, .group = PFD_SG_DAEMON,
      .flag_value = 0, IN_SETTINGS(mlock), .help = "do not mlockall()"},
+    {.flag = "--overrun-report-s", .key = "overrun_report_s", .type = PFD_ST_INT,
+     .group = PFD_SG_DAEMON, .lo = 1, .hi = 3600, IN_SETTINGS(overrun_report_s),
+     .metavar = "N", .help = "at most one msg=overruns line this often, with the "
+                             "overruns of every instance since the line before"},
     {.flag = "--byte-timeout-ms", .key = "byte_timeout_ms", .type = PFD_ST_INT,
      .group = PFD_SG_DAEMON, SECURE, .lo = 1, .hi = 10000, IN_SETTINGS(byte_timeout_ms),
      .metavar = "N", .help = "drop a client that stalls this long mid-frame"},
@@ -96,7 +118,12 @@ const pfd_setting pfd_settings_table[] = {
      .hi = PF_TOPO_COUNT - 1, .choice = pfd_topology_name, IN_RUN(controller),
      .help = "their configuration"},
     {.flag = "--fs", .type = PFD_ST_REAL, .group = PFD_SG_INSTANCES, .lo = PFD_FS_MIN,
-     .hi = PFD_FS_MAX, IN_RUN(fs), .metavar = "HZ", .help = "their sample rate"},
+     .hi = PFD_FS_MAX, IN_RUN(fs), .metavar = "HZ",
+     .help = "their exchange rate: the loop takes e and publishes p_c this often"},
+    {.flag = "--substeps", .type = PFD_ST_INT, .group = PFD_SG_INSTANCES, .lo = 0,
+     .hi = PFD_SUBSTEPS_MAX, IN_RUN(substeps), .metavar = "K",
+     .help = "their controller steps per exchange, the input held; 0 = from the "
+             "design's fastest time constant"},
     {.flag = "--arith", .type = PFD_ST_CHOICE, .group = PFD_SG_INSTANCES, .lo = 0,
      .hi = PFD_ARITH_COUNT - 1, .choice = pfd_arith_name, IN_RUN(arith),
      .help = "their arithmetic"},
@@ -123,6 +150,10 @@ const pfd_setting pfd_settings_table[] = {
     {.flag = "--print-default-config", .type = PFD_ST_BOOL, .group = PFD_SG_EXIT,
      .flag_value = 1, IN_RUN(print_config),
      .help = "print a config file for the default instances"},
+    {.flag = "--init-config", .type = PFD_ST_PATH, .group = PFD_SG_EXIT, IN_RUN(init),
+     .metavar = "FILE",
+     .help = "write that config file to FILE, unless FILE exists, which is left as it "
+             "is: a first start's config (the service's ExecStartPre)"},
     {.flag = "--seal-config", .type = PFD_ST_PATH, .group = PFD_SG_EXIT, IN_RUN(seal),
      .metavar = "FILE", .help = "check FILE and rewrite its checksum"},
     {.flag = "--version", .type = PFD_ST_BOOL, .group = PFD_SG_EXIT,
@@ -296,9 +327,12 @@ void pfd_setting_format(const pfd_setting *r, const pfd_settings *s,
     case PFD_ST_INT:
         snprintf(buf, n, "%d", *(const int *)f);
         break;
-    case PFD_ST_REAL:
-        snprintf(buf, n, "%.17g", *(const double *)f);
+    case PFD_ST_REAL: {
+        char num[PFH_FMT_LEN]; /* shortest text that reads back exactly */
+        pfh_fmt_double(num, *(const double *)f);
+        snprintf(buf, n, "%s", num);
         break;
+    }
     case PFD_ST_CHOICE:
         snprintf(buf, n, "%s", r->choice(*(const int *)f));
         break;
@@ -337,12 +371,15 @@ void pfd_settings_default(pfd_settings *s)
     strcpy(s->listen.addr, "127.0.0.1");
     s->listen.port = 1502;
     s->external_clock = 0;
+    s->word_order = PFD_WORDS_ABCD;
     s->max_clients = 16;
     strcpy(s->allow, PFD_ALLOW_DEFAULT);
     s->read_only = 0;
     s->param_lock = 0;
     s->rt_priority = 80;
+    s->loop_budget = 50;
     s->mlock = 1;
+    s->overrun_report_s = 10;
     s->byte_timeout_ms = 100;
     s->idle_timeout_s = 300;
     s->max_per_addr = 8;
@@ -374,5 +411,6 @@ void pfd_run_default(pfd_run *run)
     run->instances = 1;
     run->controller = (int)ip.p.topology;
     run->fs = ip.fs;
+    run->substeps = (int)ip.substeps;
     run->arith = ip.arith;
 }

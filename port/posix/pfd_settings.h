@@ -25,12 +25,15 @@ typedef uint64_t pfd_mask;
 typedef struct pfd_settings {
     pfd_endpoint listen;
     int external_clock;
+    int word_order;      /**< enum pfd_word_order of every 32-bit register */
     int max_clients;
     char allow[512];     /**< comma-separated CIDR list (pfd_allow_parse) */
     int read_only;
     int param_lock;      /**< locked at start, and the lock register is fixed */
     int rt_priority;     /**< SCHED_FIFO priority; 0 = do not try */
+    int loop_budget;     /**< % of one core the loop's measured load may reach */
     int mlock;
+    int overrun_report_s; /**< at most one msg=overruns line this often */
     int byte_timeout_ms;
     int idle_timeout_s;
     int max_per_addr;    /**< clients from one IPv4 address */
@@ -52,12 +55,13 @@ typedef struct pfd_run {
     int instances;
     int controller;      /**< pf_topology */
     double fs;
+    int substeps;        /**< 0 = the rule's (pfd_rate_substeps) */
     int arith;           /**< enum pfd_arith */
     double run_for;      /**< s; 0 = until a signal */
     int verbose;
     /* print something and exit */
     int print_map, print_config;
-    const char *seal;
+    const char *seal, *init;
     int version, help;
 } pfd_run;
 

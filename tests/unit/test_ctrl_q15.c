@@ -203,19 +203,52 @@ static void test_effects_match_double(void **state)
     free(r);
 }
 
-static void test_unsupported_effects(void **state)
+/* Backlash is piecewise linear like saturation and solved exactly: Q15
+ * follows double within 1 LSB through reversals of the input (the play
+ * stuck, then moving either way), alone (dd) and with supply limits
+ * cutting into the response (id). Bound: where rounding flips the play's
+ * case the two cases meet (xe is continuous in x), so it costs rounding
+ * only, as for the linear loop. */
+static void test_backlash_matches_double(void **state)
 {
+    static const double steps[] = {0.5, 0.45, -0.3, -0.25, 0.2, 0.0};
     pf_effects fx;
+    size_t i;
+    int k;
+    (void)state;
+    for (k = 0; k < 2; k++) {
+        rig *r;
+        double worst = 0;
+        memset(&fx, 0, sizeof fx);
+        fx.backlash = 0.06; /* x units (in_fs = 1): wider than the small steps */
+        if (k == 1) {
+            fx.saturate = 1;
+            fx.sat_lo = -0.2;
+            fx.sat_hi = 2.0;
+        }
+        r = make_rig(k == 0 ? PF_TOPO_DD : PF_TOPO_ID, &fx);
+        for (i = 0; i < sizeof steps / sizeof steps[0]; i++)
+            worst = fmax(worst, run_compare(r, steps[i], NSTEP / 4, NULL, NULL));
+        printf("%s with backlash%s: max %.2f LSB\n", k == 0 ? "dd" : "id",
+               k == 0 ? "" : " and saturation", worst);
+        assert_true(worst <= 1.0);
+        free(r);
+    }
+}
+
+/* Every effect runs in Q15 (the nozzle curve: test_nozzle_q15); the
+ * refined approximation does not. */
+static void test_unsupported_approx(void **state)
+{
     pf_params p;
     pf_design_opts o;
     static pf_ctrl_design d;
     static pf_ctrl_coeffs_q15 cq;
     (void)state;
-    memset(&fx, 0, sizeof fx);
-    fx.backlash = 0.01;
     pf_params_default(&p, PF_TOPO_DD);
     pf_design_opts_default(&o, FS);
-    assert_int_equal(pf_ctrl_design_make(&d, &p, &fx, &o), PF_OK);
+    o.approx = PF_APPROX_REFINED;
+    assert_int_equal(pf_ctrl_design_make(&d, &p, NULL, &o), PF_OK);
     assert_int_equal(pf_ctrl_coeffs_q15_make(&cq, &d, 1.0, 1.0), PF_E_UNSUPPORTED);
     assert_int_equal(pf_ctrl_coeffs_q15_make(&cq, &d, NAN, 1.0), PF_E_PARAM(PF_P_IN_FS));
 }
@@ -307,7 +340,8 @@ int main(void)
         cmocka_unit_test(test_block_split),
         cmocka_unit_test(test_output_saturates),
         cmocka_unit_test(test_effects_match_double),
-        cmocka_unit_test(test_unsupported_effects),
+        cmocka_unit_test(test_backlash_matches_double),
+        cmocka_unit_test(test_unsupported_approx),
         cmocka_unit_test(test_random_designs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -2,7 +2,9 @@
 /*
  * C-header export of coefficient sets. Designated initializers name every
  * field, so the header stays readable and a reordering of the struct cannot
- * silently shift values. Floats are printed with %a (exact hexadecimal), so
+ * silently shift values. They are written in declaration order, whole
+ * members only (no array-element designators), which is what C++20 accepts
+ * too: the headers compile as C99 and as C++ (test_export_cxx). Floats are printed with %a (exact hexadecimal), so
  * the firmware gets bit-identical coefficients; the CMSIS arrays use %.8e,
  * nine significant digits, which also round-trip every float exactly.
  */
@@ -17,22 +19,37 @@ static void qc(FILE *f, const char *field, pf_qc q)
     fprintf(f, "    .%s = {%ld, %u},\n", field, (long)q.m, (unsigned)q.sh);
 }
 
-static void i32_array(FILE *f, const char *field, const int32_t *v, int n)
+static void qc_array(FILE *f, const char *field, const pf_qc *q, int n)
 {
-    int i;
+    int k;
     fprintf(f, "    .%s = {", field);
-    for (i = 0; i < n; i++)
-        fprintf(f, "%s%ld", i ? ", " : "", (long)v[i]);
+    for (k = 0; k < n; k++)
+        fprintf(f, "%s{%ld, %u}", k ? ", " : "", (long)q[k].m, (unsigned)q[k].sh);
     fprintf(f, "},\n");
 }
 
-static void u8_array(FILE *f, const char *field, const uint8_t *v, int n)
+/* An integer array of `size`-byte elements (1: unsigned, 2 and 4: signed). */
+static void int_array(FILE *f, const char *field, const void *v, size_t size, int n)
 {
+    const unsigned char *p = v;
     int i;
     fprintf(f, "    .%s = {", field);
-    for (i = 0; i < n; i++)
-        fprintf(f, "%s%u", i ? ", " : "", (unsigned)v[i]);
-    fprintf(f, "},\n");
+    for (i = 0; i < n; i++) {
+        long x;
+        if (size == 1) {
+            x = p[i];
+        } else if (size == 2) {
+            int16_t h;
+            memcpy(&h, p + 2 * i, 2);
+            x = h;
+        } else {
+            int32_t w;
+            memcpy(&w, p + 4 * (size_t)i, 4);
+            x = w;
+        }
+        fprintf(f, "%s%ld", i ? ", " : "", x);
+    }
+    fprintf(f, "%s},\n", n == 0 ? "0" : ""); /* C99 has no empty {} */
 }
 
 static void f32_array(FILE *f, const char *field, const float *v, int n)
@@ -41,26 +58,21 @@ static void f32_array(FILE *f, const char *field, const float *v, int n)
     fprintf(f, "    .%s = {", field);
     for (i = 0; i < n; i++)
         fprintf(f, "%s%af", i ? ", " : "", (double)v[i]);
-    fprintf(f, "},\n");
+    fprintf(f, "%s},\n", n == 0 ? "0" : ""); /* C99 has no empty {} */
 }
 
 static void op_q15(FILE *f, const char *field, const pf_fracop_coeffs_q15 *o)
 {
-    int k, n = o->n_int < 0 ? -o->n_int : o->n_int;
     fprintf(f, "  .%s = {\n", field);
-    fprintf(f, "    .n_int = %d, .int_rho = %d, .n_sec = %u, .hold = %u, .G_sh = %u,\n",
-            o->n_int, o->int_rho, (unsigned)o->n_sec, (unsigned)o->hold,
-            (unsigned)o->G_sh);
+    fprintf(f, "    .n_int = %d, .int_rho = %d, .n_sec = %u, .hold = %u, .n_slow = %u,\n",
+            o->n_int, o->int_rho, (unsigned)o->n_sec, (unsigned)o->hold, (unsigned)o->n_slow);
     qc(f, "d", o->d);
-    i32_array(f, "lam_m", o->lam_m, o->n_sec);
-    u8_array(f, "lam_sh", o->lam_sh, o->n_sec);
-    i32_array(f, "G_m", o->G_m, o->n_sec);
-    for (k = 0; k < n; k++) {
-        fprintf(f, "    .int_d[%d] = {%ld, %u},\n", k, (long)o->int_d[k].m,
-                (unsigned)o->int_d[k].sh);
-        fprintf(f, "    .int_k[%d] = {%ld, %u},\n", k, (long)o->int_k[k].m,
-                (unsigned)o->int_k[k].sh);
-    }
+    fprintf(f, "    .G_sh = %u,\n", (unsigned)o->G_sh);
+    int_array(f, "lam_m", o->lam_m, sizeof o->lam_m[0], o->n_sec);
+    int_array(f, "lam_sh", o->lam_sh, sizeof o->lam_sh[0], o->n_sec);
+    int_array(f, "G_m", o->G_m, sizeof o->G_m[0], o->n_sec);
+    qc_array(f, "int_d", o->int_d, PF_MAX_INT);
+    qc_array(f, "int_k", o->int_k, PF_MAX_INT);
     qc(f, "in_q", o->in_q);
     qc(f, "out_q", o->out_q);
     fprintf(f, "  },\n");
@@ -86,33 +98,61 @@ static void opening(FILE *f, const char *name, const char *comment, const char *
         fprintf(f, " * %s\n", comment);
     fprintf(f, " * Regenerate rather than edit. */\n");
     fprintf(f, "#include \"pneufrac/pf_controller.h\"\n\n");
-    fprintf(f, "static const %s %s = {\n", type, name);
+}
+
+/* The nozzle curve's table, <name>_nozzle, which the set points to. */
+static void nozzle_q15(FILE *f, const char *name, const pf_nozzle_q15 *nz)
+{
+    int n = nz->n;
+    fprintf(f, "static const pf_nozzle_q15 %s_nozzle = {\n", name);
+    int_array(f, "x", nz->x, sizeof nz->x[0], n);
+    int_array(f, "h", nz->h, sizeof nz->h[0], n);
+    int_array(f, "w", nz->w, sizeof nz->w[0], n);
+    int_array(f, "ha", nz->ha, sizeof nz->ha[0], n - 1);
+    int_array(f, "hb", nz->hb, sizeof nz->hb[0], n - 1);
+    int_array(f, "xa", nz->xa, sizeof nz->xa[0], n - 1);
+    int_array(f, "xb", nz->xb, sizeof nz->xb[0], n - 1);
+    int_array(f, "rx_m", nz->rx_m, sizeof nz->rx_m[0], n - 1);
+    int_array(f, "rw_m", nz->rw_m, sizeof nz->rw_m[0], n - 1);
+    int_array(f, "rx_sh", nz->rx_sh, sizeof nz->rx_sh[0], n - 1);
+    int_array(f, "rw_sh", nz->rw_sh, sizeof nz->rw_sh[0], n - 1);
+    fprintf(f, "    .h_sh = %u, .n = %u, .direct = %u, .t_x = {%ld, %u}, .t_r = %ld,\n",
+            (unsigned)nz->h_sh, (unsigned)nz->n, (unsigned)nz->direct, (long)nz->t_x.m,
+            (unsigned)nz->t_x.sh, (long)nz->t_r);
+    fprintf(f, "};\n\n");
 }
 
 int cli_export_c_q15(FILE *f, const char *name, const char *comment,
                      const pf_ctrl_coeffs_q15 *c)
 {
     opening(f, name, comment, "pf_ctrl_coeffs_q15");
+    if (c->nz != NULL)
+        nozzle_q15(f, name, c->nz);
+    fprintf(f, "static const pf_ctrl_coeffs_q15 %s = {\n", name);
     fprintf(f, "  .has_q = %u, .has_v = %u, .has_w = %u, .saturate = %u, .hold = %u,\n",
             (unsigned)c->has_q, (unsigned)c->has_v, (unsigned)c->has_w,
             (unsigned)c->saturate, (unsigned)c->hold);
+    /* Unused operators too (zeros): C++ warns about an omitted member. */
     op_q15(f, "P", &c->P);
-    if (c->has_q)
-        op_q15(f, "Q", &c->Q);
-    if (c->has_v)
-        op_q15(f, "V", &c->V);
-    if (c->has_w)
-        op_q15(f, "W", &c->W);
+    op_q15(f, "Q", &c->Q);
+    op_q15(f, "V", &c->V);
+    op_q15(f, "W", &c->W);
 #define QC(x) fprintf(f, "  .%s = {%ld, %u},\n", #x, (long)c->x.m, (unsigned)c->x.sh)
     QC(e_in); QC(x_e); QC(x_q); QC(x_v); QC(x_w); QC(x_p); QC(ce); QC(x_pc);
     QC(t_q); QC(t_v); QC(t_w); QC(pc_x); QC(pc_p); QC(k1); QC(relay_v_pb);
     QC(relay_v_s); QC(relay_z_pb); QC(relay_z_w); QC(v_a); QC(v_b); QC(w_a);
     QC(w_b); QC(m_v); QC(m_pc); QC(m_w); QC(kA_m); QC(dv_pc); QC(dv_r);
-    QC(dw_pc); QC(dw_r); QC(pc_out); QC(mon_x); QC(mon_pb); QC(mon_y);
-#undef QC
-    fprintf(f, "  .sat_lo = %ld, .sat_hi = %ld, .lag_m = %ld, .lag_sh = %u,\n",
-            (long)c->sat_lo, (long)c->sat_hi, (long)c->lag_m, (unsigned)c->lag_sh);
+    QC(dw_pc); QC(dw_r); QC(pc_out);
+    fprintf(f, "  .sat_lo = %ld, .sat_hi = %ld, .play_r = %ld, .play_ri = %ld,\n",
+            (long)c->sat_lo, (long)c->sat_hi, (long)c->play_r, (long)c->play_ri);
+    if (c->nz != NULL)
+        fprintf(f, "  .nz = &%s_nozzle,\n", name);
+    else
+        fprintf(f, "  .nz = 0,\n");
+    fprintf(f, "  .lag_m = %ld, .lag_sh = %u,\n", (long)c->lag_m, (unsigned)c->lag_sh);
     fprintf(f, "  .delay_len = %luu,\n", (unsigned long)c->delay_len);
+    QC(mon_x); QC(mon_pb); QC(mon_y);
+#undef QC
     fprintf(f, "};\n");
     return ferror(f) ? -1 : 0;
 }
@@ -121,25 +161,23 @@ int cli_export_c_f32(FILE *f, const char *name, const char *comment,
                      const pf_ctrl_coeffs_f32 *c)
 {
     opening(f, name, comment, "pf_ctrl_coeffs_f32");
+    fprintf(f, "static const pf_ctrl_coeffs_f32 %s = {\n", name);
     fprintf(f, "  .has_q = %u, .has_v = %u, .has_w = %u, .in_loop_fx = %u, .hold = %u,\n",
             (unsigned)c->has_q, (unsigned)c->has_v, (unsigned)c->has_w,
             (unsigned)c->in_loop_fx, (unsigned)c->hold);
     op_f32(f, "P", &c->P);
-    if (c->has_q)
-        op_f32(f, "Q", &c->Q);
-    if (c->has_v)
-        op_f32(f, "V", &c->V);
-    if (c->has_w)
-        op_f32(f, "W", &c->W);
+    op_f32(f, "Q", &c->Q);
+    op_f32(f, "V", &c->V);
+    op_f32(f, "W", &c->W);
 #define F(x) fprintf(f, "  .%s = %af,\n", #x, (double)c->x)
     F(ce); F(cy); F(k1); F(k2); F(kA); F(k2_inv); F(pmin); F(relay_den_inv); F(relay_d0);
     F(relay_w); F(relay_sz); F(v_a); F(v_den_inv); F(w_a); F(w_den_inv);
     F(alpha_z); F(alpha_y); F(loop_inv); F(slope_inv); F(play_r); F(nozzle_xh); F(nozzle_xh_inv);
-    F(nozzle_u0); F(nozzle_f0); F(nozzle_g); F(sat_lo);
-    F(sat_hi); F(lag_lam);
+    F(nozzle_u0); F(nozzle_f0); F(nozzle_g);
+    fprintf(f, "  .saturate = %u,\n", (unsigned)c->saturate);
+    F(sat_lo); F(sat_hi); F(lag_lam);
 #undef F
-    fprintf(f, "  .saturate = %u, .delay_len = %luu,\n", (unsigned)c->saturate,
-            (unsigned long)c->delay_len);
+    fprintf(f, "  .delay_len = %luu,\n", (unsigned long)c->delay_len);
     fprintf(f, "};\n");
     return ferror(f) ? -1 : 0;
 }

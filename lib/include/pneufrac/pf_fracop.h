@@ -146,6 +146,7 @@ void pf_fracop_freqresp(const pf_fracop_design *op, double omega, double *re,
 typedef struct pf_fracop_f64 {
     const pf_fracop_design *c;
     double u1;     /**< previous input (held-input model) */
+    double sum;    /**< sum_k G_k s_k of the current states */
     double s[PF_MAX_SEC];
     double si[PF_MAX_INT];
 } pf_fracop_f64;
@@ -163,6 +164,7 @@ typedef struct pf_fracop_coeffs_f32 {
 typedef struct pf_fracop_f32 {
     const pf_fracop_coeffs_f32 *c;
     float u1;
+    float sum;     /**< sum_k G_k s_k of the current states */
     float s[PF_MAX_SEC];
     float si[PF_MAX_INT];
 } pf_fracop_f32;
@@ -189,28 +191,41 @@ typedef struct pf_qc {
 } pf_qc;
 
 /** Q15 coefficient set of one operator, including the scaling of its
- *  internal nodes. Internal signals are int32 with |x| <= 2^30. */
+ *  internal nodes. Internal signals are int32 with |x| <= 2^30.
+ *  Branch k has leak lam_k = lam_m[k] 2^-lam_sh[k] (a 15-bit mantissa) and
+ *  gain G_k = G_m[k] 2^-G_sh (frac-output units per input unit), and the
+ *  sections are ordered by leak: the first n_slow (lam < 1/8) keep
+ *  32 bits of fraction in their state, the others (near Nyquist) need none.
+ *  See lib/src/pf_q15_ops.h for the arithmetic. */
 typedef struct pf_fracop_coeffs_q15 {
     int8_t n_int, int_rho;
     uint8_t n_sec, hold;
-    uint8_t G_sh;                     /**< common shift of the G_m products */
+    uint8_t n_slow;                   /**< sections 0..n_slow-1: lam_sh >= 18 */
     pf_qc d;                          /**< u -> frac output */
-    int32_t lam_m[PF_MAX_SEC];        /**< leak mantissas: lam = m * 2^-sh */
-    uint8_t lam_sh[PF_MAX_SEC];       /**< leak shifts, >= 30 */
-    int32_t G_m[PF_MAX_SEC];          /**< branch gains, |G_m| < 2^26 */
+    uint8_t G_sh;                     /**< common shift of the G_m products */
+    int16_t lam_m[PF_Q15_MAX_SEC];    /**< leak mantissas in [2^14, 2^15) */
+    uint8_t lam_sh[PF_Q15_MAX_SEC];   /**< leak shifts in [14, 44] */
+    int32_t G_m[PF_Q15_MAX_SEC];      /**< branch gains, |G_m| < 2^26 */
     pf_qc int_d[PF_MAX_INT];          /**< per integer stage feedthrough */
     pf_qc int_k[PF_MAX_INT];          /**< per integer stage state gain, |.| < 2 */
     pf_qc in_q, out_q;                /**< Q15 in -> internal, internal -> Q15 out */
 } pf_fracop_coeffs_q15;
 
-/** Q15 runtime instance. Each state is an int64 holding the int32 state
- *  with 30 fractional bits below its LSB, so increments far below one LSB
- *  accumulate and slow poles decay at their designed rate. */
+/** State of one Q15 section: s * 2^32, the integer part in hi, 32 bits of
+ *  fraction in lo, so increments far below one LSB accumulate and slow
+ *  poles decay at their designed rate. */
+typedef struct pf_q15_sec {
+    uint32_t lo;
+    int32_t hi;
+} pf_q15_sec;
+
+/** Q15 runtime instance. */
 typedef struct pf_fracop_q15 {
     const pf_fracop_coeffs_q15 *c;
-    int16_t u1;
-    int64_t s[PF_MAX_SEC];
-    int64_t si[PF_MAX_INT];
+    int16_t u1;                  /**< previous Q15 input (held-input model) */
+    int64_t sv;                  /**< sum_k G_m[k] hi_k, for the next sample */
+    pf_q15_sec s[PF_Q15_MAX_SEC];
+    int64_t si[PF_MAX_INT];      /**< integer stages: s * 2^30 */
 } pf_fracop_q15;
 
 /** Derive a Q15 coefficient set. Physical input in_fs maps to Q15 +1.0 at

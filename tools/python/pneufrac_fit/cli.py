@@ -42,6 +42,10 @@ class _Parser(argparse.ArgumentParser):
         sys.exit(EXIT_USAGE)
 
 
+EXIT_HELP = (f"Exit status: 0 success; {EXIT_USAGE} bad input or arguments (one line "
+             f"on stderr); {EXIT_LIBRARY} the shared library is missing or does not match.")
+
+
 def _seed(text: str) -> int:
     """A seed for numpy's generators: a non-negative integer (a negative one
     used to end in a traceback from numpy)."""
@@ -55,9 +59,12 @@ def _seed(text: str) -> int:
 
 
 def _parser():
-    p = _Parser(prog="pneufrac-fit", description=__doc__.split("\n\n")[0])
+    from . import __version__
+    p = _Parser(prog="pneufrac-fit", description=__doc__.split("\n\n")[0], epilog=EXIT_HELP)
+    p.add_argument("--version", action="version", version=f"pneufrac-fit {__version__}")
     sub = p.add_subparsers(dest="cmd", required=True, parser_class=_Parser)
-    d = sub.add_parser("diagnose", help="fit, show what is wrong, name the cause, extend")
+    d = sub.add_parser("diagnose", help="fit, show what is wrong, name the cause, extend",
+                       epilog=EXIT_HELP)
     d.add_argument("data", help="CSV with header t,e,pc (# comments allowed)")
     d.add_argument("--columns", default=None, metavar="t=NAME,e=NAME,pc=NAME",
                    help="header names of the time, input and output columns "
@@ -82,7 +89,8 @@ def _parser():
     d.add_argument("--seed", type=_seed, default=0,
                    help="seed of the fresh starts (a non-negative integer)")
     d.add_argument("--quiet", action="store_true", help="no progress on stderr")
-    g = sub.add_parser("generate", help="synthetic bump test with a hidden effect")
+    g = sub.add_parser("generate", help="synthetic bump test with a hidden effect",
+                       epilog=EXIT_HELP)
     g.add_argument("--config", required=True, choices=["p", "dd", "id", "pid"])
     g.add_argument("--effect", action="append", default=[],
                    help="repeatable: none | deadtime:t=S | lag:tau=S | backlash:width=W | "

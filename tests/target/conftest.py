@@ -1,0 +1,38 @@
+# SPDX-License-Identifier: MIT
+"""Fixtures of the on-target tests (cases in target_cases.py): the images
+are linked once per session, each test gets a fresh emulator on them."""
+from __future__ import annotations
+
+import pytest
+
+from mcuemu.images import build_host_sets, host_build_dir, link_target
+from mcuemu.runner import HostRunner, TargetRunner
+from mcuemu.target import Target
+
+from target_cases import designs
+
+
+@pytest.fixture(scope="session")
+def workdir(tmp_path_factory):
+    return tmp_path_factory.mktemp("mcuemu")
+
+
+@pytest.fixture(scope="session")
+def host(workdir):
+    ds = designs("q15") + designs("float")
+    so = build_host_sets(ds, workdir / "host")
+    return HostRunner(host_build_dir() / "lib" / "libpneufrac.so", so)
+
+
+_targets: dict = {}
+
+
+@pytest.fixture(scope="session")
+def target_of(workdir):
+    """target_of(core) -> TargetRunner on a fresh image at -Os (built once)."""
+    def get(core: str) -> TargetRunner:
+        if core not in _targets:
+            ds = designs("q15") + (designs("float") if core == "m4" else [])
+            _targets[core] = link_target(core, "-Os", ds, workdir / core)
+        return TargetRunner(Target(str(_targets[core]), core))
+    return get
