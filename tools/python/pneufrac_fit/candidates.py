@@ -70,14 +70,14 @@ def _paper_shape(pb, full: dict) -> dict:
 
 
 def _starts(pb, effects, new: str, base, rng, hint: dict | None = None):
-    """Warm starts (base values, each effect size). On the linear model
-    also the paper's values and the best fresh start: the baseline may sit
-    in a corner that the new effect gets it out of. On a model that already
-    has effects, the size this effect took in the previous round (hint)."""
+    """Warm starts (the model so far with each effect size; in a later
+    round the size this effect took in the round before, hint, or the
+    first size), the paper's values and the best fresh start: the model so
+    far may sit in a basin that the new effect needs to get out of."""
     full = {**base.groups, **base.values}    # held groups that pb frees included
     inits = effect_inits(pb, new)
-    if hint:
-        inits = [hint] + inits
+    if base.effects:        # a later round: one warm start
+        inits = [hint] if hint else inits[:1]
     warm = []
     for i, ei in enumerate(inits):
         st = dict(full)
@@ -85,8 +85,6 @@ def _starts(pb, effects, new: str, base, rng, hint: dict | None = None):
         if "saturation" in effects:
             st = _sat_start(pb, base, st)
         warm.append((f"warm{i}", st))
-    if base.effects:
-        return warm
     paper = _paper_shape(pb, full)
     paper.update(inits[0])
     if "saturation" in effects:
@@ -107,7 +105,12 @@ def _starts(pb, effects, new: str, base, rng, hint: dict | None = None):
 
 def scan_dead(pb, effects, vals: dict, dmax: int) -> list[tuple[float, int]]:
     """(cost, d) for every delay d = 0..dmax samples of the simulation rate,
-    from one simulation shifted (K and pc0 re-solved per delay)."""
+    sorted, from one simulation: with d = q m + p (m the oversampling), the
+    delayed output at the data samples is the p-th phase of the internal
+    output shifted by q data samples, and the whitening filter (FIR)
+    commutes with the shift, so every cost follows from sliding sums and
+    one dot product per delay (K and pc0 re-solved for each)."""
+    from scipy.signal import lfilter
     m = pb.setup.oversample
     g = fit._groups(pb, vals)
     sK = fit.solves_K(pb, effects)
@@ -115,17 +118,54 @@ def scan_dead(pb, effects, vals: dict, dmax: int) -> list[tuple[float, int]]:
         g["K"] = 1.0
     ev = dict(vals)
     ev["dead"] = 0
-    e = pb.e_abs[:pb.nfit] - g["e0"]
-    raw = pb.setup.simulate(g, e, tuple(x for x in effects if x != "dead_time"), ev,
-                            internal=True)
+    n = pb.nfit
+    raw = pb.setup.simulate(g, pb.e_abs[:n] - g["e0"],
+                            tuple(x for x in effects if x != "dead_time"), ev, internal=True)
+    A = pb.nm.a if pb.nm is not None else np.array([1.0])
+    o = A.size - 1
+    lo, hi = pb.counted.start + o, pb.counted.stop
+    y = pb.y[:n] - (pb.pc0 if pb.pc0 is not None else 0.0)
+    wy = lfilter(A, [1.0], y)[lo:hi]
+    w1 = lfilter(A, [1.0], np.ones(n))[lo:hi] if pb.pc0 is None else None
+    yy = float(wy @ wy)
+    b1 = float(w1 @ w1) if w1 is not None else 0.0
+    y1 = float(wy @ w1) if w1 is not None else 0.0
+    qmax = dmax // m + 1
     out = []
-    for d in range(0, dmax + 1):
-        sh = np.concatenate([np.zeros(d), raw[:raw.size - d]])[::m]
-        K, c = fit.project(pb, sh, sK, 1.0, pb.counted)
-        if sK and not K > 0:
-            continue
-        r = fit.whiten(pb, (K * sh + c if sK else sh + c)[pb.counted] - pb.y[pb.counted])
-        out.append((float(r @ r), d))
+    for p in range(m):
+        u = raw[::m] if p == 0 else np.concatenate([[0.0], raw[m - p::m]])[:n]
+        fw = np.concatenate([np.zeros(qmax), lfilter(A, [1.0], u)])
+        c2 = np.concatenate([[0.0], np.cumsum(fw * fw)])
+        c1 = np.concatenate([[0.0], np.cumsum(fw)])
+        for q in range(qmax + 1):
+            d = q * m + p
+            if d > dmax:
+                break
+            a0, a1 = lo - q + qmax, hi - q + qmax
+            ws = fw[a0:a1]
+            ss = c2[a1] - c2[a0]
+            sy = float(ws @ wy)
+            s1 = (c1[a1] - c1[a0]) * (w1[-1] if w1 is not None else 0.0)
+            if sK:
+                if w1 is None:
+                    if not ss > 0:
+                        continue
+                    K = sy / ss
+                    rss = yy - K * sy
+                else:
+                    det = ss * b1 - s1 * s1
+                    if not det > 1e-12 * max(ss * b1, 1e-300):
+                        continue
+                    K = (sy * b1 - y1 * s1) / det
+                    c = (ss * y1 - s1 * sy) / det
+                    rss = yy - K * sy - c * y1
+                if not K > 0:
+                    continue
+            else:
+                rss = yy - 2 * sy + ss
+                if w1 is not None:
+                    rss -= (y1 - s1) ** 2 / b1
+            out.append((max(float(rss), 0.0), d))
     out.sort()
     return out
 

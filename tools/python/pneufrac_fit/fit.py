@@ -311,9 +311,18 @@ def project(pb: Problem, s: np.ndarray, solve_K: bool, K: float, sl: slice):
         a, b = whiten(pb, one), whiten(pb, y - K * ss)
         den = float(a @ a)
         return K, (float(a @ b) / den if den > 0 else float(np.mean(y - K * ss)))
-    X = np.column_stack([whiten(pb, ss), whiten(pb, one)])
-    coef, *_ = np.linalg.lstsq(X, whiten(pb, y), rcond=None)
-    return float(coef[0]), float(coef[1])
+    return solve2(whiten(pb, ss), whiten(pb, one), whiten(pb, y))
+
+
+def solve2(a: np.ndarray, b: np.ndarray, y: np.ndarray) -> tuple[float, float]:
+    """(k, c) minimising |y - k a - c b| (the 2x2 normal equations; k NaN
+    when a and b are collinear)."""
+    aa, ab, bb = float(a @ a), float(a @ b), float(b @ b)
+    ay, by = float(a @ y), float(b @ y)
+    det = aa * bb - ab * ab
+    if not det > 1e-12 * max(aa * bb, 1e-300):
+        return math.nan, (by / bb if bb > 0 else 0.0)
+    return (ay * bb - by * ab) / det, (aa * by - ab * ay) / det
 
 
 def model_output(pb: Problem, effects, vals: dict, dead: int = 0, n: int | None = None,
@@ -543,7 +552,7 @@ def uncertainty(pb: Problem, fr: FitResult) -> None:
     for (name, tr, lo, hi), t, s in zip(sp, th, se):
         if tr == "wnu":
             nu = _nu(pb, fr.values)
-            s = (1.0 - nu) * s
+            s = (1.0 - nu) * s if math.isfinite(s) else s    # dw = (1 - nu) ds
             fr.se[name] = float(s)
             w = w_from_s(nu, t)
             fr.ci[name] = ((None, None) if not math.isfinite(s) else

@@ -4,7 +4,7 @@ white when the sensor noise is coloured (AR, 1/f, drift). An AR model
 
     A(q) v = eps,   A(q) = 1 + a1 q^-1 + ... + ap q^-p,  eps white,
 
-fitted by least squares to a residual, order chosen by BIC, gives
+fitted to a residual (Yule-Walker, Levinson-Durbin), order chosen by BIC, gives
   - a whitening filter A(q) for likelihood-ratio comparisons of models
     (the same filter for both models compared);
   - the covariance of an output-error estimate under that noise (the
@@ -73,32 +73,31 @@ def _stabilise(a: np.ndarray) -> np.ndarray:
 
 
 def fit(r: np.ndarray, p_max: int = P_MAX) -> NoiseModel:
-    """AR model of a residual by least squares, order 0..p_max by BIC."""
+    """AR model of a residual, order 0..p_max by BIC: the autocorrelation
+    (Yule-Walker) equations solved for every order at once by the Levinson-
+    Durbin recursion, the autocorrelation from one FFT."""
     r = np.asarray(r, float)
-    r = r - float(np.mean(r))
+    r = r - float(np.mean(r)) if r.size else r
     n = r.size
     p_max = int(min(p_max, max(0, n // 20)))
     var = float(r @ r) / max(n, 1)
     if p_max == 0 or not var > 0:
         return NoiseModel(np.array([1.0]), var, var, n)
-    m = n - p_max
-    X = np.column_stack([r[p_max - k:n - k] for k in range(1, p_max + 1)])
-    y = r[p_max:]
-    yy = float(y @ y)
-    best = (m * math.log(max(yy / m, 1e-300)), np.array([1.0]), yy / m)
-    # Nested least squares from the normal equations (p_max is small):
-    # order p uses the leading p x p block.
-    G = X.T @ X
-    g = X.T @ y
+    nf = 1 << int(np.ceil(np.log2(2 * n)))
+    f = np.fft.rfft(r, nf)
+    acov = np.fft.irfft(f * np.conj(f), nf)[:p_max + 1] / n
+    a = np.array([1.0])
+    err = acov[0]
+    best = (n * math.log(max(err, 1e-300)), a, err)
     for p in range(1, p_max + 1):
-        try:
-            coef = np.linalg.solve(G[:p, :p], g[:p])
-        except np.linalg.LinAlgError:
-            continue
-        rss = max(yy - float(coef @ g[:p]), 1e-300 * max(yy, 1e-300))
-        bic = m * math.log(rss / m) + p * math.log(m)
+        k = -float(acov[1:p + 1][::-1] @ a) / err if err > 0 else 0.0
+        a = np.r_[a, 0.0] + k * np.r_[0.0, a[::-1]]
+        err *= (1.0 - k * k)
+        if not err > 0:
+            break
+        bic = n * math.log(err) + p * math.log(n)
         if bic < best[0]:
-            best = (bic, np.r_[1.0, -coef], rss / m)
+            best = (bic, a.copy(), err)
     a = _stabilise(best[1])
     e = lfilter(a, [1.0], r)[a.size - 1:]
     s2 = float(e @ e) / max(e.size, 1)

@@ -19,7 +19,7 @@ import numpy as np
 
 from . import fit, model
 
-N_EXPLORE = 12000          # samples of the exploration copy
+N_EXPLORE = 6000           # samples of the exploration copy
 F_EXPLORE = 1000.0         # Hz: records faster than this are block-averaged for it
 STAGE_ITER = 10            # Jacobians per start and stage of the exploration
 EXPLORE_ITER = 30          # Jacobians of a single exploring fit

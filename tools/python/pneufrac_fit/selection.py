@@ -106,8 +106,10 @@ def _run(args):
 
 
 def _hint(t) -> dict:
-    """An effect's own parameters as fitted in a test (for the next round)."""
-    if t is None:
+    """An effect's own parameters as fitted in a test, to start the next
+    round from; nothing if the effect came to nothing there (its size is
+    then no better a start than the catalogue's)."""
+    if t is None or not t.peak >= guards.MATERIAL_SIGMAS:
         return {}
     names = {"lag": ["lag"], "saturation": ["sat_lo", "sat_hi"], "backlash": ["deadband"],
              "nozzle": ["nozzle_k", "nozzle_bias"], "dead_time": []}[t.effect]
