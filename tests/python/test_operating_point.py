@@ -5,7 +5,7 @@ on e, data.change_points), and the verdict must not depend on it."""
 import numpy as np
 import pytest
 
-from pneufrac_fit import data, diagnose, fit, generate, lib, model
+from pneufrac_fit import baseline, data, diagnose, fit, generate, lib, model
 
 E0, PC0, E_NOISE = 0.5, 9.0, 1e-4
 
@@ -91,3 +91,16 @@ def test_pid_w_is_what_is_simulated():
     pb2 = fit.Problem(np.zeros(10), np.zeros(10), setup, {"w": 0.7},
                       [g for g in model.CONFIG_GROUPS["pid"] if g != "w"], nfit=10)
     assert dict((n, h) for n, _, _, h in fit.specs(pb2, ()))["nu"] == 0.7
+
+
+def test_pid_group_held_keeps_nu_below_w():
+    """A group held by the identifiability test keeps nu <= w: nu held at
+    its bound of 1 and then w at the paper's 0.94 crashed the library (an
+    independent pid record, indepsim lag-steps seed 3)."""
+    g = dict(model.nominal_groups("pid"), nu=1.0)
+    w = baseline.keep_order("pid", "w", 0.94, g)
+    assert w == 1.0
+    lib.Controller("pid", model.physical_from_groups("pid", dict(g, w=w)), {}, 1000.0)
+    assert baseline.keep_order("pid", "nu", 0.9, dict(g, w=0.8)) == 0.8
+    assert baseline.keep_order("pid", "nu", 0.5, dict(g, w=0.8)) == 0.5
+    assert baseline.keep_order("dd", "nu", 0.9, dict(g, w=0.8)) == 0.9

@@ -172,6 +172,7 @@ def prune(pb, best, say, reasons: dict):
             held = val
         else:
             held = pb.e0_default() if worst == "e0" else nom[worst]
+        held = keep_order(pb.setup.config, worst, held, best.groups)
         pb.fixed[worst] = held
         pb.free.remove(worst)
         why = "entangled with other groups" if visible else "no visible effect on this record"
@@ -188,6 +189,18 @@ def prune(pb, best, say, reasons: dict):
         st = dict(best.values)
         st[worst] = held
         best = search.refine(pb, (), [("pruned", st)])
+
+
+def keep_order(config: str, name: str, value: float, groups: dict) -> float:
+    """A value to hold `name` at that the library accepts beside the other
+    groups: pid needs nu <= w (nu held at its bound of 1, say, leaves the
+    paper's w = 0.94 no room below it)."""
+    if config != "pid" or name not in ("nu", "w"):
+        return value
+    other = groups.get("w" if name == "nu" else "nu")
+    if other is None:
+        return value
+    return min(value, other) if name == "nu" else max(value, other)
 
 
 def starts(pb, rng, label=""):
