@@ -225,6 +225,16 @@ FIGURES = {"overview.png": "analysis-overview.png",
            "residuals-extended.png": "analysis-residuals-extended.png"}
 
 
+def _params_text(params: dict, ci: dict) -> str:
+    """name value (95 % [lo, hi]) for each parameter of a cause."""
+    out = []
+    for k, v in params.items():
+        lo, hi = (ci or {}).get(k) or (None, None)
+        iv = (f" (95 % [{lo:.4g}, {hi:.4g}])" if lo is not None and hi is not None else "")
+        out.append(f"{k} {v:.4g}{iv}")
+    return ", ".join(out)
+
+
 def run_example(a) -> None:
     """The worked example of docs/analysis.md: its record, its report, and
     the figures copied to docs/figures/analysis-*.png."""
@@ -249,9 +259,9 @@ def run_example(a) -> None:
         f"- verdict: {', '.join(c['name'] for c in j['causes']) or 'none'}"]
     for c in j["causes"]:
         g = c.get("gain", {})
-        L.append(f"- {c['name']}: {c['params']} (95 % {c['ci95']}); held-out NRMSE without "
-                 f"{g.get('nrmse_val_without')}, with {g.get('nrmse_val_with')}, "
-                 f"dBIC {g.get('delta_bic')}")
+        L.append(f"- {c['name']}: {_params_text(c['params'], c['ci95'])}; held-out NRMSE "
+                 f"without {g['nrmse_val_without']:.4f}, with {g['nrmse_val_with']:.4f}, "
+                 f"dBIC {g['delta_bic']:+.1f}")
     L.append(f"- validation NRMSE {j['gain']['nrmse_val_before']:.4f} -> "
              f"{j['gain']['nrmse_val_after']:.4f}; noise floor {j['noise']['floor_val']:.4f}; "
              f"noise model {j['noise']['model']}")
