@@ -3,6 +3,7 @@
 """pneufrac-fit benchmarks; writes docs/analysis-bench.md.
 
     .venv/bin/python bench/bench_fit.py time   [--n 100000] [--only CFG@RATE ...]
+    .venv/bin/python bench/bench_fit.py profile [--n 100000]
     .venv/bin/python bench/bench_fit.py sweep  [--seeds 3]
     .venv/bin/python bench/bench_fit.py limits
     .venv/bin/python bench/bench_fit.py [all] [--out FILE]   (bench/run.sh)
@@ -10,6 +11,7 @@
 time:   one diagnosis per configuration of a long record (default 100 000
         samples) at 1 kHz and at 10 kHz, wall-clock and CPU seconds (this
         process and its workers), with the machine's load average.
+profile: where the time of the slowest of those goes (cProfile, jobs 1).
 sweep:  the hidden-effect matrix (every configuration x every effect, and
         clean records) over several seeds, with tests/python/cases.py's
         records and acceptance rules: right / total and false effects.
@@ -131,6 +133,54 @@ def run_time(a) -> None:
     for tag, eff, got, ok, wall, cpu, l0, l1 in rows:
         L.append(f"| {tag} | {eff} | {got} | {ok} | {wall:.1f} | {cpu:.1f} | {l0} / {l1} |")
     section("time", L)
+
+
+# ---------------------------------------------------------------- profile
+# (label, module file, function) of the parts a diagnosis spends its time in
+PROFILE_PARTS = [
+    ("the library's simulation (C, through ctypes)", "lib.py", "run"),
+    ("baseline: multi-start fit, corners, identifiability", "baseline.py", "fit_baseline"),
+    ("forward selection: every candidate, its reference and guards", "selection.py", "forward"),
+    ("  candidates' fits (exploration and refinement)", "candidates.py", "fit_extended"),
+    ("  of which successive halving on the exploration copy", "search.py", "_halving"),
+    ("finite-difference Jacobians (all fits)", "fit.py", "jac"),
+]
+
+
+def run_profile(a) -> None:
+    """cProfile of one diagnosis (jobs 1: the profile sees every fit) of
+    the slowest configuration of `time` (pid at 1 kHz)."""
+    import cProfile
+    import pstats
+    ds = cases.make("pid", TIME_EFFECT["pid"], 7, n=a.n, fs=1000.0, size=0.5, size_fs=1000.0)
+    rec = data.make_record(ds.t, ds.e, ds.pc, "bench")
+    pr = cProfile.Profile()
+    l0, t0 = load(), time.monotonic()
+    pr.enable()
+    d = diagnose.diagnose(rec, "pid", jobs=1, progress=False)
+    pr.disable()
+    wall = time.monotonic() - t0
+    st = pstats.Stats(pr).stats      # {(file, line, func): (cc, nc, tt, ct, callers)}
+
+    def part(fname, func):
+        """(cumulative s, calls) of the function; of two of that name in the
+        file (a closure calling a method) the outer one."""
+        rows = [v for (f, _, fn), v in st.items() if f.endswith("/" + fname) and fn == func]
+        best = max(rows, key=lambda v: v[3], default=(0, 0, 0.0, 0.0))
+        return best[3], best[1]
+    L = ["## Where the time goes", ""] + stamp(f"bench/bench_fit.py profile --n {a.n}") + [
+        f"cProfile of one `diagnose` of the pid record of the time table ({a.n} samples at "
+        f"1 kHz, hidden {TIME_EFFECT['pid']}; verdict {', '.join(d.causes) or 'none'}) with "
+        f"jobs 1, so that the profile sees every fit: {wall:.1f} s wall under cProfile, "
+        f"load {l0} before (the machine is shared). Cumulative time of each part:", "",
+        "| part | calls | seconds | share |", "|---|---|---|---|"]
+    for label, fname, func in PROFILE_PARTS:
+        sec, calls = part(fname, func)
+        L.append(f"| {label} | {calls} | {sec:.1f} | {100 * sec / wall:.0f} % |")
+    sec, calls = part("lib.py", "run")
+    L += ["", f"One simulation of the record takes {1000 * sec / max(calls, 1):.1f} ms on "
+          "average (the exploration copy's are shorter, the refinements' longer)."]
+    section("profile", L)
 
 
 # ------------------------------------------------------------------ sweep
@@ -283,7 +333,7 @@ def main() -> int:
     global OUT
     ap = argparse.ArgumentParser()
     ap.add_argument("mode", nargs="?", default="all",
-                    choices=["time", "sweep", "limits", "example", "all"])
+                    choices=["time", "profile", "sweep", "limits", "example", "all"])
     ap.add_argument("--out", default=None, help="the Markdown file (default docs/analysis-bench.md)")
     ap.add_argument("--n", type=int, default=100000)
     ap.add_argument("--seeds", type=int, default=3)
@@ -293,6 +343,8 @@ def main() -> int:
         OUT = Path(a.out)
     if a.mode in ("time", "all"):
         run_time(a)
+    if a.mode == "profile":
+        run_profile(a)
     if a.mode in ("sweep", "all"):
         run_sweep(a)
     if a.mode in ("limits", "all"):
