@@ -86,8 +86,7 @@ def confirm(pb, effect, fr, t, current, rng):
     successive halving, a longer refinement): a gain that a better optimum
     of the model without the effect removes is no gain."""
     effects = model.canonical(current.effects)
-    st = [("from extended", dict(fr.values)), ("prior", {**current.groups, **current.values}),
-          ("reference", dict(t.ref.values))]
+    st = confirm_starts(fr, t.ref, current)
     if not effects:
         st += baseline.starts(pb, rng)
     dead = fr.dead if "dead_time" in effects else 0
@@ -99,6 +98,16 @@ def confirm(pb, effect, fr, t, current, rng):
     t2 = guards.test(pb, effect, fr, ref2)
     t2.pb = pb
     return t2
+
+
+def confirm_starts(fr, ref, current) -> list[tuple[str, dict]]:
+    """The extended fit, the model so far and the reference as starts of the
+    reference's whole search. The reference may be the model so far, fitted
+    before the groups this test frees were free: each start's groups fill
+    what its values lack (a start must name every free parameter)."""
+    return [("from extended", {**fr.groups, **fr.values}),
+            ("prior", {**current.groups, **current.values}),
+            ("reference", {**ref.groups, **ref.values})]
 
 
 def _run(args):
