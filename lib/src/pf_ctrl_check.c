@@ -1,13 +1,17 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Stability of a designed controller's sampled loop: the spectral radius
- * of its linear runtime's state-transition matrix, i.e. the largest |z|
- * of its discrete closed-loop poles.
+ * The linear runtime of a controller as a state space, and the stability
+ * of its sampled loop.
  *
- * The runtime solves its loops exactly within each sample, so it is a
- * linear state-space system x' = A x + B e with the operator states as x.
- * A is built column by column by stepping the double runtime once, with
- * zero input, from each unit state: exactly the arithmetic that runs.
+ * The runtime solves its loops exactly within each sample, so without
+ * backlash, the nozzle curve and saturation it is a linear state-space
+ * system x' = A x + B e, p_c = C x + D e, with the operator states (and the
+ * held input and the output lag) as x. pf_ctrl_state_space reads it off the
+ * double runtime itself, column by column: one step with zero input from
+ * each unit state gives a column of A and an entry of C, one step from rest
+ * with e = 1 gives B and D. So it is the controller that runs, not a second
+ * derivation of it.
+ *
  * rho(A) = lim ||A^k||^(1/k) (Gelfand's formula) is then evaluated by
  * repeated squaring, k = 2^PF_CHECK_SQUARINGS, rescaling at each step so
  * nothing overflows. Since ||A^k|| >= rho^k, the estimate approaches rho
@@ -24,7 +28,8 @@
 
 #define PF_CHECK_SQUARINGS 48
 
-/* Pointers to every state the linear runtime has, in a fixed order.
+/* Pointers to every state the linear runtime has, in a fixed order: each
+ * operator's sections and integer stages, the held input, the output lag.
  * @return their number. */
 static int states(pf_ctrl_f64 *r, double **s)
 {
@@ -51,7 +56,86 @@ static int states(pf_ctrl_f64 *r, double **s)
         for (j = 0; j < n_int; j++)
             s[k++] = &ops[o]->si[j];
     }
+    if (r->c->lag_lam > 0.0)
+        s[k++] = &r->lag;
     return k;
+}
+
+/* An operator keeps sum_k G_k s_k of its current states for the next
+ * sample (pf_float_ops.h): after a state was written from outside, form
+ * it again, in the runtime's order. */
+static void resync(pf_fracop_f64 *op)
+{
+    double sum = 0.0;
+    int k;
+    for (k = 0; k < op->c->n_sec; k++)
+        sum += op->c->G[k] * op->s[k];
+    op->sum = sum;
+}
+
+/* Binds @p r to @p lin, a copy of @p c without the dead time (not a
+ * state: the line's output is z^-delay_len of the rest), and lists its
+ * states. @return their number. */
+static int bind(const pf_ctrl_coeffs_f64 *c, pf_ctrl_coeffs_f64 *lin, pf_ctrl_f64 *r,
+                double **s)
+{
+    *lin = *c;
+    lin->delay_len = 0;
+    (void)pf_ctrl_init_f64(r, lin, NULL, 0);
+    return states(r, s);
+}
+
+/* The state space of the linear runtime of @p c (see the head of the
+ * file); B, C and D may be NULL. @return the number of states. */
+static int read_off(const pf_ctrl_coeffs_f64 *c, double *A, double *B, double *C,
+                    double *D)
+{
+    pf_ctrl_coeffs_f64 lin;
+    pf_ctrl_f64 r;
+    double *s[PF_CTRL_MAX_STATES], y;
+    int n = bind(c, &lin, &r, s), i, j;
+
+    for (j = 0; j < n; j++) {
+        pf_ctrl_reset_f64(&r);
+        *s[j] = 1.0;
+        resync(&r.P);
+        resync(&r.Q);
+        resync(&r.V);
+        resync(&r.W);
+        y = pf_ctrl_step_f64(&r, 0.0);
+        if (C != NULL)
+            C[j] = y;
+        for (i = 0; i < n; i++)
+            A[(size_t)i * (size_t)n + (size_t)j] = *s[i];
+    }
+    pf_ctrl_reset_f64(&r);
+    y = pf_ctrl_step_f64(&r, 1.0);
+    if (D != NULL)
+        *D = y;
+    if (B != NULL)
+        for (i = 0; i < n; i++)
+            B[i] = *s[i];
+    return n;
+}
+
+pf_status pf_ctrl_state_space(const pf_ctrl_coeffs_f64 *c, double *A, double *B,
+                              double *C, double *D, int *n)
+{
+    pf_ctrl_coeffs_f64 lin;
+    pf_ctrl_f64 r;
+    double *s[PF_CTRL_MAX_STATES];
+    if (c == NULL || n == NULL)
+        return PF_E_NULL;
+    if (c->in_loop_fx)
+        return PF_E_UNSUPPORTED;
+    if (A == NULL) { /* ask for the size, then place */
+        *n = bind(c, &lin, &r, s);
+        return PF_OK;
+    }
+    if (B == NULL || C == NULL || D == NULL)
+        return PF_E_NULL;
+    *n = read_off(c, A, B, C, D);
+    return PF_OK;
 }
 
 /* C = A B, n x n, row major; C may not alias A or B. */
@@ -122,32 +206,21 @@ pf_status pf_ctrl_spectral_radius(const pf_ctrl_design *d, pf_ctrl_check_work *w
                                   double *rho)
 {
     pf_ctrl_coeffs_f64 lin;
-    pf_ctrl_f64 r;
-    double *s[PF_CTRL_MAX_STATES], *a, *b, log_norm = 0.0, nrm;
-    int n, i, j, m;
+    double *a, *b, log_norm = 0.0, nrm;
+    int n, i, m;
 
     if (d == NULL || w == NULL || rho == NULL)
         return PF_E_NULL;
-    /* The linear model: the effects are nonlinear or outside the loop. */
+    /* The linear loop: the effects are nonlinear or outside the loop. */
     lin = d->rt;
     lin.in_loop_fx = 0;
     lin.play_r = 0.0;
     lin.nozzle_xh = 0.0;
     lin.saturate = 0;
     lin.lag_lam = 0.0;
-    lin.delay_len = 0;
-    if (pf_ctrl_init_f64(&r, &lin, NULL, 0) != PF_OK)
-        return PF_E_NULL;
-    n = states(&r, s);
     a = w->a;
     b = w->b;
-    for (j = 0; j < n; j++) {
-        pf_ctrl_reset_f64(&r);
-        *s[j] = 1.0;
-        (void)pf_ctrl_step_f64(&r, 0.0);
-        for (i = 0; i < n; i++)
-            a[(size_t)i * n + j] = *s[i];
-    }
+    n = read_off(&lin, a, NULL, NULL, NULL);
     balance(a, n);
     for (m = 0; m <= PF_CHECK_SQUARINGS; m++) {
         /* a = A^(2^m) / exp(log_norm), log_norm over 2^m so far. */

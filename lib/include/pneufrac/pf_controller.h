@@ -139,9 +139,26 @@ typedef struct pf_ctrl_f32 {
 void pf_ctrl_freqresp(const pf_ctrl_design *d, double omega, double *re,
                       double *im);
 
-/** Most states a controller runtime has: the held input, and each of the
- *  four operators' leaky branches and integer stages. */
-#define PF_CTRL_MAX_STATES (1 + 4 * (PF_MAX_SEC + PF_MAX_INT))
+/** Most states a controller runtime has: the held input, each of the
+ *  four operators' leaky branches and integer stages, and the output lag. */
+#define PF_CTRL_MAX_STATES (2 + 4 * (PF_MAX_SEC + PF_MAX_INT))
+
+/** The linear controller that pf_ctrl_step_f64 runs for coefficient set
+ *  @p c, as a discrete state space (sample time 1/fs):
+ *      x[n+1] = A x[n] + B e[n],   p_c[n] = C x[n] + D e[n],
+ *  read off the runtime itself (one step from each unit state, one from
+ *  rest with e = 1), in its own coordinates: one state per leaky section
+ *  and integer stage of each operator, the held input, the output lag. A
+ *  is the diagonal of the leaks plus the loops' few rank-one couplings:
+ *  nothing is expanded into polynomials. A dead time is not a state: the
+ *  line's output is z^-delay_len times this system's.
+ *  "Ask for the size, then place": with @p A NULL only @p n is written
+ *  (at most PF_CTRL_MAX_STATES); then A (n x n, row major), B and C (n)
+ *  and D (1) must all be given.
+ *  @return PF_OK; PF_E_NULL; PF_E_UNSUPPORTED if backlash, the nozzle
+ *          curve or saturation is on (no state space: they are nonlinear). */
+pf_status pf_ctrl_state_space(const pf_ctrl_coeffs_f64 *c, double *A, double *B,
+                              double *C, double *D, int *n);
 
 /** Work space of pf_ctrl_spectral_radius(): two square matrices. */
 typedef struct pf_ctrl_check_work {
