@@ -74,12 +74,14 @@ else
   "$venv_python" -m pip install --quiet "${pip_specs[@]}"
 fi
 
-# The analysis package (tools/python), editable: it loads build/lib/libpneufrac.so.
-fit_check="import pneufrac_fit, pathlib, sys; sys.exit(pathlib.Path(pneufrac_fit.__file__).resolve().parent != pathlib.Path('tools/python/pneufrac_fit').resolve())"
-if [[ -x .venv/bin/pneufrac-fit ]] && "$venv_python" -c "$fit_check" >/dev/null 2>&1; then
-  log "pneufrac-fit: installed"
+# The Python tools (tools/python: pneufrac-fit, pneufrac-reduce), editable:
+# they load build/lib/libpneufrac.so.
+fit_check="import pneufrac_fit, pneufrac_reduce, pathlib, sys; sys.exit(pathlib.Path(pneufrac_fit.__file__).resolve().parent != pathlib.Path('tools/python/pneufrac_fit').resolve())"
+if [[ -x .venv/bin/pneufrac-fit && -x .venv/bin/pneufrac-reduce ]] &&
+   "$venv_python" -c "$fit_check" >/dev/null 2>&1; then
+  log "pneufrac-fit, pneufrac-reduce: installed"
 else
-  log "installing pneufrac-fit (tools/python, editable)"
+  log "installing pneufrac-fit and pneufrac-reduce (tools/python, editable)"
   "$venv_python" -m pip install --quiet --disable-pip-version-check -e tools/python
 fi
 

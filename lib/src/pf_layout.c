@@ -127,3 +127,8 @@ int pf_max_order(void)
 {
     return PF_MAX_ORDER;
 }
+
+int pf_bank_max_order(void)
+{
+    return PF_BANK_MAX_ORDER;
+}

@@ -29,6 +29,13 @@
  *  sized by this. */
 #define PF_Q15_MAX_SEC (2 * PF_MAX_ORDER + 1)
 
+/** Most states of a reduced-order bank (pf_bank.h): real sections plus two
+ *  per complex pair. Sizes its instances and coefficient sets; Example 6
+ *  needs 9 at 0.05 % over [1 ms, 10 s] (docs/benchmarks.md). */
+#ifndef PF_BANK_MAX_ORDER
+#define PF_BANK_MAX_ORDER 16
+#endif
+
 /** Largest |integer part| of an operator order (|alpha| < 2 rounds to <= 2). */
 #define PF_MAX_INT 2
 

@@ -73,6 +73,10 @@ size_t pf_ctrl_design_delay_len(const pf_ctrl_design *d);
  *  operator and controller structs. */
 int pf_max_order(void);
 
+/** @return PF_BANK_MAX_ORDER of this build (pf_config.h): the most states
+ *  a reduced-order bank (pf_bank.h) may have. */
+int pf_bank_max_order(void);
+
 #ifdef __cplusplus
 }
 #endif

@@ -97,6 +97,8 @@ def _declare(lib) -> None:
         ("pf_ctrl_init_f64", [vp, vp, C.POINTER(d), sz], i),
         ("pf_ctrl_reset_f64", [vp], None),
         ("pf_ctrl_run_f64", [vp, C.POINTER(d), C.POINTER(d), sz], None),
+        ("pf_ctrl_state_space", [vp, C.POINTER(d), C.POINTER(d), C.POINTER(d),
+                                 C.POINTER(d), C.POINTER(i)], i),
         ("pf_status_param", [i], i),
         ("pf_status_str", [i], cp),
         ("pf_param_name", [i], cp),
@@ -110,6 +112,7 @@ def _declare(lib) -> None:
         ("pf_play", [d, d, d], d),
         ("pf_type_name", [i], cp),
         ("pf_sizeof", [i], sz),
+        ("pf_bank_max_order", [], i),
         ("pf_field_get", [i, i, C.POINTER(Field)], i),
     ]:
         f = getattr(lib, name)
@@ -324,7 +327,8 @@ class Controller:
     """A designed controller (double runtime) that runs whole records."""
 
     def __init__(self, config: str, params: dict, effects: dict | None, fs: float,
-                 order: int = 0, t_slow: float = 0.0, wh: float = 0.0):
+                 order: int = 0, t_slow: float = 0.0, wh: float = 0.0, wb: float = 0.0,
+                 input_model: int = 0):
         lib = load()
         m = _layout
         self._lib = lib
@@ -340,6 +344,8 @@ class Controller:
         o.order = int(order)
         o.t_slow = float(t_slow)
         o.wh = float(wh)
+        o.wb = float(wb)
+        o.input = int(input_model)
         self._design = C.create_string_buffer(m.DESIGN_BYTES)
         st = lib.pf_ctrl_design_make(self._design, C.byref(p), C.byref(fx),
                                      C.byref(o))
@@ -347,12 +353,12 @@ class Controller:
             name, msg = status_message(lib, st)
             raise ModelError(st, name, msg)
         self.head = m.DesignHead.from_buffer(self._design)
+        self._rt = C.c_void_p(C.addressof(self._design) + m.RT_OFFSET)
         n = lib.pf_ctrl_design_delay_len(self._design)
+        self.delay_len = int(n)
         self._delay = (C.c_double * max(n, 1))()
         self._inst = C.create_string_buffer(m.INSTANCE_BYTES)
-        st = lib.pf_ctrl_init_f64(self._inst,
-                                  C.c_void_p(C.addressof(self._design) + m.RT_OFFSET),
-                                  self._delay, n)
+        st = lib.pf_ctrl_init_f64(self._inst, self._rt, self._delay, n)
         if st != 0:
             name, msg = status_message(lib, st)
             raise ModelError(st, name, msg)
@@ -366,6 +372,24 @@ class Controller:
         self._lib.pf_ctrl_run_f64(self._inst, e.ctypes.data_as(dp),
                                   out.ctypes.data_as(dp), e.size)
         return out
+
+
+    def state_space(self):
+        """(A, B, C, D) of the linear controller the double runtime runs
+        (pf_ctrl_state_space: held input and output lag included, dead
+        time not: the output is z^-delay_len of this system's). ModelError
+        if backlash, the nozzle curve or saturation makes it nonlinear."""
+        lib, dp, n = self._lib, C.POINTER(C.c_double), C.c_int()
+        st = lib.pf_ctrl_state_space(self._rt, None, None, None, None, C.byref(n))
+        if st != 0:
+            raise ModelError(st, None, status_message(lib, st)[1])
+        a = np.zeros((n.value, n.value))
+        b, c, d = np.zeros(n.value), np.zeros(n.value), np.zeros(1)
+        st = lib.pf_ctrl_state_space(self._rt, a.ctypes.data_as(dp), b.ctypes.data_as(dp),
+                                     c.ctypes.data_as(dp), d.ctypes.data_as(dp), C.byref(n))
+        if st != 0 or n.value != len(b):
+            raise LibraryError(f"pf_ctrl_state_space: status {st}, {n.value} states")
+        return a, b.reshape(-1, 1), c.reshape(1, -1), d.reshape(1, 1)
 
 
 def simulate(config, params, effects, fs, e, **opts) -> np.ndarray:
