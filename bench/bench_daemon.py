@@ -9,6 +9,11 @@ to docs/benchmarks-daemon.md). Measures, never judges.
 2. Loop timing: period jitter p50/p99/max and overruns at 1 kHz and
    10 kHz, idle and under the 16-client FC03 load, for 1 and 32 instances
    (the daemon's own histogram, logged as msg=loop-stats at exit).
+3. Substeps (docs/pneufracd.md, "Substeps"): the accuracy at the exchange
+   instants against the exact response (bench_rate accuracy); the CPU
+   cost per exchange, in callgrind instructions (bench_rate run) and in
+   the per-step time the daemon measures; and the loop thread's CPU time
+   (/proc) against the load the daemon predicts (msg=loop-load).
 
     bench/bench_daemon.py [--build build] [--seconds 5] [--out docs/benchmarks-daemon.md]
 """
@@ -62,6 +67,92 @@ def loadgen(exe, port, clients, fc, seconds):
     return json.loads(out)
 
 
+def callgrind_instructions(cmd):
+    """Instructions callgrind counts for a whole run of cmd."""
+    out = subprocess.run(["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null", *cmd],
+                         check=True, capture_output=True, text=True).stderr
+    return int(re.search(r"Collected : (\d+)", out).group(1))
+
+
+def per_exchange(bench_rate, config, arith, fs, n):
+    """Instructions per exchange: the difference of runs of 2n and n
+    exchanges over n, so start-up, design and the cost measurement cancel;
+    and the k and step time of that instance."""
+    a = callgrind_instructions([bench_rate, "run", config, arith, str(fs), str(n)])
+    b = callgrind_instructions([bench_rate, "run", config, arith, str(fs), str(2 * n)])
+    out = subprocess.run([bench_rate, "run", config, arith, str(fs), "1"], check=True,
+                         capture_output=True, text=True).stdout
+    m = re.search(r"k=(\d+) step_ns=(\S+)", out)
+    return (b - a) / n, int(m.group(1)), float(m.group(2))
+
+
+def loop_thread_ticks(pid):
+    """utime + stime of the thread named pfd-loop, in clock ticks."""
+    for tid in os.listdir(f"/proc/{pid}/task"):
+        with contextlib.suppress(OSError):
+            if Path(f"/proc/{pid}/task/{tid}/comm").read_text().strip() == "pfd-loop":
+                f = Path(f"/proc/{pid}/task/{tid}/stat").read_text().rsplit(")", 1)[1].split()
+                return int(f[11]) + int(f[12])
+    sys.exit("bench_daemon: no pfd-loop thread")
+
+
+def substeps(a, daemon):
+    bench_rate = str(Path(a.build) / "bench/bench_rate")
+    print("\n## Substeps: the model at its own rate\n")
+    print(subprocess.run([bench_rate, "accuracy"], check=True, capture_output=True,
+                         text=True).stdout)
+
+    rates = ((100, 200), (1000, 2000), (10000, 20000))  # (fs, exchanges per callgrind run)
+    d = Daemon(daemon)
+    wake = float(re.search(r"wake_us=(\S+)", d.stop()).group(1))
+    print("### CPU cost per exchange\n")
+    print(f"x86_64 instructions per exchange (callgrind, `bench_rate run`), with the rule's "
+          f"substeps k for Example 6's relay; step: the CPU time per controller step the "
+          f"daemon measures at start; load: one instance's share of a core, fs x ((k + 1) x "
+          f"step + one wake-up of {wake:.1f} µs, as measured by the daemon at start).\n")
+    print("| config | arith | step | " +
+          " | ".join(f"{fs} Hz: k, instructions, load" for fs, _ in rates) +
+          " | instructions per step |")
+    print("|---|---|---:|" + "---:|" * len(rates) + "---:|")
+    for config in ("p", "dd", "id", "pid"):
+        for arith in ("float", "q15"):
+            cells, counts = [], []
+            step = 0.0
+            for fs, n in rates:
+                ins, k, step = per_exchange(bench_rate, config, arith, fs, n)
+                counts.append((k, ins))
+                load = 100 * fs * ((k + 1) * step * 1e-9 + wake * 1e-6)
+                cells.append(f"{k}, {ins:.0f}, {load:.2f} %")
+            (k0, i0), (k1, i1) = counts[0], counts[-1]
+            print(f"| {config} | {arith} | {step:.0f} ns | " + " | ".join(cells) +
+                  f" | {(i0 - i1) / (k0 - k1):.0f} |", flush=True)
+
+    print("\n### The loop thread's CPU time against the predicted load\n")
+    print(f"pneufracd idle for {a.seconds} s; measured: utime + stime of the thread pfd-loop "
+          f"(/proc); predicted: the daemon's msg=loop-load line (the utilisation, sum of "
+          f"fs x (k + 1) x step and of one wake-up per period of each rate; the load adds "
+          f"the longest exchange over the shortest period).\n")
+    print("| instances | config | arith | fs | k | measured loop CPU | predicted utilisation "
+          "| predicted load |")
+    print("|---:|---|---|---:|---:|---:|---:|---:|")
+    hz = os.sysconf("SC_CLK_TCK")
+    for inst, config, arith, fs in ((1, "dd", "float", 1000), (32, "dd", "float", 1000),
+                                    (32, "dd", "q15", 1000), (64, "dd", "q15", 100),
+                                    (16, "pid", "q15", 10000), (1, "dd", "float", 20000)):
+        d = Daemon(daemon, "--instances", str(inst), "--controller", config, "--arith", arith,
+                   "--fs", str(fs))
+        time.sleep(0.5)
+        t0, c0 = time.monotonic(), loop_thread_ticks(d.proc.pid)
+        time.sleep(a.seconds)
+        t1, c1 = time.monotonic(), loop_thread_ticks(d.proc.pid)
+        text = d.stop()
+        m = re.search(r"msg=loop-load util_pct=(\S+) load_pct=(\S+)", text)
+        k = re.search(r"msg=instance unit=1 .* substeps=(\d+)", text).group(1)
+        print(f"| {inst} | {config} | {arith} | {fs} | {k} | "
+              f"{100 * (c1 - c0) / hz / (t1 - t0):.1f} % | {float(m.group(1)):.1f} % | "
+              f"{float(m.group(2)):.1f} % |", flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--build", default=str(ROOT / "build"))
@@ -106,8 +197,10 @@ Linux {platform.release()}, {datetime.date.today().isoformat()}. Stock kernel
 N client threads, each with its own connection, sending back-to-back
 requests (FC03: read holding 0-9; FC16: write holding 0-9, i.e. e, sp, pv
 and their int16 mirrors and input_sel) for {max(2, seconds // 2)} s against a default
-pneufracd (one instance, 1 kHz float); latency is per transaction, as the
-client sees it. Loop timing: pneufracd with `--instances K --fs F` runs for
+pneufracd (one instance, 1 kHz float) with `--max-clients-per-addr 16`,
+since every client comes from 127.0.0.1; latency is per transaction, as
+the client sees it. Loop timing: pneufracd with `--instances K --fs F` (and the
+rule's substeps: 20 at 1 kHz, 2 at 10 kHz) runs for
 {seconds} s, idle or under the 16-client FC03 load above; the figures are
 the daemon's own period-jitter histogram, |t_k - t_(k-1) - T| over every
 sample of every instance, where t_k is when the sample's step starts
@@ -129,11 +222,18 @@ Modbus clients off it.
 """
 
 
+# Every load-generating client connects from 127.0.0.1: the per-address
+# limit (default 8) must let all of them in, or the table would measure
+# evictions (docs/pneufracd.md, "Client slots").
+ONE_ADDRESS = ("--max-clients-per-addr", "16")
+
+
 def measure(a):
     daemon = str(Path(a.build) / "port/posix/pneufracd")
     gen = str(Path(a.build) / "port/posix/pfd_loadgen")
+    load_start = os.getloadavg()
 
-    d = Daemon(daemon)
+    d = Daemon(daemon, *ONE_ADDRESS)
     log = Path(d.log.name).read_text()
     sched = re.search(r"msg=loop-thread (\S+)", log).group(1)
     mlock = re.search(r"msg=mlockall result=(\S+)", log).group(1)
@@ -157,7 +257,7 @@ def measure(a):
     for inst in (1, 32):
         for fs in (1000, 10000):
             for load in (False, True):
-                d = Daemon(daemon, "--instances", str(inst), "--fs", str(fs))
+                d = Daemon(daemon, "--instances", str(inst), "--fs", str(fs), *ONE_ADDRESS)
                 time.sleep(0.5)
                 if load:
                     loadgen(gen, d.port, 16, 3, a.seconds)
@@ -173,6 +273,14 @@ def measure(a):
                 print(f"| {inst} | {fs // 1000} kHz | {'16 clients FC03' if load else 'idle'} | "
                       f"{samples} | {p50} µs | {p99} µs | {float(mx):.0f} µs | {over} |",
                       flush=True)
+
+    substeps(a, daemon)
+    load_end = os.getloadavg()
+    print(f"\nMachine load while measuring (load average over 1, 5, 15 min, on "
+          f"{os.cpu_count()} cores): at the start "
+          f"{', '.join(f'{x:.2f}' for x in load_start)}; at the end "
+          f"{', '.join(f'{x:.2f}' for x in load_end)}. Other jobs on the same cores "
+          f"show in the latency, jitter and overrun figures.\n")
 
 
 if __name__ == "__main__":

@@ -28,28 +28,33 @@
 
 #define PF_CHECK_SQUARINGS 48
 
+/* The operators the linear runtime uses, in a fixed order. @return their
+ * number. */
+static int operators(pf_ctrl_f64 *r, pf_fracop_f64 **ops)
+{
+    int k = 0;
+    ops[k++] = &r->P;
+    if (r->c->has_q)
+        ops[k++] = &r->Q;
+    if (r->c->has_v)
+        ops[k++] = &r->V;
+    if (r->c->has_w)
+        ops[k++] = &r->W;
+    return k;
+}
+
 /* Pointers to every state the linear runtime has, in a fixed order: each
  * operator's sections and integer stages, the held input, the output lag.
  * @return their number. */
 static int states(pf_ctrl_f64 *r, double **s)
 {
     pf_fracop_f64 *ops[4];
-    int used[4], k = 0, o, j, n_int;
+    int k = 0, o, j, n_int, n_ops = operators(r, ops);
 
-    ops[0] = &r->P;
-    ops[1] = &r->Q;
-    ops[2] = &r->V;
-    ops[3] = &r->W;
-    used[0] = 1;
-    used[1] = r->c->has_q;
-    used[2] = r->c->has_v;
-    used[3] = r->c->has_w;
     if (r->c->hold)
         s[k++] = &r->e1;
-    for (o = 0; o < 4; o++) {
+    for (o = 0; o < n_ops; o++) {
         const pf_fracop_design *c = ops[o]->c;
-        if (!used[o])
-            continue;
         for (j = 0; j < c->n_sec; j++)
             s[k++] = &ops[o]->s[j];
         n_int = c->n_int < 0 ? -c->n_int : c->n_int;
@@ -61,16 +66,20 @@ static int states(pf_ctrl_f64 *r, double **s)
     return k;
 }
 
-/* An operator keeps sum_k G_k s_k of its current states for the next
- * sample (pf_float_ops.h): after a state was written from outside, form
- * it again, in the runtime's order. */
-static void resync(pf_fracop_f64 *op)
+/* The runtime keeps each operator's branch sum sum_k G_k s_k from its last
+ * update (pf_fracop_f64.sum); after states are written directly it must be
+ * formed again, in the runtime's order, or the step would use stale sums. */
+static void resum(pf_ctrl_f64 *r)
 {
-    double sum = 0.0;
-    int k;
-    for (k = 0; k < op->c->n_sec; k++)
-        sum += op->c->G[k] * op->s[k];
-    op->sum = sum;
+    pf_fracop_f64 *ops[4];
+    int o, k, n_ops = operators(r, ops);
+
+    for (o = 0; o < n_ops; o++) {
+        double sum = 0.0;
+        for (k = 0; k < ops[o]->c->n_sec; k++)
+            sum += ops[o]->c->G[k] * ops[o]->s[k];
+        ops[o]->sum = sum;
+    }
 }
 
 /* Binds @p r to @p lin, a copy of @p c without the dead time (not a
@@ -98,10 +107,7 @@ static int read_off(const pf_ctrl_coeffs_f64 *c, double *A, double *B, double *C
     for (j = 0; j < n; j++) {
         pf_ctrl_reset_f64(&r);
         *s[j] = 1.0;
-        resync(&r.P);
-        resync(&r.Q);
-        resync(&r.V);
-        resync(&r.W);
+        resum(&r);
         y = pf_ctrl_step_f64(&r, 0.0);
         if (C != NULL)
             C[j] = y;

@@ -8,12 +8,17 @@ static int check_combination(const pfd_cli *a, char *err, size_t errlen)
 {
     pfd_mask inst = 0;
     unsigned i;
+    char names[160] = "";
     for (i = 0; i < pfd_settings_count; i++)
-        if (pfd_settings_table[i].group == PFD_SG_INSTANCES)
+        if (pfd_settings_table[i].group == PFD_SG_INSTANCES) {
             inst |= pfd_setting_bit(&pfd_settings_table[i]);
+            if (names[0] != '\0')
+                strncat(names, ", ", sizeof names - strlen(names) - 1);
+            strncat(names, pfd_settings_table[i].flag, sizeof names - strlen(names) - 1);
+        }
     if (a->run.config != NULL && (a->given & inst)) {
-        snprintf(err, errlen, "--instances, --controller, --fs and --arith describe the "
-                 "default instances; with --config set them in the file");
+        snprintf(err, errlen, "%s describe the default instances; with --config set "
+                 "them in the file", names);
         return -1;
     }
     if (a->run.fallback && a->run.config == NULL) {

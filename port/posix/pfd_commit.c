@@ -73,6 +73,8 @@ int pfd_inst_add(pfd_daemon *d, const pfd_config_inst *ci, pfd_fail *why)
         free(in);
         return -1;
     }
+    pfd_rate_measure(in->slot[0]);
+    in->rate = in->slot[0]->rate;
     in->unit = ci->unit;
     in->slot_state[0] = PFD_SLOT_ACTIVE;
     in->rt.active = in->slot[0];
@@ -155,7 +157,8 @@ static int iparams_equal(const pfd_iparams *a, const pfd_iparams *b)
 {
     int k;
     if (a->p.topology != b->p.topology || a->arith != b->arith || a->fs != b->fs ||
-        a->in_fs != b->in_fs || a->out_fs != b->out_fs || a->bump_tau != b->bump_tau)
+        a->substeps != b->substeps || a->in_fs != b->in_fs || a->out_fs != b->out_fs ||
+        a->bump_tau != b->bump_tau)
         return 0;
     for (k = PF_P_A; k <= PF_P_RCI; k++)
         if (pf_params_get(&a->p, (pf_param_id)k) != pf_params_get(&b->p, (pf_param_id)k))
@@ -195,13 +198,39 @@ uint16_t pfd_status_bits(const pfd_daemon *d, const pfd_inst *in,
     return b;
 }
 
-unsigned pfd_settle_samples(double fs)
+unsigned pfd_settle_samples(double internal_fs)
 {
-    /* One second of held input, at most 20000 samples: long enough for the
+    /* One second of held input, at most 20000 steps: long enough for the
      * fast part of a new set's step response (the derivative kick of dd
      * and pid) to die out, short enough to keep a commit in milliseconds. */
-    double n = fs < 20000.0 ? fs : 20000.0;
+    double n = internal_fs < 20000.0 ? internal_fs : 20000.0;
     return (unsigned)n;
+}
+
+void pfd_loop_load(const pfd_daemon *d, const pfd_inst *in, double fs, const pfd_rate *r,
+                   pfd_load *out)
+{
+    int i;
+
+    pfd_load_init(out, d->wake_ns);
+    for (i = 0; i < d->n; i++) {
+        if (d->inst[i] == in)
+            pfd_load_add(out, fs, r);
+        else
+            pfd_load_add(out, d->inst[i]->committed.fs, &d->inst[i]->rate);
+    }
+}
+
+/* Under commit_mx: whether the loop could run @p s in place of @p in's
+ * committed set within the budget. In lockstep nothing runs in real
+ * time: the client's ticks set the pace, so the budget does not apply. */
+static int affordable(const pfd_daemon *d, const pfd_inst *in, const pfd_slot *s,
+                      double *load)
+{
+    pfd_load l;
+    pfd_loop_load(d, in, s->ip.fs, &s->rate, &l);
+    *load = pfd_load_total(&l);
+    return d->set.external_clock || *load <= d->set.loop_budget / 100.0;
 }
 
 static int refuse(pfd_daemon *d, pfd_inst *in, uint16_t result, int param)
@@ -246,6 +275,7 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_who *w, const pfd_stage *s
     pfd_slot *slot, *old;
     pfd_fail why;
     float e_hold;
+    double load;
     int k, j;
 
     pthread_mutex_lock(&d->commit_mx);
@@ -284,8 +314,24 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_who *w, const pfd_stage *s
         pthread_mutex_unlock(&d->commit_mx);
         return rc;
     }
+    pfd_rate_measure(slot);
+    if (!affordable(d, in, slot, &load)) {
+        /* With one step per exchange the exchange rate is what costs;
+         * with more, the substeps are. */
+        const int param = slot->rate.k > 1 ? PFD_P_SUBSTEPS : PF_P_FS;
+        int rc;
+        pfd_audit_params(w, in->unit, &old_set, &ip, "refused");
+        pfd_log(PFD_LOG_WARN, "commit-refused",
+                "peer=%s role=%s unit=%d result=%u param=%s load_pct=%.1f budget_pct=%d "
+                "fs=%.9g substeps=%u step_ns=%.0f", w->peer, w->role, in->unit,
+                (unsigned)PFD_COMMIT_LOAD, pfd_param_name(param), 100.0 * load,
+                d->set.loop_budget, ip.fs, slot->rate.k, slot->rate.step_ns);
+        rc = refuse(d, in, PFD_COMMIT_LOAD, param);
+        pthread_mutex_unlock(&d->commit_mx);
+        return rc;
+    }
     if (e_hold != 0.0f)
-        pfd_slot_settle(slot, e_hold, pfd_settle_samples(ip.fs));
+        pfd_slot_hold(slot, e_hold, pfd_settle_samples(slot->rate.internal_fs));
     /* in->gen changes only under commit_mx, which we hold. */
     slot->gen = in->gen + 1u;
 
@@ -302,6 +348,7 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_who *w, const pfd_stage *s
     pfd_apply_settings(in, w, wl);
     pfd_audit_params(w, in->unit, &old_set, &ip, "committed");
     in->committed = ip;
+    in->rate = slot->rate;
     in->commit_result = PFD_COMMIT_OK;
     in->err_addr = 0xFFFFu;
     in->err_param = 0xFFFFu;
@@ -315,9 +362,11 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_who *w, const pfd_stage *s
             __atomic_store_n(&in->slot_state[j], PFD_SLOT_FREE, __ATOMIC_RELEASE);
     pthread_mutex_unlock(&d->regs_mx);
 
-    pfd_log(PFD_LOG_INFO, "commit", "peer=%s role=%s unit=%d config=%s arith=%s fs=%.9g",
-            w->peer, w->role, in->unit, pf_topology_name(ip.p.topology),
-            pfd_arith_name(ip.arith), ip.fs);
+    pfd_log(PFD_LOG_INFO, "commit",
+            "peer=%s role=%s unit=%d config=%s arith=%s fs=%.9g substeps=%u internal_fs=%.9g "
+            "load_pct=%.1f", w->peer, w->role, in->unit, pf_topology_name(ip.p.topology),
+            pfd_arith_name(ip.arith), ip.fs, slot->rate.k, slot->rate.internal_fs, 100.0 * load);
+    pfd_rate_warn_capped(in->unit, &slot->rate);
     /* Answered only once the file is on disk; if it cannot be written the
      * set still runs (it was switched in above), and the client learns
      * that it would not survive a restart. */

@@ -12,6 +12,7 @@
 
 #include "pfd_access.h"
 #include "pfd_config.h"
+#include "pfd_rate.h"
 #include "pfd_regmap.h"
 #include "pfd_stage.h"
 #include "pfd_state.h"
@@ -48,7 +49,8 @@ uint16_t pfd_status_bits(const pfd_daemon *d, const pfd_inst *in,
  *  is in use. Takes the locks it needs. @return 0 or a MODBUS_EXCEPTION_*
  *  code: ILLEGAL_FUNCTION another client took param_lock meanwhile;
  *  ILLEGAL_DATA_VALUE refused (commit_result and err_* say why: an invalid
- *  parameter, or an unstable loop); SLAVE_OR_SERVER_BUSY no free slot;
+ *  parameter, an unstable loop, or a set the loop could not sustain within
+ *  loop_budget); SLAVE_OR_SERVER_BUSY no free slot;
  *  SLAVE_OR_SERVER_FAILURE another library error. Nothing changes on any
  *  of these, and a set already pending stays pending. Except
  *  SLAVE_OR_SERVER_FAILURE with commit_result PFD_COMMIT_UNSAVED: the set
@@ -60,8 +62,15 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_who *w, const pfd_stage *s
  *  Takes commit_mx. @return 0, or -1 after logging. */
 int pfd_persist(pfd_daemon *d);
 
-/** Samples a new parameter set is pre-run with the held input before the
- *  switch (docs/pneufracd.md, "Bumpless commit"). */
-unsigned pfd_settle_samples(double fs);
+/** Steps a new parameter set is pre-run with the held input before the
+ *  switch, at its internal rate (docs/pneufracd.md, "Bumpless commit"). */
+unsigned pfd_settle_samples(double internal_fs);
+
+/** The loop's load (pfd_load_total() of @p out is a fraction of one
+ *  core) with every instance's committed set, except that @p in (if not
+ *  NULL) runs at @p fs with @p r. Under commit_mx, or before the threads
+ *  start. */
+void pfd_loop_load(const pfd_daemon *d, const pfd_inst *in, double fs, const pfd_rate *r,
+                   pfd_load *out);
 
 #endif

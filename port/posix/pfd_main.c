@@ -13,8 +13,9 @@
 #include "pfd_commit.h"
 #include "pfd_log.h"
 #include "pfd_loop.h"
-#include "pfd_server.h"
+#include "pfd_rate.h"
 #include "pfd_regmap.h"
+#include "pfd_server.h"
 #include "pfd_start.h"
 
 /* What the main thread remembers between two housekeeping rounds. */
@@ -45,6 +46,35 @@ static void housekeeping(pfd_daemon *d, watch *w)
     }
 }
 
+/* Refuse to start instances that the loop could not run within the
+ * budget, naming the costliest; in lockstep the client's ticks set the
+ * pace, and the load is only logged. @return 0, or -1 after a fatal
+ * message. */
+static int check_load(const pfd_daemon *d)
+{
+    const pfd_inst *worst = d->inst[0];
+    pfd_load l;
+    double load;
+    int i;
+
+    pfd_loop_load(d, NULL, 0.0, NULL, &l);
+    load = pfd_load_total(&l);
+    pfd_log(PFD_LOG_INFO, "loop-load", "util_pct=%.2f load_pct=%.2f budget_pct=%d wake_us=%.2f",
+            100.0 * l.util, 100.0 * load, d->set.loop_budget, d->wake_ns / 1000.0);
+    if (d->set.external_clock || load <= d->set.loop_budget / 100.0)
+        return 0;
+    for (i = 1; i < d->n; i++)
+        if (d->inst[i]->committed.fs * pfd_rate_exchange_ns(&d->inst[i]->rate) >
+            worst->committed.fs * pfd_rate_exchange_ns(&worst->rate))
+            worst = d->inst[i];
+    pfd_fatal("the instances need %.0f %% of one core, over --loop-budget %d %%; the "
+              "costliest is unit %d: %.9g Hz x %u substeps at %.0f ns a step, and %.1f us "
+              "a wake-up (lower fs, substeps or the number of instances)", 100.0 * load,
+              d->set.loop_budget, worst->unit, worst->committed.fs, worst->rate.k,
+              worst->rate.step_ns, d->wake_ns / 1000.0);
+    return -1;
+}
+
 /* The instances of @p c into @p d. @return 0, or -1 after a fatal message. */
 static int add_instances(pfd_daemon *d, const pfd_config *c, const char *path)
 {
@@ -63,11 +93,14 @@ static int add_instances(pfd_daemon *d, const pfd_config *c, const char *path)
             path ? path : "none", path ? "on" : "off");
     for (i = 0; i < d->n; i++) {
         const pfd_iparams *ip = &d->inst[i]->committed;
-        pfd_log(PFD_LOG_INFO, "instance", "unit=%d config=%s arith=%s fs=%.9g",
+        const pfd_rate *r = &d->inst[i]->rate;
+        pfd_log(PFD_LOG_INFO, "instance",
+                "unit=%d config=%s arith=%s fs=%.9g substeps=%u internal_fs=%.9g step_ns=%.0f",
                 d->inst[i]->unit, pf_topology_name(ip->p.topology),
-                pfd_arith_name(ip->arith), ip->fs);
+                pfd_arith_name(ip->arith), ip->fs, r->k, r->internal_fs, r->step_ns);
+        pfd_rate_warn_capped(d->inst[i]->unit, r);
     }
-    return 0;
+    return check_load(d);
 }
 
 /* Until SIGINT, SIGTERM or --run-for; housekeeping every 200 ms. */
@@ -121,6 +154,7 @@ static int run(const pfd_cli *a, const pfd_config *c, int fallback)
     /* Never rewrite a file that could not be used. */
     d->config_path = fallback ? NULL : a->run.config;
     d->config_file = c;
+    d->wake_ns = pfd_rate_measure_wakeup();
     if (add_instances(d, c, a->run.config) != 0) {
         pfd_daemon_free(d);
         free(d);

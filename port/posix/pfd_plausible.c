@@ -3,7 +3,6 @@
 
 #include <math.h>
 #include <stdlib.h>
-#include <string.h>
 
 static int stable(const pf_ctrl_design *d, pf_ctrl_check_work *work)
 {
@@ -11,40 +10,51 @@ static int stable(const pf_ctrl_design *d, pf_ctrl_check_work *work)
     return pf_ctrl_spectral_radius(d, work, &rho) == PF_OK && rho <= 1.0 + PF_CTRL_RHO_TOL;
 }
 
-/* Parameter k of a set: the paper's (pf_param_id), or fs as PF_P_FS. */
+/* Parameter k of a set: the paper's (pf_param_id), fs as PF_P_FS, or
+ * substeps as PFD_P_SUBSTEPS. */
 static double get(const pfd_iparams *ip, int k)
 {
-    return k == PF_P_FS ? ip->fs : pf_params_get(&ip->p, (pf_param_id)k);
+    if (k == PF_P_FS)
+        return ip->fs;
+    if (k == PFD_P_SUBSTEPS)
+        return (double)ip->substeps;
+    return pf_params_get(&ip->p, (pf_param_id)k);
 }
 
 static void set(pfd_iparams *ip, int k, double v)
 {
     if (k == PF_P_FS)
         ip->fs = v;
+    else if (k == PFD_P_SUBSTEPS)
+        ip->substeps = (unsigned)v;
     else
         (void)pf_params_set(&ip->p, (pf_param_id)k, v);
 }
 
-/* Whether @p ip designs, at its rate, into a stable loop. */
-static int designs_stable(const pfd_iparams *ip, pf_ctrl_design *d, pf_ctrl_check_work *work)
+/* Whether @p ip builds as a commit would build it (the same limits, the
+ * same substeps, designed at the same internal rate fs x substeps) into a
+ * stable loop. */
+static int builds_stable(const pfd_iparams *ip, pfd_slot *s, pf_ctrl_design *d,
+                         pf_ctrl_check_work *work)
 {
-    pf_design_opts o;
-    memset(&o, 0, sizeof o);
-    o.fs = ip->fs; /* the other options at the library's defaults, as pfd_slot_build */
-    return pf_ctrl_design_make(d, &ip->p, NULL, &o) == PF_OK && stable(d, work);
+    pfd_fail why;
+    return pfd_slot_build(s, ip, d, &why) == 0 && stable(d, work);
 }
 
-/* The parameter to blame for @p ip's instability, against @p ref. */
+/* The parameter to blame for @p ip's instability, against @p ref: the
+ * paper's parameters the configuration uses, then fs and substeps, which
+ * together set the rate the loop is sampled at. */
 static int culprit(const pfd_iparams *ip, const pfd_iparams *ref, pf_ctrl_check_work *work)
 {
     pf_ctrl_design *d = malloc(sizeof *d);
+    pfd_slot *s = malloc(sizeof *s);
     int k, worst = PF_P_COUNT;
     double worst_ratio = 0.0;
 
-    for (k = PF_P_A; k <= PF_P_FS; k++) {
+    for (k = PF_P_A; k <= PFD_P_SUBSTEPS; k++) {
         double a, b, ratio;
         pfd_iparams alt;
-        if (k > PF_P_RCI && k != PF_P_FS)
+        if (k > PF_P_RCI && k != PF_P_FS && k != PFD_P_SUBSTEPS)
             continue;
         if (k < PF_P_CONFIG && !pf_param_used(ip->p.topology, (pf_param_id)k))
             continue;
@@ -54,7 +64,7 @@ static int culprit(const pfd_iparams *ip, const pfd_iparams *ref, pf_ctrl_check_
             continue;
         alt = *ip;
         set(&alt, k, b);
-        if (d != NULL && designs_stable(&alt, d, work)) {
+        if (d != NULL && s != NULL && builds_stable(&alt, s, d, work)) {
             worst = k;
             break;
         }
@@ -64,6 +74,7 @@ static int culprit(const pfd_iparams *ip, const pfd_iparams *ref, pf_ctrl_check_
             worst = k;
         }
     }
+    free(s);
     free(d);
     return worst;
 }

@@ -2,10 +2,11 @@
 #include "pfd_regmap.h"
 
 #include <math.h>
-
-#include "pfd_access.h"
 #include <modbus/modbus.h>
 #include <string.h>
+
+#include "pfd_access.h"
+#include "pfd_rate.h"
 
 #ifndef PFD_VERSION_MAJOR
 #define PFD_VERSION_MAJOR 0
@@ -22,7 +23,7 @@ enum {
     F_PC, F_X, F_PB, F_Y, F_EU, F_PC_I16, F_X_I16, F_PB_I16, F_Y_I16,
     F_EU_I16, F_STATUS, F_CRESULT, F_CADDR, F_CPARAM, F_COMMITS, F_SAMPLES,
     F_OVERRUNS, F_JLAST, F_JMAX, F_WDTRIPS, F_VMAJOR, F_VMINOR, F_VPATCH,
-    F_VMAP, F_UNIT, F_NINST,
+    F_VMAP, F_UNIT, F_NINST, F_K_USED, F_INTERNAL_FS, F_STEP_NS, F_LOAD,
     /* parameter k of a set (see ip_get): staged or committed */
     F_STAGED = 100, F_COMMITTED = 200
 };
@@ -37,6 +38,8 @@ enum {
 #define K_BUMP 5
 #define K_P0 6
 #define K_COUNT (K_P0 + 16)
+/* Added in version 2, after the blocks above so that no address moved. */
+#define K_SUBSTEPS K_COUNT
 
 /* The live signals' write range (e, sp, pv, manual and fail-safe output):
  * the daemon's own bound, far beyond any process value and finite in f32. */
@@ -58,7 +61,7 @@ enum {
     OWN(K_ARITH, PFD_T_U16, "arith", "", 0, PFD_ARITH_COUNT - 1,               \
         "arithmetic: 0 float, 1 q15")                                          \
     OWN(K_FS, PFD_T_F32, "fs", "Hz", PFD_FS_MIN, PFD_FS_MAX,                   \
-        "sample rate (the real-time loop's range)")                            \
+        "exchange rate: e is taken and p_c published this often")              \
     LIB(K_IN_FS, PFD_T_F32, "in_fs", PF_P_IN_FS,                               \
         "full scale of e: Q15 +1.0 in q15, and the scale of the int16 mirrors of e, x, p_b/k1, y") \
     LIB(K_OUT_FS, PFD_T_F32, "out_fs", PF_P_OUT_FS,                            \
@@ -137,8 +140,8 @@ const pfd_reg pfd_regs[] = {
     H(18, PFD_T_U16, PFD_W, PFD_F_ACTION, F_COMMAND, 1, 3, "command", "",
       "write 1: discard staged changes, 2: reset the controller state, 3: clear statistics; reads 0")
     H(19, PFD_T_U16, PFD_W, PFD_F_ACTION | PFD_F_OPERATE | PFD_F_OPEN, F_TICK, 1, 65535, "tick", "samples",
-      "--clock external only (else exception 01): advance exactly N samples, "
-      "answered when they are done; reads 0")
+      "--clock external only (else exception 01): advance exactly N samples (exchanges, "
+      "each of substeps_used controller steps), answered when they are done; reads 0")
     PARAMS(STAGED_OWN, STAGED_LIB)
     /* Read-only copies for clients that can only read holding registers
      * (and for FC23: write tick, read the output, in one transaction). */
@@ -147,6 +150,9 @@ const pfd_reg pfd_regs[] = {
       "copy of input register pc_i16")
     H(65, PFD_T_U16, PFD_R, 0, F_STATUS, 0, 0, "hold_status", "bits",
       "copy of input register status")
+    H(66, PFD_T_U16, PFD_RW, PFD_F_STAGED, F_STAGED + K_SUBSTEPS, 0, PFD_SUBSTEPS_MAX,
+      "substeps", "", "controller steps per exchange, the input held (the set "
+      "is designed at fs x substeps); 0 = chosen from the design's fastest time constant")
 
     I(0, PFD_T_F32, F_PC, "pc", "", "output p_c (after manual, fail-safe and bumpless transfer)")
     I(2, PFD_T_F32, F_X, "x", "", "flapper displacement x")
@@ -167,14 +173,16 @@ const pfd_reg pfd_regs[] = {
     I(16, PFD_T_U16, F_CRESULT, "commit_result", "",
       "last commit: 0 ok, 1 invalid parameter, 2 q15 scaling failed, 3 busy, 4 other error, "
       "5 applied and running but not persisted (config file write failed), "
-      "6 the sampled loop would be unstable")
+      "6 the sampled loop would be unstable, "
+      "7 the loop could not run it within loop_budget")
     I(17, PFD_T_U16, F_CADDR, "commit_err_addr", "",
       "holding address of the staged parameter that made the last commit fail "
-      "(result 6: the one whose change alone made the loop unstable); 65535 none")
+      "(result 6: the one whose change alone made the loop unstable; result 7: substeps "
+      "if the set runs more than one, else fs); 65535 none")
     I(18, PFD_T_U16, F_CPARAM, "commit_err_param", "",
       "the library's pf_param_id of that parameter (pf_param_name); 65535 none")
     I(19, PFD_T_U16, F_COMMITS, "commits", "", "accepted commits, modulo 65536")
-    I(20, PFD_T_U32, F_SAMPLES, "samples", "", "samples run, modulo 2^32")
+    I(20, PFD_T_U32, F_SAMPLES, "samples", "", "samples (exchanges) run, modulo 2^32")
     I(22, PFD_T_U32, F_OVERRUNS, "overruns", "samples",
       "samples skipped because the loop was late by a period or more")
     I(24, PFD_T_U32, F_JLAST, "jitter_last_us", "us",
@@ -188,6 +196,16 @@ const pfd_reg pfd_regs[] = {
     I(34, PFD_T_U16, F_UNIT, "unit_id", "", "this instance's unit id")
     I(35, PFD_T_U16, F_NINST, "instances", "", "instances in this daemon")
     PARAMS(COMMITTED_OWN, COMMITTED_LIB)
+    I(78, PFD_T_U16, F_COMMITTED + K_SUBSTEPS, "committed_substeps", "",
+      "substeps as staged (0 = chosen)")
+    I(79, PFD_T_U16, F_K_USED, "substeps_used", "",
+      "controller steps per exchange the committed set runs")
+    I(80, PFD_T_F32, F_INTERNAL_FS, "internal_fs", "Hz",
+      "the committed set's internal rate, fs x substeps_used")
+    I(82, PFD_T_F32, F_STEP_NS, "step_cost_ns", "ns",
+      "CPU time of one controller step of the committed set, measured at start or at its commit")
+    I(84, PFD_T_F32, F_LOAD, "load_pct", "%",
+      "this instance's share of one core: fs x (substeps_used + 1) x step_cost_ns")
 };
 const unsigned pfd_nregs = sizeof pfd_regs / sizeof pfd_regs[0];
 
@@ -285,6 +303,7 @@ static double ip_get(const pfd_iparams *ip, int k)
     case K_IN_FS: return ip->in_fs;
     case K_OUT_FS: return ip->out_fs;
     case K_BUMP: return ip->bump_tau;
+    case K_SUBSTEPS: return (double)ip->substeps;
     default: return pf_params_get(&ip->p, (pf_param_id)(k - K_P0));
     }
 }
@@ -298,6 +317,7 @@ static void ip_set(pfd_iparams *ip, int k, double v)
     case K_IN_FS: ip->in_fs = v; break;
     case K_OUT_FS: ip->out_fs = v; break;
     case K_BUMP: ip->bump_tau = v; break;
+    case K_SUBSTEPS: ip->substeps = (unsigned)v; break;
     default: (void)pf_params_set(&ip->p, (pf_param_id)(k - K_P0), v); break;
     }
 }
@@ -314,6 +334,7 @@ uint16_t pfd_regmap_staged_addr(int param)
     case PF_P_OUT_FS: return HS(K_OUT_FS);
     case PFD_P_BUMP_TAU: return HS(K_BUMP);
     case PFD_P_ARITH: return HS(K_ARITH);
+    case PFD_P_SUBSTEPS: return pfd_reg_named(PFD_HOLD, "substeps")->addr;
     default: return 0xFFFFu;
     }
 }
@@ -379,6 +400,10 @@ static double field_value(const pfd_reg *r, const pfd_view *v)
     case F_VMAP: return PFD_REGMAP_VERSION;
     case F_UNIT: return in->unit;
     case F_NINST: return v->n_instances;
+    case F_K_USED: return in->rate.k;
+    case F_INTERNAL_FS: return in->rate.internal_fs;
+    case F_STEP_NS: return in->rate.step_ns;
+    case F_LOAD: return 100.0 * in->committed.fs * pfd_rate_exchange_ns(&in->rate) * 1e-9;
     default: return 0;
     }
 }

@@ -17,7 +17,7 @@
 
 #include "pfd_state.h"
 
-#define PFD_REGMAP_VERSION 1
+#define PFD_REGMAP_VERSION 2
 
 enum pfd_space { PFD_HOLD = 0, PFD_INPUT = 1 };
 enum pfd_type { PFD_T_U16 = 0, PFD_T_I16, PFD_T_U32, PFD_T_F32 };
@@ -34,8 +34,8 @@ enum pfd_access { PFD_R = 0, PFD_RW, PFD_W };
                                  param_lock: the process inputs and tick */
 
 /** Sizes of the two register spaces (every address below is mapped). */
-#define PFD_HOLD_SIZE 66
-#define PFD_INPUT_SIZE 78
+#define PFD_HOLD_SIZE 67
+#define PFD_INPUT_SIZE 86
 
 /** A register. One that stages or mirrors a parameter of the library
  *  (param >= 0) takes its range, and its unit and description where the

@@ -158,6 +158,9 @@ void pfd_sample_run(pfd_inst *in, pfd_jitter *jit, uint32_t missed, int64_t jitt
     flags = select_output(in, l, &sig);
     count(in, jit, missed, jitter_ns);
     publish(in, &sig, e, flags);
+    /* The rest of the exchange, input held: the output went out after the
+     * first step, the model's response at the exchange instant. */
+    pfd_slot_hold(in->rt.active, e, in->rt.active->rate.k - 1u);
 }
 
 uint32_t pfd_jitter_percentile(const pfd_jitter *jit, double q)

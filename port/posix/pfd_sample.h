@@ -10,9 +10,11 @@
 
 #include "pfd_state.h"
 
-/** Run one sample of @p in. @p missed: periods skipped before it (they
- *  count for the watchdog and as overruns); @p jitter_ns < 0: none to
- *  record in @p jit. */
+/** Run one exchange (one sample at fs) of @p in: its first controller
+ *  step, the output and snapshot, then the remaining substeps with the
+ *  input held (pfd_rate.h). @p missed: periods skipped before it (they
+ *  count for the watchdog and as overruns, and are not integrated);
+ *  @p jitter_ns < 0: none to record in @p jit. */
 void pfd_sample_run(pfd_inst *in, pfd_jitter *jit, uint32_t missed, int64_t jitter_ns);
 
 /** The jitter below which a fraction @p q of the samples in @p jit lie, us. */

@@ -45,6 +45,15 @@ const pfd_setting pfd_settings_table[] = {
     {.flag = "--rt-priority", .key = "rt_priority", .type = PFD_ST_INT,
      .group = PFD_SG_DAEMON, .lo = 0, .hi = 99, IN_SETTINGS(rt_priority),
      .metavar = "N", .help = "SCHED_FIFO priority of the loop; 0 = do not ask"},
+    /* A security setting: it bounds what a client that may commit can make
+     * the loop cost (issue 12, O4), so a fallback never takes it from the
+     * file; it runs at the default (docs/pneufracd.md, "Loop budget"). */
+    {.flag = "--loop-budget", .key = "loop_budget", .type = PFD_ST_INT,
+     .group = PFD_SG_DAEMON, SECURE, .lo = 1, .hi = 95, IN_SETTINGS(loop_budget),
+     .metavar = "PERCENT",
+     .help = "share of one core the loop may need, by the costs measured at start and "
+             "at each commit; a start or commit that needs more is refused (internal "
+             "clock)"},
     {.flag = "--no-mlock", .key = "mlock", .type = PFD_ST_BOOL, .group = PFD_SG_DAEMON,
      .flag_value = 0, IN_SETTINGS(mlock), .help = "do not mlockall()"},
     {.flag = "--byte-timeout-ms", .key = "byte_timeout_ms", .type = PFD_ST_INT,
@@ -96,7 +105,12 @@ const pfd_setting pfd_settings_table[] = {
      .hi = PF_TOPO_COUNT - 1, .choice = pfd_topology_name, IN_RUN(controller),
      .help = "their configuration"},
     {.flag = "--fs", .type = PFD_ST_REAL, .group = PFD_SG_INSTANCES, .lo = PFD_FS_MIN,
-     .hi = PFD_FS_MAX, IN_RUN(fs), .metavar = "HZ", .help = "their sample rate"},
+     .hi = PFD_FS_MAX, IN_RUN(fs), .metavar = "HZ",
+     .help = "their exchange rate: the loop takes e and publishes p_c this often"},
+    {.flag = "--substeps", .type = PFD_ST_INT, .group = PFD_SG_INSTANCES, .lo = 0,
+     .hi = PFD_SUBSTEPS_MAX, IN_RUN(substeps), .metavar = "K",
+     .help = "their controller steps per exchange, the input held; 0 = from the "
+             "design's fastest time constant"},
     {.flag = "--arith", .type = PFD_ST_CHOICE, .group = PFD_SG_INSTANCES, .lo = 0,
      .hi = PFD_ARITH_COUNT - 1, .choice = pfd_arith_name, IN_RUN(arith),
      .help = "their arithmetic"},
@@ -342,6 +356,7 @@ void pfd_settings_default(pfd_settings *s)
     s->read_only = 0;
     s->param_lock = 0;
     s->rt_priority = 80;
+    s->loop_budget = 50;
     s->mlock = 1;
     s->byte_timeout_ms = 100;
     s->idle_timeout_s = 300;
@@ -374,5 +389,6 @@ void pfd_run_default(pfd_run *run)
     run->instances = 1;
     run->controller = (int)ip.p.topology;
     run->fs = ip.fs;
+    run->substeps = (int)ip.substeps;
     run->arith = ip.arith;
 }

@@ -30,6 +30,7 @@ typedef struct pfd_settings {
     int read_only;
     int param_lock;      /**< locked at start, and the lock register is fixed */
     int rt_priority;     /**< SCHED_FIFO priority; 0 = do not try */
+    int loop_budget;     /**< % of one core the loop's measured load may reach */
     int mlock;
     int byte_timeout_ms;
     int idle_timeout_s;
@@ -52,6 +53,7 @@ typedef struct pfd_run {
     int instances;
     int controller;      /**< pf_topology */
     double fs;
+    int substeps;        /**< 0 = the rule's (pfd_rate_substeps) */
     int arith;           /**< enum pfd_arith */
     double run_for;      /**< s; 0 = until a signal */
     int verbose;

@@ -18,6 +18,7 @@ static void default_instances(pfd_config *c, const pfd_run *run)
         pfd_config_inst_default(&c->inst[i], i + 1);
         pf_params_default(&c->inst[i].ip.p, (pf_topology)run->controller);
         c->inst[i].ip.fs = run->fs;
+        c->inst[i].ip.substeps = (unsigned)run->substeps;
         c->inst[i].ip.arith = run->arith;
     }
 }

@@ -93,6 +93,7 @@ typedef struct pfd_inst {
     uint64_t lock_holder;   /* the connection (pfd_who.id) holding param_lock;
                                0: none, which with --param-lock is everyone */
     pfd_iparams committed;
+    pfd_rate rate;          /* how the committed set runs (also under commit_mx) */
     uint16_t commit_result, err_addr, err_param;
     /* Generation of the last set handed to the loop; every accepted commit
      * adds one, so it is also the commit count. The status compares it
@@ -111,7 +112,11 @@ enum {
     PFD_COMMIT_FAILED = 4,  /**< any other library error */
     PFD_COMMIT_UNSAVED = 5, /**< applied and running, but the config file
                                  could not be written */
-    PFD_COMMIT_UNSTABLE = 6 /**< the set's sampled loop would be unstable */
+    PFD_COMMIT_UNSTABLE = 6, /**< the set's sampled loop would be unstable:
+                                  err_addr names the culprit */
+    PFD_COMMIT_LOAD = 7     /**< the loop could not sustain the set within
+                                 loop_budget: err_addr names substeps (if
+                                 the set runs more than one) or fs */
 };
 
 /** Period jitter over every sample of every instance, in 1 us bins; the
@@ -137,6 +142,8 @@ typedef struct pfd_daemon {
     pthread_mutex_t commit_mx;
     pf_ctrl_design *scratch; /* design scratch, under commit_mx */
     struct pf_ctrl_check_work *check; /* stability check scratch, under commit_mx */
+    double wake_ns;          /* CPU cost of one loop wake-up, measured at start
+                                (pfd_rate_measure_wakeup); 0 = not measured */
     int stop;                /* atomic */
     /* lockstep hand-shake */
     pthread_mutex_t tick_mx;

@@ -7,13 +7,14 @@ addresses and counts with correct framing; wrong MBAP lengths and protocol
 ids; truncated frames; garbage; huge counts; oversized frames) over their
 own connections, reconnecting whenever the daemon drops them. One process
 sends valid frames byte by byte, slowly, and sometimes stops mid-frame. A
-separate, well-behaved client reads unit 1 every 20 ms and records each
-response time and the loop's sample counter.
+separate, well-behaved client reads unit 1 every 20 ms, checks each
+answer, and records its response time and the loop's sample counter.
 
     fuzz_modbus.py --port P [--adus 100000] [--workers 4] [--min-seconds 10]
 
-Prints one JSON line: adus sent, reconnects, monitor requests, worst and
-p99 response time (ms), failures, and sample counters over time.
+Prints one JSON line: adus sent, reconnects, monitor requests, failures
+(wrong or missing answers), worst and p99 response time (ms), and sample
+counters over time.
 """
 
 import argparse
@@ -154,34 +155,61 @@ def slow_worker(port, seed, deadline, out):
     out.put(("slow", sent, answered))
 
 
-def monitor(port, stop_at, out):
-    """The well-behaved client: FC04 read of 30 input registers, unit 1."""
-    lat, samples, failures = [], [], 0
+MONITOR_REGS = 30
+
+
+def recv_exact(s, n):
+    buf = b""
+    while len(buf) < n:
+        chunk = s.recv(n - len(buf))
+        if not chunk:
+            raise OSError("closed")
+        buf += chunk
+    return buf
+
+
+def monitor_answer(s, tid):
+    """Read one answer to the monitor's request @p tid and check that it
+    is that request's answer: the same transaction id, protocol 0, unit 1,
+    FC04 (not an exception), and a byte count of MONITOR_REGS registers.
+    @return the sample counter (input registers 20-21), or a string saying
+    what was wrong."""
+    head = recv_exact(s, 7)
+    rtid, proto, length, unit = struct.unpack(">HHHB", head)
+    body = recv_exact(s, length - 1) if 2 <= length <= 254 else b""
+    want = 2 + 2 * MONITOR_REGS
+    if (rtid, proto, length, unit) != (tid, 0, want + 1, 1) or body[:2] != bytes([4, want - 2]):
+        return f"wrong answer: tid {rtid}/{tid} proto {proto} len {length} unit {unit} " \
+               f"pdu {body[:4].hex()}"
+    return struct.unpack(">I", body[2 + 40:2 + 44])[0]
+
+
+def monitor(port, stop_at, timeout, out):
+    """The well-behaved client: FC04 read of 30 input registers, unit 1,
+    every 20 ms. Each answer is checked (monitor_answer); one that is
+    wrong, or does not come within @p timeout s (a hang, not slowness),
+    is a failure. The response times are recorded, for printing only."""
+    lat, samples, failures = [], [], []
     s = connect(port)
-    s.settimeout(5)
+    s.settimeout(timeout)
     tid = 0
-    req = lambda t: mbap(t, 1, struct.pack(">BHH", 4, 0, 30))  # noqa: E731
+    req = lambda t: mbap(t, 1, struct.pack(">BHH", 4, 0, MONITOR_REGS))  # noqa: E731
     while time.time() < stop_at.value:
         tid = (tid + 1) & 0xFFFF
         t0 = time.perf_counter()
         try:
             s.sendall(req(tid))
-            buf = b""
-            while len(buf) < 9 + 60:
-                chunk = s.recv(512)
-                if not chunk:
-                    raise OSError("closed")
-                buf += chunk
-            dt = time.perf_counter() - t0
-            lat.append(dt)
-            (n,) = struct.unpack(">I", buf[9 + 40:9 + 44])
+            n = monitor_answer(s, tid)
+            if isinstance(n, str):
+                raise OSError(n)
+            lat.append(time.perf_counter() - t0)
             samples.append((time.time(), n))
-        except OSError:
-            failures += 1
+        except OSError as ex:
+            failures.append(repr(ex))
             s.close()
             try:
                 s = connect(port)
-                s.settimeout(5)
+                s.settimeout(timeout)
             except OSError:
                 break
         time.sleep(0.02)
@@ -189,13 +217,14 @@ def monitor(port, stop_at, out):
     out.put(("monitor", lat, samples, failures))
 
 
-def run(port, adus=100000, workers=4, min_seconds=10, max_seconds=300):
-    """Fuzz until @p adus are sent and @p min_seconds have passed."""
+def run(port, adus=100000, workers=4, min_seconds=10, max_seconds=300, hang_seconds=5):
+    """Fuzz until @p adus are sent and @p min_seconds have passed; the
+    monitor calls an answer that takes @p hang_seconds a failure."""
     t0 = time.time()
     min_end, deadline = t0 + min_seconds, t0 + max_seconds
     out = mp.Queue()
     stop_at = mp.Value("d", deadline + 5)
-    mon = mp.Process(target=monitor, args=(port, stop_at, out))
+    mon = mp.Process(target=monitor, args=(port, stop_at, hang_seconds, out))
     mon.start()
     time.sleep(0.3)
     procs = [mp.Process(target=fuzz_worker,
@@ -224,7 +253,8 @@ def run(port, adus=100000, workers=4, min_seconds=10, max_seconds=300):
         "fuzz_seconds": round(fuzz_seconds, 2),
         "slow_frames": slow[1], "slow_answered": slow[2],
         "monitor_requests": len(lat),
-        "monitor_failures": failures,
+        "monitor_failures": len(failures),
+        "monitor_failure_reasons": failures[:5],
         "worst_ms": round(1000 * lat_sorted[-1], 3) if lat else None,
         "p99_ms": round(1000 * lat_sorted[int(0.99 * (len(lat) - 1))], 3) if lat else None,
         "samples": samples,

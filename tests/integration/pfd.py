@@ -6,6 +6,7 @@ generated register map (so the tests use exactly what docs/ documents)."""
 import os
 import re
 import signal
+import struct
 import subprocess
 import time
 from pathlib import Path
@@ -17,6 +18,10 @@ DAEMON = os.environ.get("PNEUFRACD", str(ROOT / "build/port/posix/pneufracd"))
 CLI = os.environ.get("PNEUFRAC_CLI", str(ROOT / "build/tools/pneufrac"))
 # Everything a test waits for is bounded; sanitizer builds are slower.
 SLOW = float(os.environ.get("PNEUFRAC_TEST_SLOWDOWN", "1"))
+# An answer that takes this long means the daemon hangs. Tests check that
+# every request is answered, and correctly; how fast is measured (printed
+# here, and in bench/), never asserted: the test machine may be loaded.
+HANG_S = 5 * SLOW
 
 def wait_until(cond, seconds, what, step=0.01, between=None):
     """Poll cond() until it holds, for at most @seconds (times SLOW);
@@ -50,6 +55,15 @@ def _load_regmap():
 
 
 REG = _load_regmap()
+
+
+def _map_size(space):
+    return max(a + (2 if t in ("f32", "u32") else 1) for sp, a, t in REG.values() if sp == space)
+
+
+# Registers in each space: every address below is mapped.
+HOLD_SIZE = _map_size("hold")
+INPUT_SIZE = _map_size("input")
 
 
 class Daemon:
@@ -195,12 +209,34 @@ def simulate(*args):
     return [dict(zip(head, row.split(","))) for row in out[1:]]
 
 
+def simulate_exchanges(fs, k, *args, inputs=None, tmp_path=None):
+    """What the daemon's exchanges at rate fs with k substeps give:
+    `pneufrac simulate` at the internal rate fs*k, each input held for k
+    samples, read at every k-th row (docs/pneufracd.md, "Substeps").
+    inputs: e at each exchange (default: a unit step), written to a CSV in
+    tmp_path at the internal rate."""
+    fi = f"{fs * k:.17g}"
+    if inputs is not None:
+        path = Path(tmp_path) / f"held-{time.monotonic_ns()}.csv"
+        path.write_text("t,e\n" + "".join(f"{(n * k + j) / (fs * k):.17g},{e!r}\n"
+                                           for n, e in enumerate(inputs) for j in range(k)))
+        args = (*args, "--input", str(path))
+    return simulate("--fs", fi, *args)[::k]
+
+
+def f32(x):
+    """x rounded to binary32, as a register holds it."""
+    return struct.unpack(">f", struct.pack(">f", float(x)))[0]
+
+
 class Raw:
     """A bare Modbus TCP socket, for requests pymodbus refuses to build."""
 
-    def __init__(self, port, timeout=5):
+    def __init__(self, port, timeout=None):
+        """@p timeout: s (times SLOW); None: HANG_S."""
         import socket
-        self.s = socket.create_connection(("127.0.0.1", port), timeout=timeout * SLOW)
+        self.s = socket.create_connection(("127.0.0.1", port),
+                                          timeout=HANG_S if timeout is None else timeout * SLOW)
         self.tid = 0
 
     def close(self):

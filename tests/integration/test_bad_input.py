@@ -8,20 +8,21 @@ import struct
 
 import pytest
 
-from pfd import REG, Raw, Regs, exception_code, simulate, wait_until
+from pfd import (HOLD_SIZE, INPUT_SIZE, REG, Raw, Regs, exception_code, simulate_exchanges,
+                 wait_until)
 
 
 def hold_image(c, unit=1):
     regs = []
-    for start in range(0, 66, 33):
-        rr = c.read_holding_registers(start, count=33, device_id=unit)
+    for start in range(0, HOLD_SIZE, 100):
+        rr = c.read_holding_registers(start, count=min(100, HOLD_SIZE - start), device_id=unit)
         assert not rr.isError()
         regs += rr.registers
     return regs
 
 
 def committed_image(c, unit=1):
-    rr = c.read_input_registers(34, count=44, device_id=unit)
+    rr = c.read_input_registers(34, count=INPUT_SIZE - 34, device_id=unit)
     assert not rr.isError()
     return rr.registers
 
@@ -68,11 +69,11 @@ def lockstep(daemon):
 
 BAD = [
     # (what, unit, pdu, exception)
-    ("read past the holding map", 1, fc03(66, 1), 2),
-    ("read across the end of the holding map", 1, fc03(60, 10), 2),
-    ("read past the input map", 1, fc04(78, 1), 2),
+    ("read past the holding map", 1, fc03(HOLD_SIZE, 1), 2),
+    ("read across the end of the holding map", 1, fc03(HOLD_SIZE - 6, 10), 2),
+    ("read past the input map", 1, fc04(INPUT_SIZE, 1), 2),
     ("read far away", 1, fc03(40000, 4), 2),
-    ("write an unknown address", 1, fc06(66, 1), 2),
+    ("write an unknown address", 1, fc06(HOLD_SIZE, 1), 2),
     ("write a read-only holding register", 1, fc06(REG["hold_status"][1], 1), 2),
     ("write the low half of a float", 1, fc06(REG["e"][1] + 1, 0x3F80), 2),
     ("FC16 ending in half a float", 1, fc16(REG["e"][1], [0x3F80]), 2),
@@ -102,6 +103,7 @@ BAD = [
     ("q -0.1", 1, fc16(REG["q"][1], f32(-0.1)), 3),
     ("fs 0", 1, fc16(REG["fs"][1], f32(0.0)), 3),
     ("fs 1e6", 1, fc16(REG["fs"][1], f32(1e6)), 3),
+    ("substeps 10001", 1, fc06(REG["substeps"][1], 10001), 3),
     ("tau negative", 1, fc16(REG["tau"][1], f32(-1.0)), 3),
     ("valid e with an invalid mode, one FC16", 1,
      fc16(REG["e"][1], f32(0.5) + [0, 0, 0, 0, 0, 0, 0, 5]), 3),
@@ -213,7 +215,7 @@ def test_refused_commit_keeps_old_parameters_running(lockstep):
     running Example 6 as if nothing had happened."""
     _, c, raw = lockstep
     r = Regs(c)
-    ref = simulate("--config", "dd", "--fs", "1000", "--duration", "0.2")
+    ref = simulate_exchanges(1000, r.read("substeps_used"), "--config", "dd", "--duration", "0.2")
     r.write("e", 1.0)
     pcs = []
     for _ in range(100):

@@ -1,50 +1,86 @@
 # SPDX-License-Identifier: MIT
-"""Lockstep (--clock external) with pymodbus: the p_c sequence of a step
-equals `pneufrac simulate` for the same configuration, bit for bit in Q15
-and to 1e-6 in float."""
+"""Lockstep (--clock external) with pymodbus: the p_c sequence equals
+`pneufrac simulate` at the instance's internal rate (fs x substeps, the
+input held for the substeps, every substeps-th row), bit for bit in float
+and in Q15."""
 
 import json
-import struct
 import subprocess
 
 import pytest
 
-from pfd import CLI, Regs, simulate
+from pfd import CLI, Regs, f32, simulate_exchanges
 
 FS = 1000
 DURATION = 0.3  # 301 samples
 
 
-def run_step(r, n):
-    """e = 1 from sample 0; read p_c after every tick."""
-    r.write("e", 1.0)
+def run_exchanges(r, inputs):
+    """Write e, tick once, read p_c: one exchange per input."""
     pc, pcq = [], []
-    for _ in range(n):
+    for e in inputs:
+        r.write("e", e)
         r.tick(1)
         pc.append(r.read("pc"))
         pcq.append(r.read("pc_i16"))
     return pc, pcq
 
 
-def assert_matches_simulate(r, ref, arith):
-    """Step the daemon through len(ref) samples: Q15 must equal
-    `pneufrac simulate` bit for bit, float to 1e-6."""
-    pc, pcq = run_step(r, len(ref))
+def assert_matches(pc, pcq, ref, arith):
+    """Bit for bit: Q15 the raw output, float the binary32 value."""
+    assert len(pc) == len(ref)
     if arith == "q15":
         assert pcq == [int(row["pc_q15"]) for row in ref]
     else:
-        worst = max(abs(a - float(row["pc"])) for a, row in zip(pc, ref))
-        assert worst <= 1e-6
+        assert pc == [f32(row["pc"]) for row in ref]
+
+
+def assert_matches_simulate(r, ref, arith):
+    """A unit step through len(ref) exchanges."""
+    pc, pcq = run_exchanges(r, [1.0] * len(ref))
+    assert_matches(pc, pcq, ref, arith)
 
 
 @pytest.mark.parametrize("arith", ["float", "q15"])
 def test_default_example6_matches_simulate(daemon, arith):
+    """The defaults: 1 kHz exchanges, 20 substeps (the relay's tau = 1 ms
+    asks for 20 kHz inside)."""
     d = daemon("--clock", "external", "--arith", arith)
     r = Regs(d.client())
+    assert r.read("committed_substeps") == 0
+    k = r.read("substeps_used")
+    assert k == 20 and r.read("internal_fs") == 20000.0
+    assert r.read("step_cost_ns") > 0
     extra = ["--arith", "q15", "--in-fs", "1", "--out-fs", "0.01"] if arith == "q15" else ["--arith", "float"]
-    ref = simulate("--config", "dd", "--fs", str(FS), "--duration", str(DURATION), *extra)
+    ref = simulate_exchanges(FS, k, "--config", "dd", "--duration", str(DURATION), *extra)
     assert_matches_simulate(r, ref, arith)
     assert r.read("samples") == len(ref)
+
+
+@pytest.mark.parametrize("arith", ["float", "q15"])
+@pytest.mark.parametrize("fs,substeps", [(1500.0, 7), (200.0, 1), (100.0, 0)])
+def test_substeps_with_a_changing_input(daemon, tmp_path, arith, fs, substeps):
+    """A committed exchange rate and substeps (0: the rule's, 200 at
+    100 Hz), and an input that changes at every exchange, held in
+    between."""
+    d = daemon("--clock", "external")
+    r = Regs(d.client())
+    resp = r.write_many([("arith", 1 if arith == "q15" else 0), ("fs", fs)])
+    assert not resp.isError(), resp
+    r.write("substeps", substeps)
+    r.write("commit", 1)
+    r.tick(1)  # switched in at rest
+    k = r.read("substeps_used")
+    assert r.read("committed_substeps") == substeps
+    assert k == (substeps or 200)
+    assert r.read("internal_fs") == fs * k
+    inputs = [f32(0.8 if n % 9 < 4 else -0.3 + 0.01 * n) for n in range(120)]
+    extra = (["--arith", "q15", "--in-fs", "1", "--out-fs", "0.01"]
+             if arith == "q15" else ["--arith", "float"])
+    ref = simulate_exchanges(fs, k, "--config", "dd", "--duration", repr((len(inputs) - 1) / fs),
+                             *extra, inputs=inputs, tmp_path=tmp_path)
+    pc, pcq = run_exchanges(r, inputs)
+    assert_matches(pc, pcq, ref, arith)
 
 
 def paper_defaults(config):
@@ -68,7 +104,7 @@ def test_committed_configuration_matches_simulate(daemon, config, arith, out_fs)
     # same (rounded) values.
     sets = []
     for name, value in paper_defaults(config).items():
-        as_f32 = struct.unpack(">f", struct.pack(">f", value))[0]
+        as_f32 = f32(value)
         r.write(name, as_f32)
         sets += ["--set", f"{name}={as_f32!r}"]
     r.write("commit", 1)
@@ -76,7 +112,8 @@ def test_committed_configuration_matches_simulate(daemon, config, arith, out_fs)
     r.tick(1)  # switched in at this sample, still at rest (e = 0)
     extra = (["--arith", "q15", "--in-fs", "1", "--out-fs", repr(out_fs)]
              if arith == "q15" else ["--arith", "float"])
-    ref = simulate("--config", config, "--fs", "2000", "--duration", "0.15", *sets, *extra)
+    ref = simulate_exchanges(2000, r.read("substeps_used"), "--config", config,
+                             "--duration", "0.15", *sets, *extra)
     assert_matches_simulate(r, ref, arith)
 
 
@@ -92,7 +129,7 @@ def test_refused_commit_keeps_the_pending_one(daemon, arith):
     assert not resp.isError(), resp
     sets = []
     for name, value in paper_defaults("pid").items():
-        as_f32 = struct.unpack(">f", struct.pack(">f", value))[0]
+        as_f32 = f32(value)
         r.write(name, as_f32)
         sets += ["--set", f"{name}={as_f32!r}"]
     r.write("commit", 1)  # A: pending until the next tick
@@ -107,7 +144,8 @@ def test_refused_commit_keeps_the_pending_one(daemon, arith):
     assert not r.read("status") & (1 << 8)
     extra = (["--arith", "q15", "--in-fs", "1", "--out-fs", "16.0"]
              if arith == "q15" else ["--arith", "float"])
-    ref = simulate("--config", "pid", "--fs", "2000", "--duration", "0.15", *sets, *extra)
+    ref = simulate_exchanges(2000, r.read("substeps_used"), "--config", "pid",
+                             "--duration", "0.15", *sets, *extra)
     assert_matches_simulate(r, ref, arith)
 
 
@@ -129,4 +167,4 @@ def test_replaced_pending_commit_clears_bit8(daemon):
     assert not r.read("status") & (1 << 8)
     r.tick(100)
     assert not r.read("status") & (1 << 8)
-    assert r.read("committed_k2") == struct.unpack(">f", struct.pack(">f", 0.3))[0]
+    assert r.read("committed_k2") == f32(0.3)

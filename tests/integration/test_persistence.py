@@ -48,11 +48,13 @@ def test_commit_persists_and_reloads(daemon, conf):
     r = Regs(d.client())
     r.write("q", 0.8)
     r.write("RC", 0.02)
+    r.write("substeps", 7)
     r.write("commit", 1)
     r.write("watchdog_ms", 250)
     r.write("failsafe_out", 0.003)
     text = conf.read_text()
     assert re.search(r"^q = 0\.80000001192092896$", text, re.M), text
+    assert re.search(r"^substeps = 7$", text, re.M), text
     assert re.search(r"^checksum = [0-9a-f]{8}$", text.splitlines()[-1])
     assert d.stop() == 0  # clean stop, and the live settings persisted
     assert re.search(r"^watchdog_ms = 250$", conf.read_text(), re.M)
@@ -61,6 +63,7 @@ def test_commit_persists_and_reloads(daemon, conf):
     r2 = Regs(d2.client())
     assert r2.read("committed_q") == f32(0.8)
     assert r2.read("committed_RC") == f32(0.02)
+    assert r2.read("committed_substeps") == 7 and r2.read("substeps_used") == 7
     assert r2.read("q") == f32(0.8)  # staged starts as committed
     assert r2.read("watchdog_ms") == 250
     assert r2.read("failsafe_out") == f32(0.003)
@@ -152,16 +155,16 @@ def test_set_that_cannot_be_designed(daemon, conf):
 
 def test_fallback_keeps_security_and_instances(daemon, conf):
     """F1: a file with two instances and security settings in [daemon]
-    (param_lock, max_clients, allow) is truncated. The fallback run must
-    not weaken any of them: it refuses every write (read-only, locked). It
-    never rewrites the file, neither on a write attempt nor at shutdown,
-    so once the file is repaired both instances and every setting are
-    back."""
+    (param_lock, max_clients, allow, loop_budget) is truncated. The
+    fallback run must not weaken any of them: it refuses every write
+    (read-only, locked). It never rewrites the file, neither on a write
+    attempt nor at shutdown, so once the file is repaired both instances
+    and every setting are back."""
     text = subprocess.run([DAEMON, "--print-default-config", "--instances", "2"], check=True,
                           capture_output=True, text=True).stdout
     head, rest = text.split("\n[instance 1]", 1)
     conf.write_text(head + "\n[daemon]\nparam_lock = yes\nmax_clients = 4\n"
-                    "allow = 127.0.0.1/32\n\n[instance 1]" + rest)
+                    "allow = 127.0.0.1/32\nloop_budget = 30\n\n[instance 1]" + rest)
     p = subprocess.run([DAEMON, "--seal-config", str(conf)], capture_output=True, text=True)
     assert p.returncode == 0, p.stderr
     good = conf.read_bytes()
@@ -173,17 +176,22 @@ def test_fallback_keeps_security_and_instances(daemon, conf):
     st = r.read("status")
     assert st & (1 << 5) and st & (1 << 4), bin(st)  # read-only, locked
     for name, value in [("param_lock", 0), ("mode", 1), ("failsafe_out", -1e9),
-                        ("watchdog_ms", 1), ("q", 0.5), ("commit", 1), ("command", 2),
-                        ("command", 3)]:
+                        ("watchdog_ms", 1), ("q", 0.5), ("substeps", 5), ("commit", 1),
+                        ("command", 2), ("command", 3)]:
         resp = r.write_raw(name, value)
         assert resp.isError() and resp.exception_code == 1, (name, resp)
     assert r.read("mode") == 0 and r.read("param_lock") == 1
+    assert r.read("committed_substeps") == 0
+    # The loop budget is a security setting too: not taken from the file,
+    # the default (docs/pneufracd.md, "Loop budget").
+    assert re.search(r"msg=loop-load .*budget_pct=50 ", d.log()), d.log()
     assert d.stop() == 0
     assert conf.read_bytes() == corrupt  # not rewritten at shutdown either
 
     conf.write_bytes(good)  # repaired
     d2 = daemon("--config", str(conf))
     assert "max_clients=4" in d2.log() and 'allow="127.0.0.1/32"' in d2.log()
+    assert re.search(r"msg=loop-load .*budget_pct=30 ", d2.log()), d2.log()
     c = d2.client()
     for unit in (1, 2):
         r2 = Regs(c, unit)

@@ -152,19 +152,23 @@ def test_roles_per_function_and_register(daemon, pki):
     assert exc(operator.write_register(REG["mode"][1], 1, device_id=1)) is None
     assert exc(operator.write_registers(REG["manual_out"][1], f32(0.001), device_id=1)) is None
     for name, value in [("failsafe_out", f32(-1e9)), ("watchdog_ms", [1]),
-                        ("param_lock", [1]), ("q", f32(0.5)), ("commit", [1]),
-                        ("command", [2])]:
+                        ("param_lock", [1]), ("q", f32(0.5)), ("substeps", [5]),
+                        ("commit", [1]), ("command", [2])]:
         assert exc(operator.write_registers(REG[name][1], value, device_id=1)) == 1, name
     # engineer: everything, and a staged commit over TLS
     assert exc(engineer.write_registers(REG["q"][1], f32(0.8), device_id=1)) is None
+    assert exc(engineer.write_register(REG["substeps"][1], 5, device_id=1)) is None
     assert exc(engineer.write_register(REG["commit"][1], 1, device_id=1)) is None
     assert Regs(engineer).read("committed_q") == pytest.approx(0.8, rel=1e-7)
+    assert Regs(engineer).read("committed_substeps") == 5
     assert Regs(viewer).read("mode") == 1
     log = d.log()
     assert re.search(r"msg=write peer=127\.0\.0\.1:\d+ role=operator unit=1 reg=mode old=0 "
                      r"new=1 result=ok", log), log
     assert re.search(r"msg=write peer=127\.0\.0\.1:\d+ role=engineer unit=1 reg=q old=0\.9\d* "
                      r"new=0\.8\d* result=committed", log), log
+    assert re.search(r"msg=write peer=127\.0\.0\.1:\d+ role=engineer unit=1 reg=substeps old=0 "
+                     r"new=5 result=committed", log), log
     assert re.search(r"msg=write-refused peer=\S+ role=viewer unit=1 .*reason=access", log)
 
 

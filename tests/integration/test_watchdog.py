@@ -3,15 +3,9 @@
 goes to failsafe_out and status bit 1 is set; the next write recovers.
 In lockstep the timeout is counted in samples, so the trip is exact."""
 
-import struct
-
-from pfd import Regs, simulate, wait_until
+from pfd import Regs, f32, simulate_exchanges, wait_until
 
 TRIPPED = 1 << 1
-
-
-def f32(x):
-    return struct.unpack(">f", struct.pack(">f", x))[0]
 
 
 def commit_bump_tau(r, tau):
@@ -26,7 +20,7 @@ def test_trip_and_recovery_exact(daemon):
     d = daemon("--clock", "external")
     r = Regs(d.client())
     commit_bump_tau(r, 0.0)
-    ref = simulate("--config", "dd", "--fs", "1000", "--duration", "0.2")
+    ref = simulate_exchanges(1000, r.read("substeps_used"), "--config", "dd", "--duration", "0.2")
     r.write("failsafe_out", 0.005)
     r.write("watchdog_ms", 10)
     r.write("e", 1.0)  # refresh

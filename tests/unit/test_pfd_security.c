@@ -228,7 +228,8 @@ static void fallback_settings(void **state)
         static const char *const keys[] = {
             "max_clients", "allow", "read_only", "param_lock", "byte_timeout_ms",
             "idle_timeout_s", "max_clients_per_addr", "first_request_timeout_ms",
-            "plain_access", "tls_listen", "tls_cert", "tls_key", "tls_ca", "tls_roles"};
+            "plain_access", "tls_listen", "tls_cert", "tls_key", "tls_ca", "tls_roles",
+            "loop_budget"};
         for (i = 0; i < sizeof keys / sizeof keys[0]; i++)
             assert_true(pfd_setting_by_key(keys[i])->flags & PFD_SF_SECURE);
     }

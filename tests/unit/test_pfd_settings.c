@@ -27,7 +27,8 @@ static void rows_are_complete(void **state)
 {
     unsigned i, j;
     (void)state;
-    assert_true(pfd_settings_count > 0 && pfd_settings_count <= 32);
+    /* One bit each in a pfd_mask (pfd_setting_bit). */
+    assert_true(pfd_settings_count > 0 && pfd_settings_count <= 8 * sizeof(pfd_mask));
     for (i = 0; i < pfd_settings_count; i++) {
         const pfd_setting *r = &pfd_settings_table[i];
         const size_t whole = r->group == PFD_SG_DAEMON ? sizeof(pfd_settings) : sizeof(pfd_run);
