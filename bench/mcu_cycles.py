@@ -3,14 +3,17 @@
 """Cycles per sample of the controllers on Cortex-M0+ and Cortex-M4,
 from the cross-built library run on an emulated core (tools/mcuemu).
 
-Each figure comes from real calls of pf_ctrl_step_q15 / pf_ctrl_step_f32 in
-a linked image: the executed instructions are counted block by block and
-priced with the Arm TRMs' instruction timings at zero wait states
+Each figure comes from real calls of pf_ctrl_step_q15 / pf_ctrl_step_f32
+(the full controller) and pf_bank_step_q15 / pf_bank_step_f32 (its
+reduced-order bank, made by pneufrac-reduce) in a linked image: the
+executed instructions are counted block by block and priced with the Arm
+TRMs' instruction timings at zero wait states
 (tools/mcuemu/mcuemu/timing.py). Per configuration, the design at the
 library's defaults (20 kHz, N = 8; dd is the paper's Example 6) and the
 same at N = 1 give the cost of one section (the slope) and the fixed part
-(the intercept). Writes a Markdown section to stdout (bench/run.sh puts it
-into docs/benchmarks.md).
+(the intercept); for the banks, Example 6's at the default tolerance and at
+a loose one (fewer states) do the same. Writes a Markdown section to stdout
+(bench/run.sh puts it into docs/benchmarks.md).
 """
 from __future__ import annotations
 
@@ -33,6 +36,9 @@ CORE_NAME = {"m0plus": "Cortex-M0+", "m4": "Cortex-M4"}
 # The fewest sections that keep Example 6 within 0.1 % of the exact
 # response at 20 kHz (bench_accuracy --orders: 0.035 %, N = 4 gives 0.12 %).
 EX6_ORDER = 5
+# A bank of Example 6 with fewer states than the default's (a loose
+# tolerance), for the cost of one state.
+LOOSE_TOL = "1e-2"
 
 
 def designs(core: str) -> list[Design]:
@@ -42,15 +48,29 @@ def designs(core: str) -> list[Design]:
             for order in (None, 1) + ((EX6_ORDER,) if c == "dd" else ()):
                 ds.append(Design(f"b_{c}_{arith}_{order or 'def'}", c, arith,
                                  out_fs=OUT_FS[c], order=order))
+            ds.append(Design(f"r_{c}_{arith}", c, arith, out_fs=OUT_FS[c], kind="bank"))
+        ds.append(Design(f"r_dd_{arith}_loose", "dd", arith, out_fs=OUT_FS["dd"], kind="bank",
+                         reduce=("--tol", LOOSE_TOL)))
     return ds
 
 
 def sections(header: Path) -> int:
-    return sum(int(n) for n in re.findall(r"\.n_sec = (\d+)", header.read_text()))
+    """Sections of a full controller's header, states of a bank's."""
+    text = header.read_text()
+    if "pf_bank_coeffs" in text:
+        return int(re.search(r"\.n_sec = (\d+)", text)[1]) + \
+            2 * int(re.search(r"\.n_pair = (\d+)", text)[1])
+    return sum(int(n) for n in re.findall(r"\.n_sec = (\d+)", text))
+
+
+def key(d: Design):
+    """results[...] key of a design: (kind, core, arith, opt, config, variant)."""
+    variant = d.order if d.kind == "ctrl" else ("loose" if d.reduce else None)
+    return d.kind, d.config, variant
 
 
 def measure(samples: int, work: Path) -> dict:
-    """results[(core, arith, opt, config, order)] = dict of figures."""
+    """results[(core, arith, opt) + key(design)] = dict of figures."""
     res = {}
     for core in ("m0plus", "m4"):
         ds = designs(core)
@@ -59,18 +79,19 @@ def measure(samples: int, work: Path) -> dict:
             out = work / f"{core}{opt}"
             runner = TargetRunner(Target(str(link_target(core, opt, ds, out)), core))
             for arith in ("q15", "float"):
-                mine = [d for d in ds if d.arith == arith]
-                for index, d in enumerate(mine):
-                    costs = step_costs(runner, arith, index, samples)
-                    n = len(costs)
-                    res[(core, arith, opt, d.config, d.order)] = {
-                        "sections": sections(out / f"{d.name}.h"),
-                        "instr": sum(c.instructions for c in costs) / n,
-                        "cycles": sum(c.cycles for c in costs) / n,
-                        "max_cycles": max(c.cycles for c in costs),
-                        "by_function": _merge(c.by_function for c in costs),
-                        "samples": n,
-                    }
+                for kind in ("ctrl", "bank"):
+                    mine = [d for d in ds if (d.arith, d.kind) == (arith, kind)]
+                    for index, d in enumerate(mine):
+                        costs = step_costs(runner, arith, index, samples, kind)
+                        n = len(costs)
+                        res[(core, arith, opt) + key(d)] = {
+                            "sections": sections(out / f"{d.name}.h"),
+                            "instr": sum(c.instructions for c in costs) / n,
+                            "cycles": sum(c.cycles for c in costs) / n,
+                            "max_cycles": max(c.cycles for c in costs),
+                            "by_function": _merge(c.by_function for c in costs),
+                            "samples": n,
+                        }
     return res
 
 
@@ -86,14 +107,25 @@ def _merge(parts) -> dict:
     return {k: (i / n, c / n) for k, (i, c) in total.items()}
 
 
-def split(res, core, arith, opt, config):
-    """(per section, fixed) cycles from the default design and N = 1."""
-    a, b = res[(core, arith, opt, config, None)], res[(core, arith, opt, config, 1)]
+def _arith(a: str) -> str:
+    return "Q15" if a == "q15" else "float"
+
+
+def _rates(cycles: float) -> str:
+    return "".join(f"| {m * 1e3 / cycles:.1f} kHz " for m in CLOCKS_MHZ)
+
+
+def split(res, core, arith, opt, kind, config, small):
+    """(per section or state, fixed) cycles from the default design and a
+    smaller one (variant @small) of the same configuration."""
+    a = res[(core, arith, opt, kind, config, None)]
+    b = res[(core, arith, opt, kind, config, small)]
     per = (a["cycles"] - b["cycles"]) / (a["sections"] - b["sections"])
     return per, a["cycles"] - per * a["sections"]
 
 
-def table(res, samples: int) -> str:
+def table(res) -> str:
+    """The full controller, every configuration and build."""
     lines = [
         "| core | arithmetic | build | config | sections | instructions/sample "
         "| cycles/sample (mean / max) | cycles per section | fixed cycles "
@@ -103,46 +135,70 @@ def table(res, samples: int) -> str:
     for core, arith in BUILDS:
         for opt in OPTS:
             for c in CONFIGS:
-                r = res[(core, arith, opt, c, None)]
-                per, fixed = split(res, core, arith, opt, c)
-                rates = "".join(f"| {m * 1e3 / r['max_cycles']:.1f} kHz " for m in CLOCKS_MHZ)
+                r = res[(core, arith, opt, "ctrl", c, None)]
+                per, fixed = split(res, core, arith, opt, "ctrl", c, 1)
                 lines.append(
-                    f"| {CORE_NAME[core]} | {'Q15' if arith == 'q15' else 'float'} | {opt} | {c} "
+                    f"| {CORE_NAME[core]} | {_arith(arith)} | {opt} | {c} "
                     f"| {r['sections']} | {r['instr']:,.0f} | {r['cycles']:,.0f} / {r['max_cycles']:,} "
-                    f"| {per:.1f} | {fixed:,.0f} {rates}|")
+                    f"| {per:.1f} | {fixed:,.0f} {_rates(r['max_cycles'])}|")
     return "\n".join(lines)
 
 
-def reduced(res) -> str:
-    """Example 6 at the default order and at EX6_ORDER, every build."""
-    lines = ["| core | arithmetic | build | N = 8 (51 sections) | "
-             f"N = {EX6_ORDER} ({3 * (2 * EX6_ORDER + 1)} sections) "
-             + "".join(f"| max rate at {m} MHz, N = {EX6_ORDER} " for m in CLOCKS_MHZ) + "|",
-             "|---" * (5 + len(CLOCKS_MHZ)) + "|"]
+def bank_table(res) -> str:
+    """The reduced-order banks, every configuration and build; the cost of
+    a state and the fixed part from Example 6's banks."""
+    lines = [
+        "| core | arithmetic | build | config | states | instructions/sample "
+        "| cycles/sample (mean / max) | cycles per state (dd) | fixed cycles (dd) "
+        + "".join(f"| max rate at {m} MHz " for m in CLOCKS_MHZ) + "|",
+        "|---" * (9 + len(CLOCKS_MHZ)) + "|",
+    ]
     for core, arith in BUILDS:
         for opt in OPTS:
-            a, b = res[(core, arith, opt, "dd", None)], res[(core, arith, opt, "dd", EX6_ORDER)]
-            rates = "".join(f"| {m * 1e3 / b['max_cycles']:.1f} kHz " for m in CLOCKS_MHZ)
-            lines.append(f"| {CORE_NAME[core]} | {'Q15' if arith == 'q15' else 'float'} | {opt} "
-                         f"| {a['max_cycles']:,} | {b['max_cycles']:,} {rates}|")
+            per, fixed = split(res, core, arith, opt, "bank", "dd", "loose")
+            for c in CONFIGS:
+                r = res[(core, arith, opt, "bank", c, None)]
+                lines.append(
+                    f"| {CORE_NAME[core]} | {_arith(arith)} | {opt} | {c} "
+                    f"| {r['sections']} | {r['instr']:,.0f} | {r['cycles']:,.0f} / {r['max_cycles']:,} "
+                    + (f"| {per:.1f} | {fixed:,.0f} " if c == "dd" else "| | ")
+                    + f"{_rates(r['max_cycles'])}|")
     return "\n".join(lines)
 
 
-def breakdown(res) -> str:
+def before_after(res) -> str:
+    """Example 6: the full controller at N = 8 and EX6_ORDER, and its bank."""
+    lines = ["| core | arithmetic | build | full, N = 8 (51 sections) | "
+             f"full, N = {EX6_ORDER} ({3 * (2 * EX6_ORDER + 1)} sections) | bank "
+             + "".join(f"| bank's max rate at {m} MHz " for m in CLOCKS_MHZ) + "|",
+             "|---" * (6 + len(CLOCKS_MHZ)) + "|"]
+    for core, arith in BUILDS:
+        for opt in OPTS:
+            a = res[(core, arith, opt, "ctrl", "dd", None)]
+            b = res[(core, arith, opt, "ctrl", "dd", EX6_ORDER)]
+            k = res[(core, arith, opt, "bank", "dd", None)]
+            lines.append(f"| {CORE_NAME[core]} | {_arith(arith)} | {opt} "
+                         f"| {a['max_cycles']:,} | {b['max_cycles']:,} "
+                         f"| {k['max_cycles']:,} ({k['sections']} states) "
+                         f"{_rates(k['max_cycles'])}|")
+    return "\n".join(lines)
+
+
+def breakdown(res, kind: str) -> str:
     """Where Example 6's cycles go, per function, in each build."""
     lines = ["| core | arithmetic | build | function | cycles/sample | share |",
              "|---|---|---|---|---|---|"]
     for core, arith in BUILDS:
         for opt in OPTS:
-            r = res[(core, arith, opt, "dd", None)]
+            r = res[(core, arith, opt, kind, "dd", None)]
             total = r["cycles"]
             top = sorted(r["by_function"].items(), key=lambda kv: -kv[1][1])
             for name, (_, cyc) in top[:6]:
-                lines.append(f"| {CORE_NAME[core]} | {'Q15' if arith == 'q15' else 'float'} | {opt} "
+                lines.append(f"| {CORE_NAME[core]} | {_arith(arith)} | {opt} "
                              f"| `{name}` | {cyc:,.0f} | {100 * cyc / total:.0f} % |")
             helpers = sum(c for k, (_, c) in r["by_function"].items() if k.startswith("__"))
             if helpers:
-                lines.append(f"| {CORE_NAME[core]} | {'Q15' if arith == 'q15' else 'float'} | {opt} "
+                lines.append(f"| {CORE_NAME[core]} | {_arith(arith)} | {opt} "
                              f"| all compiler helpers (libgcc) | {helpers:,.0f} "
                              f"| {100 * helpers / total:.0f} % |")
     return "\n".join(lines)
@@ -157,14 +213,23 @@ def main() -> int:
         res = measure(args.samples, Path(tmp))
     print(f"Input: a step of {STEP['q15']} (Q15) or {STEP['float']} (float, in_fs = 1) "
           f"from rest, {args.samples} samples; mean and maximum over them.\n")
-    print(table(res, args.samples))
-    print(f"\nExample 6 (dd) at N = {EX6_ORDER}, the fewest sections that keep it within "
-          "0.1 % of the exact response at 20 kHz (docs/accuracy.md), against the "
-          "default N = 8; cycles per sample, maximum over the run:\n")
-    print(reduced(res))
-    print("\nWhere Example 6 (dd, default design) spends its cycles, by function "
-          "(inlined code counts in its caller):\n")
-    print(breakdown(res))
+    print("**Example 6, before and after.** Cycles per sample, maximum over the run: the "
+          f"full controller at the default order and at N = {EX6_ORDER} (the fewest "
+          "sections within 0.1 % of the exact response at 20 kHz, docs/accuracy.md), and "
+          "its reduced-order bank (pneufrac-reduce's defaults: within 0.05 % of the full "
+          "design's step response over [0, 10] s):\n")
+    print(before_after(res))
+    print("\n**The reduced-order banks** (`pf_bank_step_*`), every configuration; the cost "
+          f"of a state from Example 6's bank and a looser one (--tol {LOOSE_TOL}):\n")
+    print(bank_table(res))
+    print("\n**The full controller** (`pf_ctrl_step_*`), every configuration; the cost of a "
+          "section from the default design and N = 1:\n")
+    print(table(res))
+    print("\nWhere Example 6's cycles go, by function (inlined code counts in its caller), "
+          "the full controller:\n")
+    print(breakdown(res, "ctrl"))
+    print("\nand its bank:\n")
+    print(breakdown(res, "bank"))
     return 0
 
 

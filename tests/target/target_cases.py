@@ -3,9 +3,13 @@
 Cortex-M4 cores (tools/mcuemu), against the host build, bit for bit.
 
 The designs: every configuration at the library's defaults at 20 kHz
-(dd is the paper's Example 6), and a dd with the Q15-capable effects
-(backlash, saturation, output lag, dead time). Q15 runs on both cores, float on the
-M4 (the M0+ has no FPU and its build holds only the Q15 runtime).
+(dd is the paper's Example 6), and a dd with effects: for the full
+controller (kind "ctrl", pf_ctrl_*) the Q15-capable ones (backlash,
+saturation, output lag, dead time), for its reduced-order bank (kind
+"bank", pf_bank_*, made by pneufrac-reduce at its defaults) the output
+line's (lag, dead time: the in-loop ones have no bank). Q15 runs on both
+cores, float on the M4 (the M0+ has no FPU and its build holds only the
+Q15 runtime).
 """
 from __future__ import annotations
 
@@ -13,17 +17,25 @@ import numpy as np
 from mcuemu.images import Design
 
 CONFIGS = ("p", "dd", "id", "pid")
+KINDS = ("ctrl", "bank")
 # Output full scales that keep each configuration's step response inside
 # Q15 for most of the stimulus, yet let the large steps saturate it.
 OUT_FS = {"p": 0.02, "dd": 0.02, "id": 20.0, "pid": 20.0}
-EFFECTS = ("backlash:width=0.06", "saturation:lo=-0.01,hi=0.012", "lag:tau=0.002",
-           "deadtime:t=0.001")
+EFFECTS = {"ctrl": ("backlash:width=0.06", "saturation:lo=-0.01,hi=0.012", "lag:tau=0.002",
+                    "deadtime:t=0.001"),
+           "bank": ("lag:tau=0.002", "deadtime:t=0.001")}
 
 
-def designs(arith: str) -> list[Design]:
-    ds = [Design(f"t_{c}_{arith}", c, arith, out_fs=OUT_FS[c]) for c in CONFIGS]
-    ds.append(Design(f"t_fx_{arith}", "dd", arith, out_fs=OUT_FS["dd"], effects=EFFECTS))
+def designs(arith: str, kind: str = "ctrl") -> list[Design]:
+    ds = [Design(f"t_{c}_{arith}_{kind}", c, arith, out_fs=OUT_FS[c], kind=kind)
+          for c in CONFIGS]
+    ds.append(Design(f"t_fx_{arith}_{kind}", "dd", arith, out_fs=OUT_FS["dd"],
+                     effects=EFFECTS[kind], kind=kind))
     return ds
+
+
+def every_design(arith: str) -> list[Design]:
+    return [d for kind in KINDS for d in designs(arith, kind)]
 
 
 CASES = [c for c in CONFIGS] + ["fx"]   # index i of designs() is CASES[i]
