@@ -14,10 +14,12 @@
  * the output sum needs none (its gains are powers of two).
  *
  * Overflow: the design keeps each exact state within 0.98 2^28 for any
- * input; the floor of p biases a state by less than one unit of hi (the
- * bias of one step, 2^(lam_v - 32), over the section's decay, lam >=
- * 2^(lam_v - 31)), so |d| < 2^29 and |p| < 2^31. The output sum stays
- * within 2^30 (pf_bank.h) and saturates once, to the int16 range.
+ * input. The floor of p biases a state by the bias of one step,
+ * 2^(lam_v - 32) units of hi, over the section's decay per step, 1 - |1 -
+ * lam|: at most 1/2 unit for lam <= 1 (lam >= 2^(lam_v - 31)), at most 50
+ * for lam <= 1.99 (the design's limit), so |d| < 2^29 and |p| < 2^31. The
+ * output sum stays within 2^30 (pf_bank.h) and saturates once, to the
+ * int16 range.
  *
  * Rounding: floors inside (each far below an output LSB: one unit of hi is
  * 2^-13 LSB), round half up at the output. Arithmetic right shifts of

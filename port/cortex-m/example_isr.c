@@ -14,8 +14,9 @@
  *
  *  - -DPF_EXAMPLE_BANK: the same linear controller reduced on the host to
  *    the fewest states whose step response stays within 0.05 % of the full
- *    one's peak over 10 s (pf_bank.h), about thirteen times cheaper per
- *    sample, with no 64-bit helper on an M0+; no in-loop effects:
+ *    one's peak over 10 s (pf_bank.h): 13 times fewer cycles per sample on
+ *    a Cortex-M0+ (docs/benchmarks.md), no 64-bit helper; no in-loop
+ *    effects:
  *      pneufrac-reduce --config dd --fs 20000 --in-fs 1 --out-fs 0.01 --format c
  *    which needs pf_bank_q15.c only.
  */
