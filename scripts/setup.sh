@@ -13,22 +13,27 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 log() { printf '[setup] %s\n' "$*"; }
 
+# g++: the exported headers are compiled as C++ too (test_export);
+# liblapacke-dev: eigenvalues for `pneufrac design --format zpk|sos`;
+# groff-base: the man pages' lint (docs/man/generate.py --check).
 apt_packages=(
-  cmake make gcc libc6-dev pkg-config
-  libcmocka-dev libmodbus-dev mbpoll
+  cmake make gcc g++ libc6-dev pkg-config
+  libcmocka-dev libmodbus-dev mbpoll liblapacke-dev groff-base
   libssl-dev openssl
   gcc-arm-none-eabi libnewlib-arm-none-eabi
   valgrind cppcheck
   python3 python3-venv
 )
 # Each of these imports under its own PyPI name.
-python_packages=(numpy scipy matplotlib pymodbus pytest mpmath cryptography)
+python_packages=(numpy scipy matplotlib pymodbus pytest mpmath cryptography control pandas)
 # pip requirements: the README's pymodbus example and the integration tests
 # use the 3.x client API (device_id=, convert_to_registers), tested with 3.16.
 # mpmath: tests/ref/make_reference.py, and the test that checks its table.
 # cryptography: the Modbus/TCP Security test makes its CA and certificates
 # (tests/integration/test_tls.py).
-pip_specs=(numpy scipy matplotlib "pymodbus>=3.16,<4" pytest mpmath cryptography)
+# control (python-control) and pandas: tests/interface checks the exports
+# with them, and the CSV files as pandas reads them.
+pip_specs=(numpy scipy matplotlib "pymodbus>=3.16,<4" pytest mpmath cryptography control pandas)
 
 # --- 1. Debian packages ------------------------------------------------------
 missing=()
@@ -74,14 +79,15 @@ else
   "$venv_python" -m pip install --quiet "${pip_specs[@]}"
 fi
 
-# The Python tools (tools/python: pneufrac-fit, pneufrac-reduce), editable:
-# they load build/lib/libpneufrac.so.
+# The Python tools (tools/python), editable: pneufrac-fit and
+# pneufrac-reduce load build/lib/libpneufrac.so; pneufrac-plot is what
+# `pneufrac bode|step --plot` runs.
 fit_check="import pneufrac_fit, pneufrac_reduce, pathlib, sys; sys.exit(pathlib.Path(pneufrac_fit.__file__).resolve().parent != pathlib.Path('tools/python/pneufrac_fit').resolve())"
-if [[ -x .venv/bin/pneufrac-fit && -x .venv/bin/pneufrac-reduce ]] &&
+if [[ -x .venv/bin/pneufrac-fit && -x .venv/bin/pneufrac-plot && -x .venv/bin/pneufrac-reduce ]] &&
    "$venv_python" -c "$fit_check" >/dev/null 2>&1; then
-  log "pneufrac-fit, pneufrac-reduce: installed"
+  log "pneufrac-fit, pneufrac-plot, pneufrac-reduce: installed"
 else
-  log "installing pneufrac-fit and pneufrac-reduce (tools/python, editable)"
+  log "installing the Python tools (tools/python, editable)"
   "$venv_python" -m pip install --quiet --disable-pip-version-check -e tools/python
 fi
 

@@ -1,17 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The linear runtime of a controller as a state space, and the stability
- * of its sampled loop.
+ * Stability of a designed controller's sampled loop: the spectral radius
+ * of its linear runtime's state-transition matrix, i.e. the largest |z|
+ * of its discrete closed-loop poles.
  *
- * The runtime solves its loops exactly within each sample, so without
- * backlash, the nozzle curve and saturation it is a linear state-space
- * system x' = A x + B e, p_c = C x + D e, with the operator states (and the
- * held input and the output lag) as x. pf_ctrl_state_space reads it off the
- * double runtime itself, column by column: one step with zero input from
- * each unit state gives a column of A and an entry of C, one step from rest
- * with e = 1 gives B and D. So it is the controller that runs, not a second
- * derivation of it.
- *
+ * The runtime solves its loops exactly within each sample, so it is a
+ * linear state-space system x' = A x + B e with the operator states as x;
+ * pf_ctrl_state_space (pf_ctrl_lti.c) reads A off the double runtime.
  * rho(A) = lim ||A^k||^(1/k) (Gelfand's formula) is then evaluated by
  * repeated squaring, k = 2^PF_CHECK_SQUARINGS, rescaling at each step so
  * nothing overflows. Since ||A^k|| >= rho^k, the estimate approaches rho
@@ -27,122 +22,6 @@
 #include "pneufrac/pf_controller.h"
 
 #define PF_CHECK_SQUARINGS 48
-
-/* The operators the linear runtime uses, in a fixed order. @return their
- * number. */
-static int operators(pf_ctrl_f64 *r, pf_fracop_f64 **ops)
-{
-    int k = 0;
-    ops[k++] = &r->P;
-    if (r->c->has_q)
-        ops[k++] = &r->Q;
-    if (r->c->has_v)
-        ops[k++] = &r->V;
-    if (r->c->has_w)
-        ops[k++] = &r->W;
-    return k;
-}
-
-/* Pointers to every state the linear runtime has, in a fixed order: each
- * operator's sections and integer stages, the held input, the output lag.
- * @return their number. */
-static int states(pf_ctrl_f64 *r, double **s)
-{
-    pf_fracop_f64 *ops[4];
-    int k = 0, o, j, n_int, n_ops = operators(r, ops);
-
-    if (r->c->hold)
-        s[k++] = &r->e1;
-    for (o = 0; o < n_ops; o++) {
-        const pf_fracop_design *c = ops[o]->c;
-        for (j = 0; j < c->n_sec; j++)
-            s[k++] = &ops[o]->s[j];
-        n_int = c->n_int < 0 ? -c->n_int : c->n_int;
-        for (j = 0; j < n_int; j++)
-            s[k++] = &ops[o]->si[j];
-    }
-    if (r->c->lag_lam > 0.0)
-        s[k++] = &r->lag;
-    return k;
-}
-
-/* The runtime keeps each operator's branch sum sum_k G_k s_k from its last
- * update (pf_fracop_f64.sum); after states are written directly it must be
- * formed again, in the runtime's order, or the step would use stale sums. */
-static void resum(pf_ctrl_f64 *r)
-{
-    pf_fracop_f64 *ops[4];
-    int o, k, n_ops = operators(r, ops);
-
-    for (o = 0; o < n_ops; o++) {
-        double sum = 0.0;
-        for (k = 0; k < ops[o]->c->n_sec; k++)
-            sum += ops[o]->c->G[k] * ops[o]->s[k];
-        ops[o]->sum = sum;
-    }
-}
-
-/* Binds @p r to @p lin, a copy of @p c without the dead time (not a
- * state: the line's output is z^-delay_len of the rest), and lists its
- * states. @return their number. */
-static int bind(const pf_ctrl_coeffs_f64 *c, pf_ctrl_coeffs_f64 *lin, pf_ctrl_f64 *r,
-                double **s)
-{
-    *lin = *c;
-    lin->delay_len = 0;
-    (void)pf_ctrl_init_f64(r, lin, NULL, 0);
-    return states(r, s);
-}
-
-/* The state space of the linear runtime of @p c (see the head of the
- * file); B, C and D may be NULL. @return the number of states. */
-static int read_off(const pf_ctrl_coeffs_f64 *c, double *A, double *B, double *C,
-                    double *D)
-{
-    pf_ctrl_coeffs_f64 lin;
-    pf_ctrl_f64 r;
-    double *s[PF_CTRL_MAX_STATES], y;
-    int n = bind(c, &lin, &r, s), i, j;
-
-    for (j = 0; j < n; j++) {
-        pf_ctrl_reset_f64(&r);
-        *s[j] = 1.0;
-        resum(&r);
-        y = pf_ctrl_step_f64(&r, 0.0);
-        if (C != NULL)
-            C[j] = y;
-        for (i = 0; i < n; i++)
-            A[(size_t)i * (size_t)n + (size_t)j] = *s[i];
-    }
-    pf_ctrl_reset_f64(&r);
-    y = pf_ctrl_step_f64(&r, 1.0);
-    if (D != NULL)
-        *D = y;
-    if (B != NULL)
-        for (i = 0; i < n; i++)
-            B[i] = *s[i];
-    return n;
-}
-
-pf_status pf_ctrl_state_space(const pf_ctrl_coeffs_f64 *c, double *A, double *B,
-                              double *C, double *D, int *n)
-{
-    pf_ctrl_coeffs_f64 lin;
-    pf_ctrl_f64 r;
-    double *s[PF_CTRL_MAX_STATES];
-    if (c == NULL || n == NULL)
-        return PF_E_NULL;
-    if (c->in_loop_fx)
-        return PF_E_UNSUPPORTED;
-    if (A == NULL) { /* ask for the size, then place */
-        *n = bind(c, &lin, &r, s);
-        return PF_OK;
-    }
-    if (B == NULL || C == NULL || D == NULL)
-        return PF_E_NULL;
-    *n = read_off(c, A, B, C, D);
-    return PF_OK;
-}
 
 /* C = A B, n x n, row major; C may not alias A or B. */
 static void matmul(const double *a, const double *b, double *c, int n)
@@ -211,22 +90,17 @@ static void balance(double *a, int n)
 pf_status pf_ctrl_spectral_radius(const pf_ctrl_design *d, pf_ctrl_check_work *w,
                                   double *rho)
 {
-    pf_ctrl_coeffs_f64 lin;
     double *a, *b, log_norm = 0.0, nrm;
     int n, i, m;
 
     if (d == NULL || w == NULL || rho == NULL)
         return PF_E_NULL;
-    /* The linear loop: the effects are nonlinear or outside the loop. */
-    lin = d->rt;
-    lin.in_loop_fx = 0;
-    lin.play_r = 0.0;
-    lin.nozzle_xh = 0.0;
-    lin.saturate = 0;
-    lin.lag_lam = 0.0;
     a = w->a;
     b = w->b;
-    n = read_off(&lin, a, NULL, NULL, NULL);
+    /* The loop's own poles: without the effects and the output line. */
+    n = pf_ctrl_state_space(d, 0, a, NULL, NULL, NULL);
+    if (n < 0)
+        return PF_E_NULL;
     balance(a, n);
     for (m = 0; m <= PF_CHECK_SQUARINGS; m++) {
         /* a = A^(2^m) / exp(log_norm), log_norm over 2^m so far. */

@@ -49,10 +49,20 @@ void pf_ctrl_node_resp(const pf_ctrl_coeffs_f64 *c, double omega,
 void pf_ctrl_freqresp(const pf_ctrl_design *d, double omega, double *re,
                       double *im)
 {
-    double complex g[PF_N_COUNT];
+    const pf_ctrl_coeffs_f64 *c;
+    double complex g[PF_N_COUNT], h;
     if (d == NULL || re == NULL || im == NULL)
         return;
-    pf_ctrl_node_resp(&d->rt, omega, g);
-    *re = creal(g[PF_N_PC]);
-    *im = cimag(g[PF_N_PC]);
+    c = &d->rt;
+    pf_ctrl_node_resp(c, omega, g);
+    h = g[PF_N_PC];
+    /* The output line after p_c, as pf_ctrl_float.inc runs it: the lag
+     * lag += lam (p_c - lag) is lam/(1 - (1 - lam) z^-1); the dead time
+     * z^-delay_len. */
+    if (c->lag_lam > 0)
+        h *= c->lag_lam / (1.0 - (1.0 - c->lag_lam) * cexp(-I * omega / c->P.fs));
+    if (c->delay_len > 0)
+        h *= cexp(-I * omega * (double)c->delay_len / c->P.fs);
+    *re = creal(h);
+    *im = cimag(h);
 }

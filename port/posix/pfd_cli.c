@@ -3,6 +3,8 @@
 
 #include <string.h>
 
+#include "pfd_start.h"
+
 /* Cross-checks of options that the table cannot express row by row. */
 static int check_combination(const pfd_cli *a, char *err, size_t errlen)
 {
@@ -164,4 +166,7 @@ void pfd_cli_help(FILE *f)
             if (pfd_settings_table[i].group == g)
                 help_row(f, &pfd_settings_table[i], &s0, &run0);
     }
+    fprintf(f, "\nExit status: 0 clean stop (SIGTERM, SIGINT, --run-for) or printed what was\n"
+               "asked; 1 run-time failure (socket, thread, persisting the config); %d bad\n"
+               "arguments or config.\n", PFD_EXIT_USAGE);
 }

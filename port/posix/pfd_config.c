@@ -9,6 +9,7 @@
 #include "pfd_ini.h"
 #include "pfd_parse.h"
 #include "pfd_regmap.h"
+#include "pfh_fmt.h"
 
 #define MAX_FILE (1024 * 1024)
 
@@ -230,14 +231,19 @@ static void print_value(FILE *f, const pfd_reg *r, double v)
             fprintf(f, "%s = %s\n", r->name, named[i].name((int)v));
             return;
         }
-    if (r->type == PFD_T_U16)
+    if (r->type == PFD_T_U16) {
         fprintf(f, "%s = %u\n", r->name, (unsigned)v);
-    else if (r->flags & PFD_F_STAGED)
-        /* A staged value is a double, a live one a float: %.17g and %.9g
-         * read back bit for bit. */
-        fprintf(f, "%s = %.17g\n", r->name, v);
-    else
-        fprintf(f, "%s = %.9g\n", r->name, v);
+    } else {
+        /* A staged value is a double, a live one a float: the shortest
+         * text of each reads back bit for bit ("0.1", not
+         * "0.10000000000000001"). */
+        char num[PFH_FMT_LEN];
+        if (r->flags & PFD_F_STAGED)
+            pfh_fmt_double(num, v);
+        else
+            pfh_fmt_float(num, (float)v);
+        fprintf(f, "%s = %s\n", r->name, num);
+    }
 }
 
 static void print_instance(FILE *f, const pfd_config_inst *ci)

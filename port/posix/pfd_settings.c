@@ -8,6 +8,7 @@
 #include "pfd_access.h"
 #include "pfd_parse.h"
 #include "pfd_state.h"
+#include "pfh_fmt.h"
 
 const char *pfd_clock_name(int external)
 {
@@ -310,9 +311,12 @@ void pfd_setting_format(const pfd_setting *r, const pfd_settings *s,
     case PFD_ST_INT:
         snprintf(buf, n, "%d", *(const int *)f);
         break;
-    case PFD_ST_REAL:
-        snprintf(buf, n, "%.17g", *(const double *)f);
+    case PFD_ST_REAL: {
+        char num[PFH_FMT_LEN]; /* shortest text that reads back exactly */
+        pfh_fmt_double(num, *(const double *)f);
+        snprintf(buf, n, "%s", num);
         break;
+    }
     case PFD_ST_CHOICE:
         snprintf(buf, n, "%s", r->choice(*(const int *)f));
         break;

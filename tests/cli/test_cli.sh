@@ -58,6 +58,13 @@ run_ok() {
   "$BIN" "$@" >"$out" 2>"$TMP/err" && [ ! -s "$TMP/err" ]
 }
 
+# csv_awk [AWK OPTIONS] PROGRAM FILE: awk -F, over FILE without its '#'
+# lines (the units line), so NR counts the header and the data rows.
+csv_awk() {
+  local file=${*: -1}
+  grep -v '^#' "$file" | awk -F, "${@:1:$#-1}"
+}
+
 SIM=(simulate --config dd --fs 1000 --duration 0.05)
 
 # --- help and version -------------------------------------------------------
@@ -75,21 +82,25 @@ else
   bad "default step run exits 0"
 fi
 check "header is t,e,pc" test "$(head -n 1 "$TMP/step.csv")" = "t,e,pc"
+check "the units follow as a comment" \
+  test "$(sed -n 2p "$TMP/step.csv")" = "# units: s,input units,output units"
+check "numbers are the shortest that read back (t = 0.001, not 0.0010000000000000000)" \
+  grep -q "^0.001,1," "$TMP/step.csv"
 check "row count is round(0.05*1000)+1 = 51" \
-  test "$(($(wc -l <"$TMP/step.csv") - 1))" -eq 51
+  test "$(($(grep -vc "^#" "$TMP/step.csv") - 1))" -eq 51
 check "first row has t=0, e=1" \
-  bash -c 'sed -n 2p "$1" | grep -qE "^0,1,[^,]+$"' _ "$TMP/step.csv"
+  bash -c 'grep -v "^#" "$1" | sed -n 2p | grep -qE "^0,1,[^,]+$"' _ "$TMP/step.csv"
 check "t = n/fs and e = 1 on every row" \
-  awk -F, 'NR > 1 { n = NR - 2; if ($1 != n / 1000 || $2 != 1 || NF != 3) bad = 1 }
+  csv_awk 'NR > 1 { n = NR - 2; if ($1 != n / 1000 || $2 != 1 || NF != 3) bad = 1 }
            END { exit bad }' "$TMP/step.csv"
 check "the step response rises" \
-  awk -F, 'NR == 2 { a = $3 } NR > 2 { b = $3 } END { exit !(b > a && a > 0) }' "$TMP/step.csv"
+  csv_awk 'NR == 2 { a = $3 } NR > 2 { b = $3 } END { exit !(b > a && a > 0) }' "$TMP/step.csv"
 
 for spec in "3 0.5 3" "1000 0.0004 1" "20000 0.00005 2"; do
   read -r fs dur want <<<"$spec"
   if run_ok "$TMP/r.csv" simulate --config p --fs "$fs" --duration "$dur"; then
     check "fs=$fs duration=$dur gives $want rows" \
-      test "$(($(wc -l <"$TMP/r.csv") - 1))" -eq "$want"
+      test "$(($(grep -vc "^#" "$TMP/r.csv") - 1))" -eq "$want"
   else
     bad "fs=$fs duration=$dur runs"
   fi
@@ -111,20 +122,20 @@ else
   bad "q15 run exits 0" "$(head -c 300 "$TMP/err")"
 fi
 check "q15 header is t,e,pc,pc_q15" test "$(head -n 1 "$TMP/q.csv")" = "t,e,pc,pc_q15"
-check "q15 has round(0.2*1000)+1 rows" test "$(($(wc -l <"$TMP/q.csv") - 1))" -eq 201
+check "q15 has round(0.2*1000)+1 rows" test "$(($(grep -vc "^#" "$TMP/q.csv") - 1))" -eq 201
 check "q15: pc = pc_q15*out_fs/32768 and pc_q15 is an int16" \
-  awk -F, -v ofs=16 'NR > 1 { if (NF != 4 || $4 !~ /^-?[0-9]+$/ || $4 < -32768 ||
+  csv_awk -v ofs=16 'NR > 1 { if (NF != 4 || $4 !~ /^-?[0-9]+$/ || $4 < -32768 ||
                                $4 > 32767 || $3 != $4 * ofs / 32768) bad = 1 }
                      END { exit bad || NR != 202 }' "$TMP/q.csv"
 run_ok "$TMP/qd.csv" simulate --config id --fs 1000 --duration 0.2
 check "q15 stays within 0.5 % of full scale of double" \
-  bash -c 'paste -d, "$1" "$2" | awk -F, "NR > 1 { d = \$3 - \$7; if (d < 0) d = -d; if (d > 0.005 * 16) bad = 1 } END { exit bad }"' \
+  bash -c 'paste -d, <(grep -v "^#" "$1") <(grep -v "^#" "$2") | awk -F, "NR > 1 { d = \$3 - \$7; if (d < 0) d = -d; if (d > 0.005 * 16) bad = 1 } END { exit bad }"' \
   _ "$TMP/q.csv" "$TMP/qd.csv"
 check "q15 saturates a huge input instead of wrapping" \
   bash -c 'printf "t,e\n0,1e6\n0.001,-1e6\n" >"$2/huge.csv" &&
            "$1" simulate --config p --fs 1000 --duration 0.01 --arith q15 --in-fs 1 --out-fs 1 \
              --input "$2/huge.csv" >"$2/h.csv" 2>"$2/e" && [ ! -s "$2/e" ] &&
-           [ "$(($(wc -l <"$2/h.csv") - 1))" -eq 11 ]' _ "$BIN" "$TMP"
+           [ "$(($(grep -vc "^#" "$2/h.csv") - 1))" -eq 11 ]' _ "$BIN" "$TMP"
 check "q15 supports saturation, lag and dead time" run_ok "$TMP/qe.csv" \
   simulate --config dd --fs 1000 --duration 0.05 --arith q15 --in-fs 1 --out-fs 0.02 \
   --effect saturation:lo=-0.01,hi=0.01 --effect lag:tau=0.002 --effect deadtime:t=0.003
@@ -134,7 +145,7 @@ for cfg in p dd id pid; do
   run_ok "$TMP/fd.csv" simulate --config "$cfg" --fs 1000 --duration 2
   run_ok "$TMP/ff.csv" simulate --config "$cfg" --fs 1000 --duration 2 --arith float
   check "float agrees with double to 1e-5 relative ($cfg, 2001 samples)" \
-    bash -c 'paste -d, "$1" "$2" | awk -F, "NR > 1 { d = \$3; f = \$6; a = d < 0 ? -d : d; r = f - d; if (r < 0) r = -r;
+    bash -c 'paste -d, <(grep -v "^#" "$1") <(grep -v "^#" "$2") | awk -F, "NR > 1 { d = \$3; f = \$6; a = d < 0 ? -d : d; r = f - d; if (r < 0) r = -r;
              if (r > 1e-5 * a) bad = 1; n++ } END { exit bad || n != 2001 }"' _ "$TMP/fd.csv" "$TMP/ff.csv"
 done
 
@@ -156,7 +167,7 @@ check "--input - reads standard input" \
   _ "$BIN" "$TMP"
 printf 't,e\n0,0\n0.001,0\n0.002,1\n' >"$TMP/late.csv"
 check "input follows the file: zero input gives zero output" \
-  bash -c '"$1" simulate --config dd --fs 1000 --duration 0.01 --input "$2/late.csv" |
+  bash -c '"$1" simulate --config dd --fs 1000 --duration 0.01 --input "$2/late.csv" | grep -v "^#" |
            awk -F, "NR == 2 || NR == 3 { if (\$2 != 0 || \$3 != 0) bad = 1 } NR == 4 { if (\$2 != 1 || \$3 <= 0) bad = 1 } END { exit bad }"' \
   _ "$BIN" "$TMP"
 
@@ -189,10 +200,10 @@ for fx in backlash:width=0.01 nozzle:xh=0.5 saturation:lo=-0.005,hi=0.005 deadti
 done
 run_ok "$TMP/dt.csv" "${SIM[@]}" --effect deadtime:t=0.01
 check "dead time of 10 samples delays the output" \
-  awk -F, 'NR > 1 && NR <= 11 { if ($3 != 0) bad = 1 } NR == 12 { if ($3 <= 0) bad = 1 } END { exit bad }' "$TMP/dt.csv"
+  csv_awk 'NR > 1 && NR <= 11 { if ($3 != 0) bad = 1 } NR == 12 { if ($3 <= 0) bad = 1 } END { exit bad }' "$TMP/dt.csv"
 run_ok "$TMP/sat.csv" "${SIM[@]}" --effect saturation:lo=-0.002,hi=0.002
 check "saturation bounds p_c" \
-  awk -F, 'NR > 1 { if ($3 > 0.002 || $3 < -0.002) bad = 1 } END { exit bad }' "$TMP/sat.csv"
+  csv_awk 'NR > 1 { if ($3 > 0.002 || $3 < -0.002) bad = 1 } END { exit bad }' "$TMP/sat.csv"
 
 expect_err "effect: unknown name" "unknown effect 'spring'.*backlash.*lag" "${SIM[@]}" --effect spring:k=1
 expect_err "effect: unknown key" "unknown key 'w'.*valid: width" "${SIM[@]}" --effect backlash:w=1
@@ -279,7 +290,7 @@ else
   bad "demo exits 0" "$(head -c 300 "$TMP/err")"
 fi
 check "demo writes example6.csv with 40001 rows" \
-  bash -c '[ "$(head -n 1 "$1")" = "t,e,pc" ] && [ "$(($(wc -l <"$1") - 1))" -eq 40001 ]' _ "$TMP/example6.csv"
+  bash -c '[ "$(head -n 1 "$1")" = "t,e,pc" ] && [ "$(($(grep -vc "^#" "$1") - 1))" -eq 40001 ]' _ "$TMP/example6.csv"
 check "demo output equals simulate --config dd --fs 20000 --duration 2" \
   bash -c '"$1" simulate --config dd --fs 20000 --duration 2 | cmp -s - "$2"' _ "$BIN" "$TMP/example6.csv"
 check "demo summary names the config, design and table" \

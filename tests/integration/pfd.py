@@ -205,6 +205,7 @@ def simulate(*args):
     """`pneufrac simulate ...` as a list of row dicts."""
     out = subprocess.run([CLI, "simulate", *args], check=True, capture_output=True,
                          text=True, timeout=120).stdout.splitlines()
+    out = [line for line in out if not line.startswith("#")]  # the units line
     head = out[0].split(",")
     return [dict(zip(head, row.split(","))) for row in out[1:]]
 

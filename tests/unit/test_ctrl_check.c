@@ -10,9 +10,6 @@
  *    unstable, and the radius equals the growth rate of the runtime's own
  *    output, measured by stepping it: two independent routes agree.
  *  - The effects are left out: saturation does not change the radius.
- *  - pf_ctrl_state_space, run as x' = A x + B e, p_c = C x + D e, gives
- *    the runtime's own output sample for sample, for every configuration,
- *    with the output lag, plain Tustin and a dead time (delayed by it).
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -125,92 +122,6 @@ static void effects_are_left_out(void **state)
                 radius(PF_TOPO_DD, 1000.0, "k1", 1e5, "k2", 1e5, NULL));
 }
 
-/* Simulates the state space of the design of @p cfg and compares it with
- * pf_ctrl_step_f64 over a varied input. */
-static void check_state_space(pf_topology cfg, const pf_effects *fx, pf_input_model input)
-{
-    static pf_ctrl_design d;
-    static double A[PF_CTRL_MAX_STATES * PF_CTRL_MAX_STATES];
-    static double B[PF_CTRL_MAX_STATES], C[PF_CTRL_MAX_STATES], x[PF_CTRL_MAX_STATES],
-        x2[PF_CTRL_MAX_STATES], dbuf[64], line[64];
-    pf_design_opts o;
-    pf_params p;
-    pf_ctrl_f64 r;
-    double D, worst = 0.0, peak = 0.0;
-    int n, n2, i, j, k;
-    uint32_t dl;
-
-    pf_params_default(&p, cfg);
-    pf_design_opts_default(&o, 2000.0);
-    o.input = input;
-    assert_int_equal(pf_ctrl_design_make(&d, &p, fx, &o), PF_OK);
-    assert_int_equal(pf_ctrl_state_space(&d.rt, NULL, NULL, NULL, NULL, &n), PF_OK);
-    assert_true(n > 0 && n <= PF_CTRL_MAX_STATES);
-    assert_int_equal(pf_ctrl_state_space(&d.rt, A, B, C, &D, &n2), PF_OK);
-    assert_int_equal(n2, n);
-    dl = d.rt.delay_len;
-    assert_true(dl < 64);
-    assert_int_equal(pf_ctrl_init_f64(&r, &d.rt, dbuf, 64), PF_OK);
-    memset(x, 0, sizeof x);
-    memset(line, 0, sizeof line);
-    for (k = 0; k < 3000; k++) {
-        /* steps, a ramp and a sine: every state is excited */
-        double e = k < 500 ? 1.0 : (k < 1500 ? -0.5 + 1e-3 * k : sin(0.05 * k));
-        double y = D * e, got = pf_ctrl_step_f64(&r, e);
-        for (i = 0; i < n; i++)
-            y += C[i] * x[i];
-        for (i = 0; i < n; i++) {
-            x2[i] = B[i] * e;
-            for (j = 0; j < n; j++)
-                x2[i] += A[(size_t)i * n + j] * x[j];
-        }
-        memcpy(x, x2, sizeof(double) * (size_t)n);
-        /* the dead time delays the state space's output */
-        line[k % 64] = y;
-        y = k >= (int)dl ? line[(k - (int)dl) % 64] : 0.0;
-        worst = fmax(worst, fabs(y - got));
-        peak = fmax(peak, fabs(got));
-    }
-    if (!(peak > 0.0 && worst <= 1e-9 * peak))
-        fail_msg("%s: state space %.3g from the runtime (peak %.3g)",
-                 pf_topology_name(cfg), worst, peak);
-}
-
-static void state_space_is_the_runtime(void **state)
-{
-    pf_effects fx;
-    int c;
-    (void)state;
-    for (c = 0; c < PF_TOPO_COUNT; c++)
-        check_state_space((pf_topology)c, NULL, PF_INPUT_HOLD);
-    check_state_space(PF_TOPO_ID, NULL, PF_INPUT_LINEAR);
-    memset(&fx, 0, sizeof fx);
-    fx.lag = 0.01;
-    fx.dead_time = 0.004;
-    check_state_space(PF_TOPO_PID, &fx, PF_INPUT_HOLD);
-}
-
-static void state_space_refuses_nonlinear_effects(void **state)
-{
-    static pf_ctrl_design d;
-    pf_design_opts o;
-    pf_params p;
-    pf_effects fx;
-    int n = -1;
-    (void)state;
-    pf_params_default(&p, PF_TOPO_DD);
-    pf_design_opts_default(&o, 2000.0);
-    memset(&fx, 0, sizeof fx);
-    fx.saturate = 1;
-    fx.sat_lo = -0.001;
-    fx.sat_hi = 0.001;
-    assert_int_equal(pf_ctrl_design_make(&d, &p, &fx, &o), PF_OK);
-    assert_int_equal(pf_ctrl_state_space(&d.rt, NULL, NULL, NULL, NULL, &n),
-                     PF_E_UNSUPPORTED);
-    assert_int_equal(pf_ctrl_state_space(NULL, NULL, NULL, NULL, NULL, &n), PF_E_NULL);
-    assert_int_equal(pf_ctrl_state_space(&d.rt, NULL, NULL, NULL, NULL, NULL), PF_E_NULL);
-}
-
 static void null_arguments(void **state)
 {
     static pf_ctrl_design d;
@@ -228,8 +139,6 @@ int main(void)
         cmocka_unit_test(integrator_is_on_the_circle),
         cmocka_unit_test(extreme_gains_are_unstable),
         cmocka_unit_test(effects_are_left_out),
-        cmocka_unit_test(state_space_is_the_runtime),
-        cmocka_unit_test(state_space_refuses_nonlinear_effects),
         cmocka_unit_test(null_arguments),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

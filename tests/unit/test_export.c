@@ -2,7 +2,8 @@
 /*
  * Exported coefficient headers (pneufrac design --format c), compiled back
  * in: they must be the in-process design, byte for byte, and run to the
- * same outputs bit for bit.
+ * same outputs bit for bit; compiled as C++ (export_cxx.cpp) they must be
+ * the same bytes as compiled here.
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -15,6 +16,9 @@
 #include "pneufrac/pneufrac.h"
 #include "pf_example6_f32.h"
 #include "pf_example6_q15.h"
+#include "pf_pid_fx_f32.h"
+#include "pf_pid_fx_q15.h"
+#include "export_cxx.h"
 
 static pf_ctrl_design design;
 
@@ -61,11 +65,48 @@ static void test_f32_header(void **state)
     }
 }
 
+/* Every operator, both integer arrays, backlash, lag and dead time: a pid
+ * with effects (tests/CMakeLists.txt: pf_pid_fx_*.h), designed here the
+ * same. */
+static void test_pid_fx_headers(void **state)
+{
+    static pf_ctrl_design d;
+    static pf_ctrl_coeffs_q15 q;
+    static pf_ctrl_coeffs_f32 f;
+    pf_params p;
+    pf_effects fx;
+    pf_design_opts o;
+    (void)state;
+    pf_params_default(&p, PF_TOPO_PID);
+    memset(&fx, 0, sizeof fx);
+    fx.backlash = 0.01;
+    fx.lag = 0.01;
+    fx.dead_time = 0.001;
+    pf_design_opts_default(&o, 20000.0);
+    assert_int_equal(pf_ctrl_design_make(&d, &p, &fx, &o), PF_OK);
+    assert_int_equal(pf_ctrl_coeffs_q15_make(&q, &d, 1.0, 20.0), PF_OK);
+    assert_true(q.play_r > 0);
+    pf_ctrl_coeffs_f32_make(&f, &d.rt);
+    assert_memory_equal(&q, &pf_pid_fx_q15, sizeof q);
+    assert_memory_equal(&f, &pf_pid_fx_f32, sizeof f);
+}
+
+static void test_cxx_compiles_the_same(void **state)
+{
+    (void)state;
+    assert_memory_equal(cxx_example6_q15(), &pf_example6_q15, sizeof pf_example6_q15);
+    assert_memory_equal(cxx_example6_f32(), &pf_example6_f32, sizeof pf_example6_f32);
+    assert_memory_equal(cxx_pid_fx_q15(), &pf_pid_fx_q15, sizeof pf_pid_fx_q15);
+    assert_memory_equal(cxx_pid_fx_f32(), &pf_pid_fx_f32, sizeof pf_pid_fx_f32);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_q15_header),
         cmocka_unit_test(test_f32_header),
+        cmocka_unit_test(test_pid_fx_headers),
+        cmocka_unit_test(test_cxx_compiles_the_same),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -298,6 +298,12 @@ static void write_read_back(void **state)
     assert_memory_equal(&back.inst[0].live, &c.inst[0].live, sizeof c.inst[0].live);
 
     one = slurp("w.conf");
+    /* Shortest round-trip text: a staged double and a live float 0.1 are
+     * both "0.1" (not 0.10000000000000001 or 0.100000001). */
+    assert_non_null(strstr(one, "\nq = 0.1\n"));
+    assert_non_null(strstr(one, "\nsp = 0.1\n"));
+    assert_non_null(strstr(one, "\nfs = 666.6666666666666\n"));
+    assert_non_null(strstr(one, "\nfailsafe_out = -1e-07\n"));
     assert_int_equal(pfd_config_write(path_of("w.conf"), &back, err, sizeof err), 0);
     two = slurp("w.conf");
     assert_string_equal(one, two);

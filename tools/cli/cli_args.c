@@ -9,6 +9,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+void cli_exit_status_help(FILE *f)
+{
+    fputs("Exit status: 0 success; 1 output could not be written (or out of\n"
+          "memory); 2 bad arguments, bad input or a design the library refuses;\n"
+          "3 --plot could not make the plot (the CSV was written).\n", f);
+}
+
 void cli_error(const char *fmt, ...)
 {
     char msg[1024];
@@ -309,25 +316,26 @@ int cli_parse_effect(const char *arg, cli_effects *acc)
     return 0;
 }
 
-int cli_parse_band(const char *arg, double *wb, double *wh)
+int cli_parse_range(const char *opt, const char *lo_name, const char *hi_name,
+                    const char *arg, double *lo, double *hi)
 {
     char q[48];
     const char *colon = strchr(arg, ':');
-    double lo, hi;
+    double a, b;
 
     if (colon == NULL ||
-        parse_double_n(arg, (size_t)(colon - arg), &lo) != 0 ||
-        cli_parse_double(colon + 1, &hi) != 0) {
-        cli_error("--band: expected WB:WH in rad/s (e.g. 0.01:60000), got "
-                  "'%s'", cli_quote(q, sizeof q, arg));
+        parse_double_n(arg, (size_t)(colon - arg), &a) != 0 ||
+        cli_parse_double(colon + 1, &b) != 0) {
+        cli_error("%s: expected %s:%s in rad/s (e.g. 0.01:60000), got "
+                  "'%s'", opt, lo_name, hi_name, cli_quote(q, sizeof q, arg));
         return -1;
     }
-    if (!(lo > 0.0) || !(hi > lo)) {
-        cli_error("--band: need 0 < WB < WH, got '%s'",
+    if (!(a > 0.0) || !(b > a)) {
+        cli_error("%s: need 0 < %s < %s, got '%s'", opt, lo_name, hi_name,
                   cli_quote(q, sizeof q, arg));
         return -1;
     }
-    *wb = lo;
-    *wh = hi;
+    *lo = a;
+    *hi = b;
     return 0;
 }

@@ -5,13 +5,18 @@
 #define PNEUFRAC_CLI_ARGS_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 #include "pneufrac/pneufrac.h"
 
-/** Exit statuses of the tool. */
+/** Exit statuses of the tool (cli_exit_status_help prints them). */
 #define CLI_EXIT_OK 0
-#define CLI_EXIT_IO 1    /**< output could not be written */
+#define CLI_EXIT_IO 1    /**< output could not be written; out of memory */
 #define CLI_EXIT_USAGE 2 /**< bad arguments, bad input, invalid design */
+#define CLI_EXIT_PLOT 3  /**< --plot: no plot (the CSV was written) */
+
+/** The exit statuses, for the end of every --help. */
+void cli_exit_status_help(FILE *f);
 
 #if defined(__GNUC__)
 #define CLI_PRINTF(f, a) __attribute__((format(printf, f, a)))
@@ -66,8 +71,10 @@ typedef struct cli_effects {
  *  @return 0 or -1. */
 int cli_parse_effect(const char *arg, cli_effects *acc);
 
-/** Parse --band WB:WH (rad/s, both finite and > 0); prints the error.
- *  @return 0 or -1. */
-int cli_parse_band(const char *arg, double *wb, double *wh);
+/** Parse the value of option @p opt, LO:HI in rad/s with 0 < LO < HI
+ *  (named @p lo_name and @p hi_name in messages, e.g. "WB", "WH"); prints
+ *  the error. @return 0 or -1. */
+int cli_parse_range(const char *opt, const char *lo_name, const char *hi_name,
+                    const char *arg, double *lo, double *hi);
 
 #endif /* PNEUFRAC_CLI_ARGS_H */

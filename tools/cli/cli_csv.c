@@ -299,3 +299,8 @@ int cli_csv_read_input(const char *path, double fs, size_t keep, double **e,
     free(r);
     return rc;
 }
+
+int cli_csv_head(FILE *f, const char *columns, const char *units)
+{
+    return fprintf(f, "%s\n# units: %s\n", columns, units) < 0 ? -1 : 0;
+}

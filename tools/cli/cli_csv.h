@@ -4,6 +4,7 @@
 #define PNEUFRAC_CLI_CSV_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 /** Most data rows an input file may hold; beyond it the file is refused,
  *  so that a wrong file cannot exhaust memory. */
@@ -30,5 +31,13 @@
  */
 int cli_csv_read_input(const char *path, double fs, size_t keep, double **e,
                        size_t *n);
+
+/**
+ * Write the head of a CSV file the tools produce: the header line
+ * @p columns, then "# units: " @p units, one unit per column in the same
+ * order, as a comment that pandas (comment='#'), numpy and the tools' own
+ * readers skip. @return 0, or -1 on a write error.
+ */
+int cli_csv_head(FILE *f, const char *columns, const char *units);
 
 #endif /* PNEUFRAC_CLI_CSV_H */

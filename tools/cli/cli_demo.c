@@ -48,7 +48,9 @@ void cli_demo_usage(FILE *f)
 "unit step at fs = 20 kHz for 2 s in double precision, writes the response\n"
 "as CSV (t,e,pc) to FILE.csv (default " DEMO_OUT ") and prints a summary:\n"
 "parameters, design, and p_c at a few instants.\n"
-"It is the same as: pneufrac simulate --config dd --fs 20000 --duration 2\n");
+"It is the same as: pneufrac simulate --config dd --fs 20000 --duration 2\n"
+"\n");
+    cli_exit_status_help(f);
 }
 
 static void print_op(const char *label, const char *expr,

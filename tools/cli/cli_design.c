@@ -15,7 +15,9 @@
 
 #include "cli_args.h"
 #include "cli_export.h"
+#include "cli_lti.h"
 #include "cli_options.h"
+#include "pfh_fmt.h"
 
 static const cli_command design_cmd = {
     "design", cli_design_usage,
@@ -25,7 +27,7 @@ void cli_design_usage(FILE *f)
 {
     fprintf(f,
 "usage: pneufrac design --config {p,dd,id,pid} --fs HZ\n"
-"                       --format {c,cmsis-f32,cmsis-q15,json}\n"
+"                       --format {c,cmsis-f32,cmsis-q15,json,ss,zpk,sos}\n"
 "                       [--arith double|float|q15] [--in-fs X --out-fs Y]\n"
 "                       [--name IDENT] [--set NAME=VALUE ...]\n"
 "                       [--band WB:WH] [--order N] [--approx oustaloup|refined]\n"
@@ -38,13 +40,24 @@ void cli_design_usage(FILE *f)
 "                 (--arith float), for pf_ctrl_init_q15/_f32 in firmware\n"
 "  --format json  the double design: resolved band and order, each\n"
 "                 operator's parallel sections, the loop constants\n"
+"  --format ss, --format zpk, --format sos\n"
+"                 the whole realised controller (double, at fs, held input\n"
+"                 and lag included) as a discrete system in scipy's\n"
+"                 conventions, one JSON object with dt = 1/fs:\n"
+"                 ss: A, B, C, D in the runtime's own coordinates (one state\n"
+"                 per parallel section: keeps every digit, use this one);\n"
+"                 zpk: zeros z and poles p as [re, im] roots, gain k;\n"
+"                 sos: rows [b0, b1, b2, 1, a1, a2]. Linear designs only:\n"
+"                 no backlash, nozzle, saturation or dead time\n"
 "  --format cmsis-f32, --format cmsis-q15\n"
 "                 each fractional operator alone as coefficient arrays for\n"
 "                 CMSIS-DSP arm_biquad_cascade_df1_f32 / _q15 (5 or 6 values\n"
 "                 per stage, CMSIS sign: y += a1 y[n-1] + a2 y[n-2]; q15\n"
 "                 with postShift). cmsis-q15 takes --arith q15 --in-fs X\n"
 "                 --out-fs Y to scale each operator by X/Y (default 1)\n"
-"  --name IDENT   the C identifier of the coefficient set (default pf_coeffs)\n");
+"  --name IDENT   the C identifier of the coefficient set (default pf_coeffs)\n"
+"\n");
+    cli_exit_status_help(f);
 }
 
 static int valid_ident(const char *s)
@@ -57,20 +70,33 @@ static int valid_ident(const char *s)
     return 1;
 }
 
+/* JSON numbers in shortest round-trip form: they read back exactly. */
+static void json_num(FILE *f, const char *key, double v, const char *after)
+{
+    fprintf(f, "\"%s\": ", key);
+    pfh_fput_double(f, v);
+    fputs(after, f);
+}
+
 static void json_array(FILE *f, const char *key, const double *v, int n)
 {
     int i;
     fprintf(f, "\"%s\": [", key);
-    for (i = 0; i < n; i++)
-        fprintf(f, "%s%.17g", i ? ", " : "", v[i]);
+    for (i = 0; i < n; i++) {
+        fputs(i ? ", " : "", f);
+        pfh_fput_double(f, v[i]);
+    }
     fprintf(f, "]");
 }
 
 static void json_op(FILE *f, const char *role, const pf_fracop_design *op, int last)
 {
-    fprintf(f, "    {\"role\": \"%s\", \"alpha\": %.17g, \"gain\": %.17g, "
-               "\"n_int\": %d, \"n_sec\": %d, \"d\": %.17g, \"D\": %.17g,\n      ",
-            role, op->alpha, op->gain, op->n_int, op->n_sec, op->d, op->D);
+    fprintf(f, "    {\"role\": \"%s\", ", role);
+    json_num(f, "alpha", op->alpha, ", ");
+    json_num(f, "gain", op->gain, ", ");
+    fprintf(f, "\"n_int\": %d, \"n_sec\": %d, ", op->n_int, op->n_sec);
+    json_num(f, "d", op->d, ", ");
+    json_num(f, "D", op->D, ",\n      ");
     json_array(f, "lam", op->lam, op->n_sec);
     fprintf(f, ",\n      ");
     json_array(f, "G", op->G, op->n_sec);
@@ -85,16 +111,18 @@ static void write_json(FILE *f, const pf_ctrl_design *d)
     for (id = 0; id <= (int)PF_P_RCI; id++) {
         if (!pf_param_used(d->p.topology, (pf_param_id)id))
             continue;
-        fprintf(f, "%s\"%s\": %.17g", first ? "" : ", ", pf_param_name((pf_param_id)id),
-                pf_params_get(&d->p, (pf_param_id)id));
+        fputs(first ? "" : ", ", f);
+        json_num(f, pf_param_name((pf_param_id)id), pf_params_get(&d->p, (pf_param_id)id), "");
         first = 0;
     }
-    fprintf(f, "},\n  \"design\": {\"fs\": %.17g, \"wb\": %.17g, \"wh\": %.17g, "
-               "\"order\": %d, \"approx\": \"%s\", \"input\": \"%s\", "
-               "\"prewarp\": %.17g},\n",
-            d->opt.fs, d->opt.wb, d->opt.wh, d->opt.order,
+    fprintf(f, "},\n  \"design\": {");
+    json_num(f, "fs", d->opt.fs, ", ");
+    json_num(f, "wb", d->opt.wb, ", ");
+    json_num(f, "wh", d->opt.wh, ", ");
+    fprintf(f, "\"order\": %d, \"approx\": \"%s\", \"input\": \"%s\", ", d->opt.order,
             d->opt.approx == PF_APPROX_REFINED ? "refined" : "oustaloup",
-            d->opt.input == PF_INPUT_LINEAR ? "linear" : "hold", d->opt.prewarp);
+            d->opt.input == PF_INPUT_LINEAR ? "linear" : "hold");
+    json_num(f, "prewarp", d->opt.prewarp, "},\n");
     fprintf(f, "  \"operators\": [\n");
     json_op(f, "relay (tau s)^-beta", &c->P, !c->has_q && !c->has_v && !c->has_w);
     if (c->has_q)
@@ -103,9 +131,12 @@ static void write_json(FILE *f, const pf_ctrl_design *d)
         json_op(f, "restrictor (1/RC) s^-nu", &c->V, !c->has_w);
     if (c->has_w)
         json_op(f, "restrictor (1/RC) s^-w", &c->W, 1);
-    fprintf(f, "  ],\n  \"loop\": {\"ce\": %.17g, \"cy\": %.17g, \"alpha_z\": %.17g, "
-               "\"alpha_y\": %.17g, \"loop_inv\": %.17g}\n}\n",
-            c->ce, c->cy, c->alpha_z, c->alpha_y, c->loop_inv);
+    fprintf(f, "  ],\n  \"loop\": {");
+    json_num(f, "ce", c->ce, ", ");
+    json_num(f, "cy", c->cy, ", ");
+    json_num(f, "alpha_z", c->alpha_z, ", ");
+    json_num(f, "alpha_y", c->alpha_y, ", ");
+    json_num(f, "loop_inv", c->loop_inv, "}\n}\n");
 }
 
 /* --format cmsis-*: the arithmetic is the format's; --arith may only
@@ -152,7 +183,8 @@ int cli_design_main(int argc, char **argv)
     if (rc != 0)
         return rc > 0 ? CLI_EXIT_OK : CLI_EXIT_USAGE;
     if (a.format == NULL) {
-        cli_error("design: missing --format (c, cmsis-f32, cmsis-q15 or json)");
+        cli_error("design: missing --format (c, cmsis-f32, cmsis-q15, json, ss, "
+                  "zpk or sos)");
         return CLI_EXIT_USAGE;
     }
     name = a.name != NULL ? a.name : "pf_coeffs";
@@ -190,6 +222,15 @@ int cli_design_main(int argc, char **argv)
         }
         if (rc != 0)
             return CLI_EXIT_IO;
+    } else if (cli_lti_is_format(a.format)) {
+        if (run.arith != PF_ARITH_F64) {
+            cli_error("--format %s describes the double design; it takes no "
+                      "--arith", a.format);
+            return CLI_EXIT_USAGE;
+        }
+        if (cli_run_design(&run, &d) != CLI_EXIT_OK)
+            return CLI_EXIT_USAGE;
+        return cli_lti_write(stdout, a.format, &d);
     } else if (strcmp(a.format, "cmsis-f32") == 0 ||
                strcmp(a.format, "cmsis-q15") == 0) {
         rc = write_cmsis(&run, &d, name, a.format[6] == 'q');
@@ -197,7 +238,7 @@ int cli_design_main(int argc, char **argv)
             return rc;
     } else {
         cli_error("--format: unknown format '%s' (valid: c, cmsis-f32, "
-                  "cmsis-q15, json)",
+                  "cmsis-q15, json, ss, zpk, sos)",
                   cli_quote(q, sizeof q, a.format));
         return CLI_EXIT_USAGE;
     }

@@ -2,7 +2,9 @@
 /*
  * C-header export of coefficient sets. Designated initializers name every
  * field, so the header stays readable and a reordering of the struct cannot
- * silently shift values. Floats are printed with %a (exact hexadecimal), so
+ * silently shift values. They are written in declaration order, whole
+ * members only (no array-element designators), which is what C++20 accepts
+ * too: the headers compile as C99 and as C++ (test_export_cxx). Floats are printed with %a (exact hexadecimal), so
  * the firmware gets bit-identical coefficients; the CMSIS arrays use %.8e,
  * nine significant digits, which also round-trip every float exactly.
  */
@@ -15,6 +17,15 @@
 static void qc(FILE *f, const char *field, pf_qc q)
 {
     fprintf(f, "    .%s = {%ld, %u},\n", field, (long)q.m, (unsigned)q.sh);
+}
+
+static void qc_array(FILE *f, const char *field, const pf_qc *q, int n)
+{
+    int k;
+    fprintf(f, "    .%s = {", field);
+    for (k = 0; k < n; k++)
+        fprintf(f, "%s{%ld, %u}", k ? ", " : "", (long)q[k].m, (unsigned)q[k].sh);
+    fprintf(f, "},\n");
 }
 
 /* An integer array of `size`-byte elements (1: unsigned, 2 and 4: signed). */
@@ -38,7 +49,7 @@ static void int_array(FILE *f, const char *field, const void *v, size_t size, in
         }
         fprintf(f, "%s%ld", i ? ", " : "", x);
     }
-    fprintf(f, "},\n");
+    fprintf(f, "%s},\n", n == 0 ? "0" : ""); /* C99 has no empty {} */
 }
 
 static void f32_array(FILE *f, const char *field, const float *v, int n)
@@ -47,26 +58,21 @@ static void f32_array(FILE *f, const char *field, const float *v, int n)
     fprintf(f, "    .%s = {", field);
     for (i = 0; i < n; i++)
         fprintf(f, "%s%af", i ? ", " : "", (double)v[i]);
-    fprintf(f, "},\n");
+    fprintf(f, "%s},\n", n == 0 ? "0" : ""); /* C99 has no empty {} */
 }
 
 static void op_q15(FILE *f, const char *field, const pf_fracop_coeffs_q15 *o)
 {
-    int k, n = o->n_int < 0 ? -o->n_int : o->n_int;
     fprintf(f, "  .%s = {\n", field);
-    fprintf(f, "    .n_int = %d, .int_rho = %d, .n_sec = %u, .hold = %u, .n_slow = %u, "
-            ".G_sh = %u,\n", o->n_int, o->int_rho, (unsigned)o->n_sec, (unsigned)o->hold,
-            (unsigned)o->n_slow, (unsigned)o->G_sh);
+    fprintf(f, "    .n_int = %d, .int_rho = %d, .n_sec = %u, .hold = %u, .n_slow = %u,\n",
+            o->n_int, o->int_rho, (unsigned)o->n_sec, (unsigned)o->hold, (unsigned)o->n_slow);
     qc(f, "d", o->d);
+    fprintf(f, "    .G_sh = %u,\n", (unsigned)o->G_sh);
     int_array(f, "lam_m", o->lam_m, sizeof o->lam_m[0], o->n_sec);
     int_array(f, "lam_sh", o->lam_sh, sizeof o->lam_sh[0], o->n_sec);
     int_array(f, "G_m", o->G_m, sizeof o->G_m[0], o->n_sec);
-    for (k = 0; k < n; k++) {
-        fprintf(f, "    .int_d[%d] = {%ld, %u},\n", k, (long)o->int_d[k].m,
-                (unsigned)o->int_d[k].sh);
-        fprintf(f, "    .int_k[%d] = {%ld, %u},\n", k, (long)o->int_k[k].m,
-                (unsigned)o->int_k[k].sh);
-    }
+    qc_array(f, "int_d", o->int_d, PF_MAX_INT);
+    qc_array(f, "int_k", o->int_k, PF_MAX_INT);
     qc(f, "in_q", o->in_q);
     qc(f, "out_q", o->out_q);
     fprintf(f, "  },\n");
@@ -102,23 +108,23 @@ int cli_export_c_q15(FILE *f, const char *name, const char *comment,
     fprintf(f, "  .has_q = %u, .has_v = %u, .has_w = %u, .saturate = %u, .hold = %u,\n",
             (unsigned)c->has_q, (unsigned)c->has_v, (unsigned)c->has_w,
             (unsigned)c->saturate, (unsigned)c->hold);
+    /* Unused operators too (zeros): C++ warns about an omitted member. */
     op_q15(f, "P", &c->P);
-    if (c->has_q)
-        op_q15(f, "Q", &c->Q);
-    if (c->has_v)
-        op_q15(f, "V", &c->V);
-    if (c->has_w)
-        op_q15(f, "W", &c->W);
+    op_q15(f, "Q", &c->Q);
+    op_q15(f, "V", &c->V);
+    op_q15(f, "W", &c->W);
 #define QC(x) fprintf(f, "  .%s = {%ld, %u},\n", #x, (long)c->x.m, (unsigned)c->x.sh)
     QC(e_in); QC(x_e); QC(x_q); QC(x_v); QC(x_w); QC(x_p); QC(ce); QC(x_pc);
     QC(t_q); QC(t_v); QC(t_w); QC(pc_x); QC(pc_p); QC(k1); QC(relay_v_pb);
     QC(relay_v_s); QC(relay_z_pb); QC(relay_z_w); QC(v_a); QC(v_b); QC(w_a);
     QC(w_b); QC(m_v); QC(m_pc); QC(m_w); QC(kA_m); QC(dv_pc); QC(dv_r);
-    QC(dw_pc); QC(dw_r); QC(pc_out); QC(mon_x); QC(mon_pb); QC(mon_y);
-#undef QC
-    fprintf(f, "  .sat_lo = %ld, .sat_hi = %ld, .lag_m = %ld, .lag_sh = %u,\n",
-            (long)c->sat_lo, (long)c->sat_hi, (long)c->lag_m, (unsigned)c->lag_sh);
+    QC(dw_pc); QC(dw_r); QC(pc_out);
+    fprintf(f, "  .sat_lo = %ld, .sat_hi = %ld, .play_r = %ld, .play_ri = %ld,\n",
+            (long)c->sat_lo, (long)c->sat_hi, (long)c->play_r, (long)c->play_ri);
+    fprintf(f, "  .lag_m = %ld, .lag_sh = %u,\n", (long)c->lag_m, (unsigned)c->lag_sh);
     fprintf(f, "  .delay_len = %luu,\n", (unsigned long)c->delay_len);
+    QC(mon_x); QC(mon_pb); QC(mon_y);
+#undef QC
     fprintf(f, "};\n");
     return ferror(f) ? -1 : 0;
 }
@@ -131,20 +137,17 @@ int cli_export_c_f32(FILE *f, const char *name, const char *comment,
             (unsigned)c->has_q, (unsigned)c->has_v, (unsigned)c->has_w,
             (unsigned)c->in_loop_fx, (unsigned)c->hold);
     op_f32(f, "P", &c->P);
-    if (c->has_q)
-        op_f32(f, "Q", &c->Q);
-    if (c->has_v)
-        op_f32(f, "V", &c->V);
-    if (c->has_w)
-        op_f32(f, "W", &c->W);
+    op_f32(f, "Q", &c->Q);
+    op_f32(f, "V", &c->V);
+    op_f32(f, "W", &c->W);
 #define F(x) fprintf(f, "  .%s = %af,\n", #x, (double)c->x)
     F(ce); F(cy); F(k1); F(k2); F(kA); F(k2_inv); F(pmin); F(relay_den_inv); F(relay_d0);
     F(relay_w); F(relay_sz); F(v_a); F(v_den_inv); F(w_a); F(w_den_inv);
-    F(alpha_z); F(alpha_y); F(loop_inv); F(slope_inv); F(play_r); F(nozzle_xh); F(nozzle_xh_inv); F(sat_lo);
-    F(sat_hi); F(lag_lam);
+    F(alpha_z); F(alpha_y); F(loop_inv); F(slope_inv); F(play_r); F(nozzle_xh); F(nozzle_xh_inv);
+    fprintf(f, "  .saturate = %u,\n", (unsigned)c->saturate);
+    F(sat_lo); F(sat_hi); F(lag_lam);
 #undef F
-    fprintf(f, "  .saturate = %u, .delay_len = %luu,\n", (unsigned)c->saturate,
-            (unsigned long)c->delay_len);
+    fprintf(f, "  .delay_len = %luu,\n", (unsigned long)c->delay_len);
     fprintf(f, "};\n");
     return ferror(f) ? -1 : 0;
 }

@@ -9,10 +9,12 @@
 #include "pneufrac/pneufrac.h"
 
 #include "cli_args.h"
+#include "cli_bode.h"
 #include "cli_demo.h"
 #include "cli_design.h"
 #include "cli_reproduce.h"
 #include "cli_simulate.h"
+#include "cli_step.h"
 
 /* Long runs write hundreds of megabytes of CSV; line or 4 KiB buffering
  * would spend more time in write(2) than in the controller. */
@@ -29,12 +31,16 @@ static void usage(FILE *f)
 "\n"
 "commands:\n"
 "  simulate   run a controller (p, dd, id, pid) and write t,e,pc as CSV\n"
+"  step       its unit-step response beside the exact one, as CSV [--plot]\n"
+"  bode       frequency response, ideal and realised at fs, as CSV [--plot]\n"
 "  demo       the paper's Example 6 with a summary; writes example6.csv\n"
 "  design     design a controller; export its coefficients (C header, JSON,\n"
-"             CMSIS-DSP biquads)\n"
+"             CMSIS-DSP biquads) or the realised system (ss, zpk, sos)\n"
 "  reproduce  the data of the paper's figures as CSV (plots: scripts/reproduce.sh)\n"
 "\n"
-"'pneufrac <command> --help' describes a command's options.\n");
+"'pneufrac <command> --help' describes a command's options.\n"
+"\n");
+    cli_exit_status_help(f);
 }
 
 static int dispatch(int argc, char **argv)
@@ -58,13 +64,18 @@ static int dispatch(int argc, char **argv)
     }
     if (strcmp(cmd, "simulate") == 0)
         return cli_simulate_main(argc - 1, argv + 1);
+    if (strcmp(cmd, "step") == 0)
+        return cli_step_main(argc - 1, argv + 1);
+    if (strcmp(cmd, "bode") == 0)
+        return cli_bode_main(argc - 1, argv + 1);
     if (strcmp(cmd, "demo") == 0)
         return cli_demo_main(argc - 1, argv + 1);
     if (strcmp(cmd, "design") == 0)
         return cli_design_main(argc - 1, argv + 1);
     if (strcmp(cmd, "reproduce") == 0)
         return cli_reproduce_main(argc - 1, argv + 1);
-    cli_error("unknown command '%s' (valid: simulate, demo, design, reproduce; try "
+    cli_error("unknown command '%s' (valid: simulate, step, bode, demo, design, "
+              "reproduce; try "
               "'pneufrac --help')", cli_quote(q, sizeof q, cmd));
     return CLI_EXIT_USAGE;
 }

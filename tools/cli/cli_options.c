@@ -24,7 +24,9 @@ static const opt_desc options[] = {
     {"--approx", CLI_OPT_APPROX},     {"--input-model", CLI_OPT_INPUT_MODEL},
     {"--t-slow", CLI_OPT_TSLOW},      {"--input", CLI_OPT_INPUT},
     {"--format", CLI_OPT_FORMAT},     {"--name", CLI_OPT_NAME},
-    {"--set", CLI_OPT_SET},        {"--effect", CLI_OPT_EFFECT},
+    {"--set", CLI_OPT_SET},           {"--effect", CLI_OPT_EFFECT},
+    {"--omega", CLI_OPT_OMEGA},       {"--points", CLI_OPT_POINTS},
+    {"--plot", CLI_OPT_PLOT},
 };
 #define N_OPTIONS (sizeof options / sizeof options[0])
 
@@ -114,8 +116,27 @@ static int opts_parse(int argc, char **argv, const cli_command *cmd, cli_opts *a
                 return -1;
             break;
         case CLI_OPT_BAND:
-            if (cli_parse_band(val, &a->wb, &a->wh) != 0)
+            if (cli_parse_range("--band", "WB", "WH", val, &a->wb, &a->wh) != 0)
                 return -1;
+            break;
+        case CLI_OPT_OMEGA:
+            if (cli_parse_range("--omega", "WMIN", "WMAX", val, &a->w_lo, &a->w_hi) != 0)
+                return -1;
+            break;
+        case CLI_OPT_POINTS:
+            if (cli_parse_int(val, &a->points) != 0 || a->points < 2 ||
+                a->points > CLI_MAX_POINTS) {
+                cli_error("--points: '%s' is not an integer in 2..%d",
+                          cli_quote(q, sizeof q, val), CLI_MAX_POINTS);
+                return -1;
+            }
+            break;
+        case CLI_OPT_PLOT:
+            if (*val == '\0') {
+                cli_error("--plot needs a file name");
+                return -1;
+            }
+            a->plot = val;
             break;
         case CLI_OPT_ORDER:
             if (cli_parse_int(val, &a->order) != 0 || a->order < 1 ||

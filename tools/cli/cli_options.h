@@ -24,9 +24,15 @@ enum {
     CLI_OPT_INPUT = 1u << 11,
     CLI_OPT_FORMAT = 1u << 12,
     CLI_OPT_NAME = 1u << 13,
-    CLI_OPT_SET = 1u << 14,   /* repeatable */
-    CLI_OPT_EFFECT = 1u << 15 /* repeatable */
+    CLI_OPT_SET = 1u << 14,    /* repeatable */
+    CLI_OPT_EFFECT = 1u << 15, /* repeatable */
+    CLI_OPT_OMEGA = 1u << 16,
+    CLI_OPT_POINTS = 1u << 17,
+    CLI_OPT_PLOT = 1u << 18
 };
+
+/** Most frequencies --points may ask for. */
+#define CLI_MAX_POINTS 100000
 
 /* What every designing command takes: the model and its discretisation. */
 #define CLI_OPTS_DESIGN                                                        \
@@ -52,7 +58,9 @@ typedef struct cli_opts {
     pf_approx approx;
     pf_input_model input_model;
     pf_arith arith;
-    const char *input, *format, *name;
+    const char *input, *format, *name, *plot;
+    double w_lo, w_hi;   /* --omega; 0: the command's default */
+    int points;          /* --points; 0: the command's default */
     unsigned set_mask;
     double set_val[PF_P_CONFIG];
     cli_effects fx;

@@ -51,7 +51,9 @@ void cli_reproduce_usage(FILE *f)
 "log time grid (10 us .. 10 s) merged with a linear one; simulated at\n"
 "--fs HZ (default 100000) with the default band and order. Q15 runs a\n"
 "half-scale step with out_fs = 1.25 x the peak of the exact response.\n"
-"Plots: tools/reproduce/plot.py DIR, or scripts/reproduce.sh for both.\n");
+"Plots: tools/reproduce/plot.py DIR, or scripts/reproduce.sh for both.\n"
+"\n");
+    cli_exit_status_help(f);
 }
 
 /* Sample indices of the merged grid: 40 points per decade from 10 us and

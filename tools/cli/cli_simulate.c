@@ -9,6 +9,8 @@
 #include "cli_args.h"
 #include "cli_csv.h"
 #include "cli_options.h"
+#include "pfh_fmt.h"
+#include "pfh_ref.h"
 
 void cli_simulate_usage(FILE *f)
 {
@@ -16,9 +18,11 @@ void cli_simulate_usage(FILE *f)
 "usage: pneufrac simulate --config {p,dd,id,pid} --fs HZ --duration S [options]\n"
 "\n"
 "Runs one of the paper's controllers (p: eq. 17, dd: eq. 18, id: eq. 20,\n"
-"pid: Remark 3) and writes CSV to standard output: a header t,e,pc and one\n"
-"row per sample n = 0 .. round(duration*fs), t = n/fs. The input e is a unit\n"
-"step at n = 0 unless --input is given.\n"
+"pid: Remark 3) and writes CSV to standard output: a header t,e,pc, a\n"
+"'#' line with the units (pandas: read_csv(f, comment='#')), and one row per\n"
+"sample n = 0 .. round(duration*fs), t = n/fs, numbers in the shortest form\n"
+"that reads back exactly. The input e is a unit step at n = 0 unless --input\n"
+"is given.\n"
 "\n"
 "required:\n"
 "  --config NAME        p, dd, id or pid\n"
@@ -53,8 +57,8 @@ void cli_simulate_usage(FILE *f)
 "                       saturation:lo=L,hi=H  deadtime:t=S  lag:tau=S\n"
 "                       (nozzle: double and float only)\n"
 "\n"
-"Options take their value as the next argument or after '='. Exit status:\n"
-"0 success, 1 output could not be written, 2 bad arguments or input.\n");
+"Options take their value as the next argument or after '='.\n");
+    cli_exit_status_help(f);
 }
 
 size_t cli_run_samples(const cli_run *run)
@@ -169,6 +173,7 @@ int cli_run_write(const cli_run *run, const pf_ctrl_design *d, FILE *out,
     /* static: the runtime holds a coefficient set of every arithmetic;
      * the CLI runs one simulation per process. */
     static pf_runtime rt;
+    char cols[64], units[128];
     void *dbuf = NULL;
     pf_status st;
     size_t n;
@@ -190,8 +195,12 @@ int cli_run_write(const cli_run *run, const pf_ctrl_design *d, FILE *out,
         return CLI_EXIT_USAGE;
     }
 
-    if (fputs(run->arith == PF_ARITH_Q15 ? "t,e,pc,pc_q15\n" : "t,e,pc\n",
-              out) == EOF) {
+    snprintf(cols, sizeof cols, "t,e,pc%s%s", run->arith == PF_ARITH_Q15 ? ",pc_q15" : "",
+             run->exact ? ",pc_exact" : "");
+    snprintf(units, sizeof units, "s,input units,output units%s%s",
+             run->arith == PF_ARITH_Q15 ? ",counts of out_fs/32768" : "",
+             run->exact ? ",output units" : "");
+    if (cli_csv_head(out, cols, units) != 0) {
         free(dbuf);
         return write_error(out_name);
     }
@@ -199,18 +208,29 @@ int cli_run_write(const cli_run *run, const pf_ctrl_design *d, FILE *out,
         double e = run->input == NULL ? 1.0
                    : run->input[n < run->n_input ? n : run->n_input - 1];
         double pc = pf_runtime_step(&rt, e);
-        double t = (double)n / fs;
-        int w;
-        /* %.9g is the shortest format that round-trips every float;
-         * %.17g does so for doubles. */
-        if (run->arith == PF_ARITH_F64)
-            w = fprintf(out, "%.17g,%.17g,%.17g\n", t, e, pc);
-        else if (run->arith == PF_ARITH_F32)
-            w = fprintf(out, "%.17g,%.17g,%.9g\n", t, e, pc);
+        char row[5 * PFH_FMT_LEN + 8];
+        int k = 0;
+        /* Shortest round-trip text: the values read back exactly; a float
+         * run's output is written as the float it is ("0.1", not
+         * "0.100000001"). */
+        k += pfh_fmt_double(row + k, (double)n / fs);
+        row[k++] = ',';
+        k += pfh_fmt_double(row + k, e);
+        row[k++] = ',';
+        if (run->arith == PF_ARITH_F32)
+            k += pfh_fmt_float(row + k, (float)pc);
         else
-            w = fprintf(out, "%.17g,%.17g,%.17g,%d\n", t, e, pc,
-                        (int)rt.out_q15);
-        if (w < 0) {
+            k += pfh_fmt_double(row + k, pc);
+        if (run->arith == PF_ARITH_Q15)
+            k += sprintf(row + k, ",%d", (int)rt.out_q15);
+        if (run->exact) {
+            /* NaN at t = 0 (and within a dead time): the exact response
+             * jumps there and has no value of its own. */
+            row[k++] = ',';
+            k += pfh_fmt_double(row + k, pfh_ref_step_fx(&run->p, &run->fx, (double)n / fs));
+        }
+        row[k++] = '\n';
+        if (fwrite(row, 1, (size_t)k, out) != (size_t)k) {
             rc = write_error(out_name);
             break;
         }

@@ -21,6 +21,8 @@ typedef struct cli_run {
     double duration;      /**< s; the run has round(duration*fs)+1 samples */
     const double *input;  /**< NULL: unit step at n = 0 */
     size_t n_input;       /**< >= 1 when input is set; last value is held */
+    int exact;            /**< add the column pc_exact: the exact unit-step
+                               response (input NULL, linear effects only) */
 } cli_run;
 
 /** Observer of every output sample, physical units. */

@@ -50,6 +50,7 @@
 #include "pfh_ref.h"
 
 #include <math.h>
+#include <stddef.h>
 
 /* Principal power s^e = exp(e Log s). Exponents 0 and 1 are exact so that
  * q = 0 (linear spring) and beta = q = 1 give the rational special cases. */
@@ -118,7 +119,19 @@ double complex pfh_ref_tf(const pf_params *p, double complex s)
  *   z'(theta) = (N/t)(mu (cot(alpha theta) - alpha theta / sin^2(alpha
  *   theta)) + i nu).
  */
-double pfh_ref_step_n(const pf_params *p, double t, int n)
+/* F(z) = H(z)/z, or H(z) line(z)/z with the lag of the output line. */
+typedef struct step_tf {
+    const pf_params *p;
+    double lag;
+} step_tf;
+
+static double complex step_transform(const step_tf *f, double complex z)
+{
+    double complex h = pfh_ref_tf(f->p, z) / z;
+    return f->lag > 0.0 ? h / (1.0 + f->lag * z) : h;
+}
+
+static double talbot(const step_tf *f, double t, int n)
 {
     const double mu = 0.5017, alpha = 0.6407, sigma = 0.6122, nu = 0.2645;
     const double pi = 3.14159265358979323846;
@@ -136,14 +149,41 @@ double pfh_ref_step_n(const pf_params *p, double t, int n)
         const double complex w = n * (mu * th * cot - sigma + I * nu * th);
         const double complex dw =
             n * (mu * (cot - alpha * th / (sa * sa)) + I * nu);
-        const double complex z = w / t;
-        /* e^{zt} F(z) z'(theta) with F = H/z: z'/z = dw/w */
-        sum += cimag(cexp(w) * pfh_ref_tf(p, z) * dw / w);
+        /* e^{zt} F(z) z'(theta) = e^w F(w/t) dw/t */
+        sum += cimag(cexp(w) * step_transform(f, w / t) * dw / t);
     }
     return 2.0 * sum / n;
+}
+
+double pfh_ref_step_n(const pf_params *p, double t, int n)
+{
+    const step_tf f = {p, 0.0};
+    return talbot(&f, t, n);
 }
 
 double pfh_ref_step(const pf_params *p, double t)
 {
     return pfh_ref_step_n(p, t, PFH_REF_TALBOT_N);
+}
+
+double complex pfh_ref_line(const pf_effects *fx, double complex s)
+{
+    double complex l = 1.0;
+    if (fx == NULL)
+        return l;
+    if (fx->lag > 0.0)
+        l /= 1.0 + fx->lag * s;
+    if (fx->dead_time > 0.0)
+        l *= cexp(-fx->dead_time * s);
+    return l;
+}
+
+double pfh_ref_step_fx(const pf_params *p, const pf_effects *fx, double t)
+{
+    /* The lag is a pole on the negative real axis, inside the contour; the
+     * dead time's e^{-sT} would grow on the contour's left reaches, so it
+     * is applied as what it is, a shift in time. */
+    const step_tf f = {p, fx != NULL ? fx->lag : 0.0};
+    double shift = fx != NULL ? fx->dead_time : 0.0;
+    return talbot(&f, t - shift, PFH_REF_TALBOT_N);
 }

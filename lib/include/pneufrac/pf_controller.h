@@ -134,31 +134,30 @@ typedef struct pf_ctrl_f32 {
     pf_ctrl_signals_f32 sig;
 } pf_ctrl_f32;
 
-/** Discrete frequency response P_c/E of the designed (linear) controller at
- *  omega rad/s, z = exp(j omega/fs), including the held-input mean. */
+/** Discrete frequency response P_c/E of the designed controller at omega
+ *  rad/s, z = exp(j omega/fs): the output of pf_ctrl_step_f64 per input,
+ *  including the held-input mean and the output line (lag, dead time).
+ *  Backlash, the nozzle curve and saturation are nonlinear and left out
+ *  (the response is that of the linear controller beneath them). */
 void pf_ctrl_freqresp(const pf_ctrl_design *d, double omega, double *re,
                       double *im);
 
-/** Most states a controller runtime has: the held input, each of the
- *  four operators' leaky branches and integer stages, and the output lag. */
+/** Most states a controller's linear runtime has: the held input, each of
+ *  the four operators' leaky branches and integer stages, the output lag. */
 #define PF_CTRL_MAX_STATES (2 + 4 * (PF_MAX_SEC + PF_MAX_INT))
 
-/** The linear controller that pf_ctrl_step_f64 runs for coefficient set
- *  @p c, as a discrete state space (sample time 1/fs):
- *      x[n+1] = A x[n] + B e[n],   p_c[n] = C x[n] + D e[n],
- *  read off the runtime itself (one step from each unit state, one from
- *  rest with e = 1), in its own coordinates: one state per leaky section
- *  and integer stage of each operator, the held input, the output lag. A
- *  is the diagonal of the leaks plus the loops' few rank-one couplings:
- *  nothing is expanded into polynomials. A dead time is not a state: the
- *  line's output is z^-delay_len times this system's.
- *  "Ask for the size, then place": with @p A NULL only @p n is written
- *  (at most PF_CTRL_MAX_STATES); then A (n x n, row major), B and C (n)
- *  and D (1) must all be given.
- *  @return PF_OK; PF_E_NULL; PF_E_UNSUPPORTED if backlash, the nozzle
- *          curve or saturation is on (no state space: they are nonlinear). */
-pf_status pf_ctrl_state_space(const pf_ctrl_coeffs_f64 *c, double *A, double *B,
-                              double *C, double *D, int *n);
+/** The design's linear runtime as a discrete state space, read off the
+ *  double runtime (one step from each unit state with e = 0, one from rest
+ *  with e = 1): x[k+1] = A x[k] + B e[k], p_c[k] = C x[k] + D e[k], in the
+ *  runtime's own coordinates: the held input (when held), then per used
+ *  operator its leaky branches and integer stages, then with @p with_lag
+ *  the output lag. Backlash, the nozzle curve, saturation and the dead time
+ *  are left out (and the lag without @p with_lag). A is n x n, row-major,
+ *  in room for PF_CTRL_MAX_STATES^2 values; B and C hold n; B, C and D may
+ *  be NULL. See pf_ctrl_lti.c.
+ *  @return n (1..PF_CTRL_MAX_STATES), or -1 for a NULL @p d or @p A. */
+int pf_ctrl_state_space(const pf_ctrl_design *d, int with_lag, double *A, double *B,
+                        double *C, double *D);
 
 /** Work space of pf_ctrl_spectral_radius(): two square matrices. */
 typedef struct pf_ctrl_check_work {

@@ -77,6 +77,10 @@ int pf_max_order(void);
  *  a reduced-order bank (pf_bank.h) may have. */
 int pf_bank_max_order(void);
 
+/** @return PF_CTRL_MAX_STATES of this build (pf_controller.h): the room
+ *  pf_ctrl_state_space needs (A holds its square). */
+int pf_ctrl_max_states(void);
+
 #ifdef __cplusplus
 }
 #endif

@@ -41,10 +41,17 @@ class _Parser(argparse.ArgumentParser):
         sys.exit(EXIT_USAGE)
 
 
+EXIT_HELP = (f"Exit status: 0 success; {EXIT_USAGE} bad input or arguments (one line "
+             f"on stderr); {EXIT_LIBRARY} the shared library is missing or does not match.")
+
+
 def _parser():
-    p = _Parser(prog="pneufrac-fit", description=__doc__.split("\n\n")[0])
+    from . import __version__
+    p = _Parser(prog="pneufrac-fit", description=__doc__.split("\n\n")[0], epilog=EXIT_HELP)
+    p.add_argument("--version", action="version", version=f"pneufrac-fit {__version__}")
     sub = p.add_subparsers(dest="cmd", required=True, parser_class=_Parser)
-    d = sub.add_parser("diagnose", help="fit, show what is wrong, name the cause, extend")
+    d = sub.add_parser("diagnose", help="fit, show what is wrong, name the cause, extend",
+                       epilog=EXIT_HELP)
     d.add_argument("data", help="CSV with header t,e,pc (# comments allowed)")
     d.add_argument("--config", required=True, choices=["p", "dd", "id", "pid"])
     d.add_argument("--fix", action="append", default=[], metavar="NAME=VALUE",
@@ -64,7 +71,8 @@ def _parser():
     d.add_argument("--order", type=int, default=8, help="Oustaloup order N (default 8)")
     d.add_argument("--seed", type=int, default=0, help="seed of the fresh starts")
     d.add_argument("--quiet", action="store_true", help="no progress on stderr")
-    g = sub.add_parser("generate", help="synthetic bump test with a hidden effect")
+    g = sub.add_parser("generate", help="synthetic bump test with a hidden effect",
+                       epilog=EXIT_HELP)
     g.add_argument("--config", required=True, choices=["p", "dd", "id", "pid"])
     g.add_argument("--effect", default="none",
                    help="none | deadtime:t=S | lag:tau=S | backlash:width=W | "

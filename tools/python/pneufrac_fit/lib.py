@@ -97,8 +97,9 @@ def _declare(lib) -> None:
         ("pf_ctrl_init_f64", [vp, vp, C.POINTER(d), sz], i),
         ("pf_ctrl_reset_f64", [vp], None),
         ("pf_ctrl_run_f64", [vp, C.POINTER(d), C.POINTER(d), sz], None),
-        ("pf_ctrl_state_space", [vp, C.POINTER(d), C.POINTER(d), C.POINTER(d),
-                                 C.POINTER(d), C.POINTER(i)], i),
+        ("pf_ctrl_state_space", [vp, i, C.POINTER(d), C.POINTER(d), C.POINTER(d),
+                                 C.POINTER(d)], i),
+        ("pf_ctrl_max_states", [], i),
         ("pf_status_param", [i], i),
         ("pf_status_str", [i], cp),
         ("pf_param_name", [i], cp),
@@ -376,20 +377,19 @@ class Controller:
 
     def state_space(self):
         """(A, B, C, D) of the linear controller the double runtime runs
-        (pf_ctrl_state_space: held input and output lag included, dead
-        time not: the output is z^-delay_len of this system's). ModelError
-        if backlash, the nozzle curve or saturation makes it nonlinear."""
-        lib, dp, n = self._lib, C.POINTER(C.c_double), C.c_int()
-        st = lib.pf_ctrl_state_space(self._rt, None, None, None, None, C.byref(n))
-        if st != 0:
-            raise ModelError(st, None, status_message(lib, st)[1])
-        a = np.zeros((n.value, n.value))
-        b, c, d = np.zeros(n.value), np.zeros(n.value), np.zeros(1)
-        st = lib.pf_ctrl_state_space(self._rt, a.ctypes.data_as(dp), b.ctypes.data_as(dp),
-                                     c.ctypes.data_as(dp), d.ctypes.data_as(dp), C.byref(n))
-        if st != 0 or n.value != len(b):
-            raise LibraryError(f"pf_ctrl_state_space: status {st}, {n.value} states")
-        return a, b.reshape(-1, 1), c.reshape(1, -1), d.reshape(1, 1)
+        (pf_ctrl_state_space, with the output lag: the held input and the
+        lag are states; the dead time is not, the output is z^-delay_len
+        of this system's; backlash, the nozzle curve and saturation are
+        left out)."""
+        lib, dp = self._lib, C.POINTER(C.c_double)
+        m = lib.pf_ctrl_max_states()
+        a, b, c, d = np.zeros(m * m), np.zeros(m), np.zeros(m), np.zeros(1)
+        n = lib.pf_ctrl_state_space(self._design, 1, a.ctypes.data_as(dp), b.ctypes.data_as(dp),
+                                    c.ctypes.data_as(dp), d.ctypes.data_as(dp))
+        if not 0 < n <= m:
+            raise LibraryError(f"pf_ctrl_state_space returned {n}")
+        return (a[:n * n].reshape(n, n), b[:n].reshape(-1, 1), c[:n].reshape(1, -1),
+                d.reshape(1, 1))
 
 
 def simulate(config, params, effects, fs, e, **opts) -> np.ndarray:
