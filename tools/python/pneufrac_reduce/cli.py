@@ -67,8 +67,11 @@ def _pair(text: str, what: str) -> tuple[float, float]:
 
 
 def _parser() -> _Parser:
+    from pneufrac_fit import __version__   # one version for the Python tools
+
     p = _Parser(prog="pneufrac-reduce", description=__doc__.split("\n\n")[0],
                 epilog=__doc__.split("\n\n")[-1], formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--version", action="version", version=f"pneufrac-reduce {__version__}")
     p.add_argument("--config", required=True, choices=["p", "dd", "id", "pid"])
     p.add_argument("--fs", required=True, help="sample rate, Hz")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
