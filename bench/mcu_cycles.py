@@ -124,44 +124,27 @@ def split(res, core, arith, opt, kind, config, small):
     return per, a["cycles"] - per * a["sections"]
 
 
-def table(res) -> str:
-    """The full controller, every configuration and build."""
+def table(res, kind: str) -> str:
+    """Every configuration and build of one family: the full controller
+    (the cost of a section from each configuration's N = 1), or the banks
+    (the cost of a state from Example 6's looser bank)."""
+    unit, small = ("section", 1) if kind == "ctrl" else ("state", "loose")
     lines = [
-        "| core | arithmetic | build | config | sections | instructions/sample "
-        "| cycles/sample (mean / max) | cycles per section | fixed cycles "
+        f"| core | arithmetic | build | config | {unit}s | instructions/sample "
+        f"| cycles/sample (mean / max) | cycles per {unit} | fixed cycles "
         + "".join(f"| max rate at {m} MHz " for m in CLOCKS_MHZ) + "|",
         "|---" * (9 + len(CLOCKS_MHZ)) + "|",
     ]
     for core, arith in BUILDS:
         for opt in OPTS:
             for c in CONFIGS:
-                r = res[(core, arith, opt, "ctrl", c, None)]
-                per, fixed = split(res, core, arith, opt, "ctrl", c, 1)
+                r = res[(core, arith, opt, kind, c, None)]
+                split_here = kind == "ctrl" or c == "dd"
+                per, fixed = split(res, core, arith, opt, kind, c, small) if split_here else (0, 0)
                 lines.append(
                     f"| {CORE_NAME[core]} | {_arith(arith)} | {opt} | {c} "
                     f"| {r['sections']} | {r['instr']:,.0f} | {r['cycles']:,.0f} / {r['max_cycles']:,} "
-                    f"| {per:.1f} | {fixed:,.0f} {_rates(r['max_cycles'])}|")
-    return "\n".join(lines)
-
-
-def bank_table(res) -> str:
-    """The reduced-order banks, every configuration and build; the cost of
-    a state and the fixed part from Example 6's banks."""
-    lines = [
-        "| core | arithmetic | build | config | states | instructions/sample "
-        "| cycles/sample (mean / max) | cycles per state (dd) | fixed cycles (dd) "
-        + "".join(f"| max rate at {m} MHz " for m in CLOCKS_MHZ) + "|",
-        "|---" * (9 + len(CLOCKS_MHZ)) + "|",
-    ]
-    for core, arith in BUILDS:
-        for opt in OPTS:
-            per, fixed = split(res, core, arith, opt, "bank", "dd", "loose")
-            for c in CONFIGS:
-                r = res[(core, arith, opt, "bank", c, None)]
-                lines.append(
-                    f"| {CORE_NAME[core]} | {_arith(arith)} | {opt} | {c} "
-                    f"| {r['sections']} | {r['instr']:,.0f} | {r['cycles']:,.0f} / {r['max_cycles']:,} "
-                    + (f"| {per:.1f} | {fixed:,.0f} " if c == "dd" else "| | ")
+                    + (f"| {per:.1f} | {fixed:,.0f} " if split_here else "| | ")
                     + f"{_rates(r['max_cycles'])}|")
     return "\n".join(lines)
 
@@ -220,11 +203,12 @@ def main() -> int:
           "design's step response over [0, 10] s):\n")
     print(before_after(res))
     print("\n**The reduced-order banks** (`pf_bank_step_*`), every configuration; the cost "
-          f"of a state from Example 6's bank and a looser one (--tol {LOOSE_TOL}):\n")
-    print(bank_table(res))
+          f"of a state and the fixed part from Example 6's bank and a looser one "
+          f"(--tol {LOOSE_TOL}):\n")
+    print(table(res, "bank"))
     print("\n**The full controller** (`pf_ctrl_step_*`), every configuration; the cost of a "
           "section from the default design and N = 1:\n")
-    print(table(res))
+    print(table(res, "ctrl"))
     print("\nWhere Example 6's cycles go, by function (inlined code counts in its caller), "
           "the full controller:\n")
     print(breakdown(res, "ctrl"))
