@@ -112,10 +112,10 @@ def _request(a, lib) -> dict:
             raise UsageError(f"--set '{item}': expected NAME=VALUE")
         k = k.strip()
         try:
-            used = lib.param_used(a.config, k)
+            lib.param_range(k)
         except KeyError:
             raise UsageError(f"--set {k}: no such parameter") from None
-        if not used:
+        if not lib.param_used(a.config, k):
             raise UsageError(f"--set {k}: configuration {a.config} does not use it")
         if k in params:
             raise UsageError(f"--set {k} given more than once")
@@ -148,6 +148,8 @@ def _request(a, lib) -> dict:
         opts["order"] = int(n)
     if a.band is not None:
         opts["wb"], opts["wh"] = _pair(a.band, "--band")
+        if not 0 < opts["wb"] < opts["wh"]:
+            raise UsageError(f"--band: need 0 < WB < WH, got '{a.band}'")
     if a.t_slow is not None:
         opts["t_slow"] = _number(a.t_slow, "--t-slow")
     tol = _number(a.tol, "--tol")
