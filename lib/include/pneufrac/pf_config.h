@@ -31,7 +31,8 @@
 
 /** Most states of a reduced-order bank (pf_bank.h): real sections plus two
  *  per complex pair. Sizes its instances and coefficient sets; Example 6
- *  needs 9 at 0.05 % over [1 ms, 10 s] (docs/benchmarks.md). */
+ *  needs 11 at pneufrac-reduce's defaults, 16 for 2e-5 of its peak
+ *  (docs/accuracy.md). */
 #ifndef PF_BANK_MAX_ORDER
 #define PF_BANK_MAX_ORDER 16
 #endif
