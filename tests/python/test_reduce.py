@@ -25,7 +25,7 @@ import pytest
 from mcuemu.images import Design, build_host_sets, build_host_table, write_table
 from mcuemu.runner import HostRunner
 
-from pneufrac_reduce import export, fixed
+from pneufrac_reduce import cli, export, fixed
 from pneufrac_reduce.realise import Bank, realise
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -218,28 +218,34 @@ def test_dead_time_delays_exactly(tmp_path):
     assert np.all(delayed[:62] == 0) and np.array_equal(delayed[62:], plain[:-62])
 
 
-def cannot(*args):
-    r = reduce_cli("--config", "dd", "--fs", FS, "--format", "json", *args, check=False)
-    assert r.stdout == "" and len(r.stderr.strip().splitlines()) == 1, r.stderr
-    return r
+def cannot(capsys, *args, config="dd", fs=FS):
+    """pneufrac-reduce's main() in this process (argparse's own errors end
+    in SystemExit): (exit status, stderr); nothing on stdout, one line on
+    stderr."""
+    try:
+        rc = cli.main(["--config", config, "--fs", str(fs), "--format", "json", *args])
+    except SystemExit as exc:
+        rc = exc.code
+    out, err = capsys.readouterr()
+    assert out == "" and len(err.strip().splitlines()) == 1, err
+    return rc, err
 
 
 @pytest.mark.parametrize("effect", ["backlash:width=0.01", "nozzle:xh=0.1",
                                     "saturation:lo=-0.01,hi=0.01"])
-def test_in_loop_effects_are_refused(effect):
-    r = cannot("--effect", effect)
-    assert r.returncode == 4 and "inside the loop" in r.stderr
+def test_in_loop_effects_are_refused(capsys, effect):
+    rc, err = cannot(capsys, "--effect", effect)
+    assert rc == 4 and "inside the loop" in err
 
 
-def test_integrating_design_is_refused():
-    r = reduce_cli("--config", "id", "--fs", "1000", "--set", "q=1", "--format", "json",
-                   check=False)
-    assert r.returncode == 4 and "stable" in r.stderr
+def test_integrating_design_is_refused(capsys):
+    rc, err = cannot(capsys, "--set", "q=1", config="id", fs=1000)
+    assert rc == 4 and "stable" in err
 
 
-def test_unreachable_tolerance_is_refused():
-    r = cannot("--max-order", "3")
-    assert r.returncode == 4 and "no order up to 3" in r.stderr
+def test_unreachable_tolerance_is_refused(capsys):
+    rc, err = cannot(capsys, "--max-order", "3")
+    assert rc == 4 and "no order up to 3" in err
 
 
 @pytest.mark.parametrize("args", [
@@ -250,9 +256,15 @@ def test_unreachable_tolerance_is_refused():
     ("--arith", "float", "--out-fs", "1", "--in-fs", "1"), ("--set", "q=7"),
     ("--horizon", "0:100000"),
 ])
-def test_bad_arguments(args):
-    r = cannot(*args)
-    assert r.returncode == 2 and r.stderr.startswith("pneufrac-reduce: error:")
+def test_bad_arguments(capsys, args):
+    rc, err = cannot(capsys, *args)
+    assert rc == 2 and err.startswith("pneufrac-reduce: error:")
+
+
+def test_the_command_runs_as_installed():
+    """The entry point itself, once: exit status and one line on stderr."""
+    r = reduce_cli("--config", "dd", "--fs", FS, "--format", "json", "--tol", "2", check=False)
+    assert r.returncode == 2 and r.stdout == "" and len(r.stderr.splitlines()) == 1
 
 
 def test_header_compiles_as_c99_and_cxx20(tmp_path):
