@@ -39,6 +39,11 @@ EX6_ORDER = 5
 # A bank of Example 6 with fewer states than the default's (a loose
 # tolerance), for the cost of one state.
 LOOSE_TOL = "1e-2"
+# The nozzle curve (x_1/2 = 0.2 of in_fs: the step drives x far into its
+# compression) in Example 6, whose in-sample loop gain is too small to
+# move x (the table's direct case), and in id, whose is not (the inverse).
+NOZZLE = ("nozzle:xh=0.2",)
+NOZZLE_CONFIGS = ("dd", "id")
 
 
 def designs(core: str) -> list[Design]:
@@ -51,6 +56,9 @@ def designs(core: str) -> list[Design]:
             ds.append(Design(f"r_{c}_{arith}", c, arith, out_fs=OUT_FS[c], kind="bank"))
         ds.append(Design(f"r_dd_{arith}_loose", "dd", arith, out_fs=OUT_FS["dd"], kind="bank",
                          reduce=("--tol", LOOSE_TOL)))
+        for c in NOZZLE_CONFIGS:
+            ds.append(Design(f"b_{c}_{arith}_nozzle", c, arith, out_fs=OUT_FS[c],
+                             effects=NOZZLE))
     return ds
 
 
@@ -64,8 +72,12 @@ def sections(header: Path) -> int:
 
 
 def key(d: Design):
-    """results[...] key of a design: (kind, core, arith, opt, config, variant)."""
-    variant = d.order if d.kind == "ctrl" else ("loose" if d.reduce else None)
+    """results[...] key of a design: (kind, config, variant); the variant
+    is the full controller's order or "nozzle", or a bank's "loose"."""
+    if d.kind == "ctrl":
+        variant = d.order or ("nozzle" if d.effects else None)
+    else:
+        variant = "loose" if d.reduce else None
     return d.kind, d.config, variant
 
 
@@ -167,6 +179,22 @@ def before_after(res) -> str:
     return "\n".join(lines)
 
 
+def nozzle(res) -> str:
+    """What the nozzle curve adds to the full controller, every build."""
+    lines = ["| core | arithmetic | build | config | cycles/sample (mean / max) "
+             "| with the nozzle (mean / max) | the nozzle, max |", "|---" * 7 + "|"]
+    for core, arith in BUILDS:
+        for opt in OPTS:
+            for c in NOZZLE_CONFIGS:
+                a = res[(core, arith, opt, "ctrl", c, None)]
+                b = res[(core, arith, opt, "ctrl", c, "nozzle")]
+                lines.append(f"| {CORE_NAME[core]} | {_arith(arith)} "
+                             f"| {opt} | {c} | {a['cycles']:,.0f} / {a['max_cycles']:,} "
+                             f"| {b['cycles']:,.0f} / {b['max_cycles']:,} "
+                             f"| {b['max_cycles'] - a['max_cycles']:+,} |")
+    return "\n".join(lines)
+
+
 def breakdown(res, kind: str) -> str:
     """Where Example 6's cycles go, per function, in each build."""
     lines = ["| core | arithmetic | build | function | cycles/sample | share |",
@@ -209,6 +237,11 @@ def main() -> int:
     print("\n**The full controller** (`pf_ctrl_step_*`), every configuration; the cost of a "
           "section from the default design and N = 1:\n")
     print(table(res, "ctrl"))
+    print("\nThe nozzle curve (x_1/2 = 0.2 of in_fs) in the full controller. Q15: in dd "
+          "the in-sample loop cannot move x, so one search and one cubic piece per sample; "
+          "in id it can, so a search among the loop map's knots and two pieces (the "
+          "inverse, then the curve). Float solves the loop by false position:\n")
+    print(nozzle(res))
     print("\nWhere Example 6's cycles go, by function (inlined code counts in its caller), "
           "the full controller:\n")
     print(breakdown(res, "ctrl"))

@@ -3,13 +3,15 @@
 Cortex-M4 cores (tools/mcuemu), against the host build, bit for bit.
 
 The designs: every configuration at the library's defaults at 20 kHz
-(dd is the paper's Example 6), and a dd with effects: for the full
-controller (kind "ctrl", pf_ctrl_*) the Q15-capable ones (backlash,
-saturation, output lag, dead time), for its reduced-order bank (kind
-"bank", pf_bank_*, made by pneufrac-reduce at its defaults) the output
-line's (lag, dead time: the in-loop ones have no bank). Q15 runs on both
-cores, float on the M4 (the M0+ has no FPU and its build holds only the
-Q15 runtime).
+(dd is the paper's Example 6), a dd with effects and a dd with the nozzle
+curve. For the full controller (kind "ctrl", pf_ctrl_*) the effects are
+the Q15-capable ones (backlash, saturation, output lag, dead time) and the
+nozzle case has the curve among the in-loop effects (its table searched
+and solved on the target); for its reduced-order bank (kind "bank",
+pf_bank_*, made by pneufrac-reduce at its defaults) the output line's
+(lag, dead time: the in-loop ones, the nozzle among them, have no bank).
+Q15 runs on both cores, float on the M4 (the M0+ has no FPU and its build
+holds only the Q15 runtime).
 """
 from __future__ import annotations
 
@@ -24,6 +26,13 @@ OUT_FS = {"p": 0.02, "dd": 0.02, "id": 20.0, "pid": 20.0}
 EFFECTS = {"ctrl": ("backlash:width=0.06", "saturation:lo=-0.01,hi=0.012", "lag:tau=0.002",
                     "deadtime:t=0.001"),
            "bank": ("lag:tau=0.002", "deadtime:t=0.001")}
+# x_1/2 well inside the input's range: large steps drive x onto both flat
+# ends of the curve, small ones stay near its operating point.
+NOZZLE = ("nozzle:xh=0.2", "backlash:width=0.06", "saturation:lo=-0.01,hi=0.012")
+# Index i of designs(arith, kind) is CASES[kind][i]; the nozzle sits in
+# the loop, so only the full controller has it.
+CASES = {"ctrl": list(CONFIGS) + ["fx", "nozzle"], "bank": list(CONFIGS) + ["fx"]}
+KIND_CASES = [(kind, case) for kind in KINDS for case in CASES[kind]]
 
 
 def designs(arith: str, kind: str = "ctrl") -> list[Design]:
@@ -31,6 +40,9 @@ def designs(arith: str, kind: str = "ctrl") -> list[Design]:
           for c in CONFIGS]
     ds.append(Design(f"t_fx_{arith}_{kind}", "dd", arith, out_fs=OUT_FS["dd"],
                      effects=EFFECTS[kind], kind=kind))
+    if "nozzle" in CASES[kind]:
+        ds.append(Design(f"t_nozzle_{arith}_{kind}", "dd", arith, out_fs=OUT_FS["dd"],
+                         effects=NOZZLE, kind=kind))
     return ds
 
 
@@ -38,7 +50,6 @@ def every_design(arith: str) -> list[Design]:
     return [d for kind in KINDS for d in designs(arith, kind)]
 
 
-CASES = [c for c in CONFIGS] + ["fx"]   # index i of designs() is CASES[i]
 # (core, arithmetic) pairs that run on target
 TARGETS = [("m0plus", "q15"), ("m4", "q15"), ("m4", "float")]
 

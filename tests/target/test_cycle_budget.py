@@ -27,7 +27,7 @@ BUDGET = {("ctrl", "m0plus", "q15"): (8_200, 12_200), ("ctrl", "m4", "q15"): (2_
 
 @pytest.mark.parametrize("kind,core,arith", list(BUDGET))
 def test_example6_within_budget(target_of, kind, core, arith):
-    costs = step_costs(target_of(core), arith, CASES.index("dd"), samples=20, kind=kind)
+    costs = step_costs(target_of(core), arith, CASES[kind].index("dd"), samples=20, kind=kind)
     instr, cycles = (max(getattr(c, f) for c in costs) for f in ("instructions", "cycles"))
     most_instr, most_cycles = BUDGET[(kind, core, arith)]
     assert instr <= most_instr and cycles <= most_cycles, (
