@@ -12,7 +12,9 @@ TRMs' instruction timings at zero wait states
 library's defaults (20 kHz, N = 8; dd is the paper's Example 6) and the
 same at N = 1 give the cost of one section (the slope) and the fixed part
 (the intercept); for the banks, Example 6's at the default tolerance and at
-a loose one (fewer states) do the same. Writes a Markdown section to stdout
+a loose one (fewer states) do the same. On the M0+ the banks run the
+library's ARMv6-M assembly loop, and are measured with its portable C loop
+too (the "C loop" rows: -DPNEUFRAC_BANK_ASM=OFF). Writes a Markdown section to stdout
 (bench/run.sh puts it into docs/benchmarks.md).
 """
 from __future__ import annotations
@@ -30,9 +32,14 @@ from mcuemu.target import Target
 CONFIGS = ("p", "dd", "id", "pid")
 OUT_FS = {"p": 0.02, "dd": 0.02, "id": 20.0, "pid": 20.0}
 BUILDS = [("m0plus", "q15"), ("m4", "q15"), ("m4", "float")]
+# The banks have one build more: the M0+ library with the bank's portable C
+# loop (-DPNEUFRAC_BANK_ASM=OFF) instead of its assembly one ("m0plus-c").
+BANK_BUILDS = [("m0plus", "q15"), ("m0plus-c", "q15"), ("m4", "q15"), ("m4", "float")]
+# Images measured: (label in the results, core, the bank's C loop).
+IMAGES = [("m0plus", "m0plus", False), ("m0plus-c", "m0plus", True), ("m4", "m4", False)]
 OPTS = ("-Os", "-O2")
 CLOCKS_MHZ = (48, 168)
-CORE_NAME = {"m0plus": "Cortex-M0+", "m4": "Cortex-M4"}
+CORE_NAME = {"m0plus": "Cortex-M0+", "m0plus-c": "Cortex-M0+ (C loop)", "m4": "Cortex-M4"}
 # The fewest sections that keep Example 6 within 0.1 % of the exact
 # response at 20 kHz (bench_accuracy --orders: 0.035 %, N = 4 gives 0.12 %).
 EX6_ORDER = 5
@@ -84,19 +91,20 @@ def key(d: Design):
 def measure(samples: int, work: Path) -> dict:
     """results[(core, arith, opt) + key(design)] = dict of figures."""
     res = {}
-    for core in ("m0plus", "m4"):
-        ds = designs(core)
+    for label, core, bank_c in IMAGES:
+        # the C loop's image: the banks only (the rest is the same code)
+        ds = [d for d in designs(core) if d.kind == "bank" or not bank_c]
         for opt in OPTS:
-            print(f"[mcu] {core} {opt}", file=sys.stderr)
-            out = work / f"{core}{opt}"
-            runner = TargetRunner(Target(str(link_target(core, opt, ds, out)), core))
+            print(f"[mcu] {label} {opt}", file=sys.stderr)
+            out = work / f"{label}{opt}"
+            runner = TargetRunner(Target(str(link_target(core, opt, ds, out, bank_c)), core))
             for arith in ("q15", "float"):
                 for kind in ("ctrl", "bank"):
                     mine = [d for d in ds if (d.arith, d.kind) == (arith, kind)]
                     for index, d in enumerate(mine):
                         costs = step_costs(runner, arith, index, samples, kind)
                         n = len(costs)
-                        res[(core, arith, opt) + key(d)] = {
+                        res[(label, arith, opt) + key(d)] = {
                             "sections": sections(out / f"{d.name}.h"),
                             "instr": sum(c.instructions for c in costs) / n,
                             "cycles": sum(c.cycles for c in costs) / n,
@@ -147,7 +155,7 @@ def table(res, kind: str) -> str:
         + "".join(f"| max rate at {m} MHz " for m in CLOCKS_MHZ) + "|",
         "|---" * (9 + len(CLOCKS_MHZ)) + "|",
     ]
-    for core, arith in BUILDS:
+    for core, arith in BUILDS if kind == "ctrl" else BANK_BUILDS:
         for opt in OPTS:
             for c in CONFIGS:
                 r = res[(core, arith, opt, kind, c, None)]
@@ -172,9 +180,11 @@ def before_after(res) -> str:
             a = res[(core, arith, opt, "ctrl", "dd", None)]
             b = res[(core, arith, opt, "ctrl", "dd", EX6_ORDER)]
             k = res[(core, arith, opt, "bank", "dd", None)]
+            c = res.get((core + "-c", arith, opt, "bank", "dd", None))
+            c_loop = f"; C loop {c['max_cycles']:,}" if c else ""
             lines.append(f"| {CORE_NAME[core]} | {_arith(arith)} | {opt} "
                          f"| {a['max_cycles']:,} | {b['max_cycles']:,} "
-                         f"| {k['max_cycles']:,} ({k['sections']} states) "
+                         f"| {k['max_cycles']:,} ({k['sections']} states{c_loop}) "
                          f"{_rates(k['max_cycles'])}|")
     return "\n".join(lines)
 
@@ -199,7 +209,7 @@ def breakdown(res, kind: str) -> str:
     """Where Example 6's cycles go, per function, in each build."""
     lines = ["| core | arithmetic | build | function | cycles/sample | share |",
              "|---|---|---|---|---|---|"]
-    for core, arith in BUILDS:
+    for core, arith in BUILDS if kind == "ctrl" else BANK_BUILDS:
         for opt in OPTS:
             r = res[(core, arith, opt, kind, "dd", None)]
             total = r["cycles"]

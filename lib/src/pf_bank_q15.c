@@ -31,6 +31,16 @@
 #include "pf_qmath.h"
 #include "pneufrac/pf_bank.h"
 
+/* The ARMv6-M assembly loop (below) with GCC or Clang on a Cortex-M0/M0+,
+ * unless PF_BANK_ASM_M0 is defined 0: the C is the same integers. */
+#ifndef PF_BANK_ASM_M0
+#if defined(__ARM_ARCH_6M__) && defined(__GNUC__)
+#define PF_BANK_ASM_M0 1
+#else
+#define PF_BANK_ASM_M0 0
+#endif
+#endif
+
 /* floor(b u / 2^16) for |b| < 2^31 and a Q15 u: |result| < 2^30. */
 static inline int32_t mul_in(int32_t b, int32_t u)
 {
@@ -62,6 +72,101 @@ static inline void add_leak(pf_q15_sec *s, uint32_t m, unsigned v, int32_t d)
     s->lo = (uint32_t)t;
 }
 
+/* The real sections: their share of the output (from the states before
+ * the update), then the update. */
+#if PF_BANK_ASM_M0
+/* The same loop in ARMv6-M assembly, beside the C one below and the same
+ * integers, instruction for instruction of the arithmetic (tests/target
+ * runs the M0+ build bit for bit against the host's C). GCC keeps the C
+ * loop's sum, input and temporaries on the stack (Thumb-1 has eight low
+ * registers), 70 cycles a section; this keeps them in r0-r8 and ip.
+ * Arguments: r0 the states, r1 the sections, r2 their number, r3 u;
+ * returns the sum in r0. Offsets: pf_q15_sec {lo 0, hi 4},
+ * pf_bank_sec_q15 {beta 0, lam_m 4, lam_v 6, out_sh 7}. */
+#define PF_ASM_ARG __attribute__((unused)) /* read by the assembly, as r0-r3 */
+/* The offsets and sizes the assembly reads, checked when it is built. */
+typedef char pf_bank_asm_layout[offsetof(pf_q15_sec, lo) == 0 && offsetof(pf_q15_sec, hi) == 4 &&
+                                        sizeof(pf_q15_sec) == 8 &&
+                                        offsetof(pf_bank_sec_q15, beta) == 0 &&
+                                        offsetof(pf_bank_sec_q15, lam_m) == 4 &&
+                                        offsetof(pf_bank_sec_q15, lam_v) == 6 &&
+                                        offsetof(pf_bank_sec_q15, out_sh) == 7 &&
+                                        sizeof(pf_bank_sec_q15) == 8
+                                    ? 1
+                                    : -1];
+__attribute__((naked, noinline)) static int32_t sections(pf_q15_sec *s PF_ASM_ARG,
+                                                         const pf_bank_sec_q15 *k PF_ASM_ARG,
+                                                         uint32_t n PF_ASM_ARG,
+                                                         int32_t u PF_ASM_ARG)
+{
+    __asm__ volatile(
+        /* GCC hands Thumb-1 inline assembly over in divided syntax */
+        "    .syntax unified\n"
+        "    push  {r4, r5, r6, r7, lr}\n"
+        "    mov   r4, r8\n"
+        "    push  {r4}\n"
+        "    movs  r4, #0\n"
+        "    mov   ip, r4\n"              /* acc = 0 */
+        "    lsls  r2, r2, #3\n"
+        "    adds  r2, r1, r2\n"
+        "    mov   r8, r2\n"              /* end of the sections */
+        "    cmp   r1, r2\n"
+        "    bhs   2f\n"
+        "1:  ldr   r7, [r0, #4]\n"        /* hi */
+        "    ldrb  r4, [r1, #7]\n"
+        "    movs  r5, r7\n"
+        "    asrs  r5, r4\n"
+        "    add   ip, r5\n"              /* acc += hi >> out_sh */
+        "    ldr   r4, [r1, #0]\n"        /* beta */
+        "    uxth  r5, r4\n"
+        "    muls  r5, r3\n"
+        "    asrs  r5, r5, #16\n"
+        "    asrs  r4, r4, #16\n"
+        "    muls  r4, r3\n"
+        "    adds  r4, r4, r5\n"          /* floor(beta u / 2^16) */
+        "    subs  r4, r4, r7\n"          /* d */
+        "    ldrh  r6, [r1, #4]\n"        /* lam_m */
+        "    asrs  r5, r4, #16\n"
+        "    muls  r5, r6\n"
+        "    lsls  r5, r5, #2\n"
+        "    uxth  r4, r4\n"
+        "    muls  r4, r6\n"
+        "    lsrs  r4, r4, #14\n"
+        "    adds  r5, r5, r4\n"          /* p = floor(lam_m d / 2^14) */
+        "    ldrb  r6, [r1, #6]\n"        /* v */
+        "    movs  r4, r5\n"
+        "    lsls  r4, r6\n"              /* p << v */
+        "    movs  r2, #32\n"
+        "    subs  r2, r2, r6\n"
+        "    asrs  r5, r2\n"              /* p >> (32 - v) */
+        "    ldr   r6, [r0, #0]\n"        /* lo */
+        "    adds  r6, r6, r4\n"
+        "    adcs  r7, r5\n"              /* (hi:lo) += p 2^v */
+        "    str   r6, [r0, #0]\n"
+        "    str   r7, [r0, #4]\n"
+        "    adds  r0, #8\n"
+        "    adds  r1, #8\n"
+        "    cmp   r1, r8\n"
+        "    blo   1b\n"
+        "2:  mov   r0, ip\n"
+        "    pop   {r4}\n"
+        "    mov   r8, r4\n"
+        "    pop   {r4, r5, r6, r7, pc}\n");
+}
+#else
+static int32_t sections(pf_q15_sec *s, const pf_bank_sec_q15 *k, uint32_t n, int32_t u)
+{
+    const pf_bank_sec_q15 *end = k + n;
+    int32_t acc = 0;
+    for (; k < end; k++, s++) {
+        int32_t hi = s->hi;
+        acc += hi >> k->out_sh;
+        add_leak(s, k->lam_m, k->lam_v, mul_in(k->beta, u) - hi);
+    }
+    return acc;
+}
+#endif
+
 static int16_t output(pf_bank_q15 *S, int32_t acc)
 {
     const pf_bank_coeffs_q15 *c = S->c;
@@ -80,16 +185,10 @@ static int16_t output(pf_bank_q15 *S, int32_t acc)
 int16_t pf_bank_step_q15(pf_bank_q15 *S, int16_t u_q15)
 {
     const pf_bank_coeffs_q15 *c = S->c;
-    const pf_bank_sec_q15 *k = c->sec, *end = k + c->n_sec;
     const pf_bank_pair_q15 *pr = c->pair, *pend = pr + c->n_pair;
-    pf_q15_sec *s = S->s;
-    int32_t u = u_q15, acc = mul_in(c->d_m, u);
+    pf_q15_sec *s = S->s + c->n_sec;
+    int32_t u = u_q15, acc = mul_in(c->d_m, u) + sections(S->s, c->sec, c->n_sec, u);
 
-    for (; k < end; k++, s++) {
-        int32_t hi = s->hi;
-        acc += hi >> k->out_sh;
-        add_leak(s, k->lam_m, k->lam_v, mul_in(k->beta, u) - hi);
-    }
     for (; pr < pend; pr++, s += 2) {
         int32_t h1 = s[0].hi, h2 = s[1].hi;
         int32_t d1 = mul_in(pr->beta1, u) - h1, d2 = mul_in(pr->beta2, u) - h2;

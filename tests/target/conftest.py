@@ -29,10 +29,13 @@ _targets: dict = {}
 
 @pytest.fixture(scope="session")
 def target_of(workdir):
-    """target_of(core) -> TargetRunner on a fresh image at -Os (built once)."""
-    def get(core: str) -> TargetRunner:
-        if core not in _targets:
+    """target_of(core, bank_c=False) -> TargetRunner on a fresh image at
+    -Os (built once); bank_c: the M0+ build with the bank's C loop instead
+    of its assembly one."""
+    def get(core: str, bank_c: bool = False) -> TargetRunner:
+        if (core, bank_c) not in _targets:
             ds = every_design("q15") + (every_design("float") if core == "m4" else [])
-            _targets[core] = link_target(core, "-Os", ds, workdir / core)
-        return TargetRunner(Target(str(_targets[core]), core))
+            name = core + ("-c" if bank_c else "")
+            _targets[(core, bank_c)] = link_target(core, "-Os", ds, workdir / name, bank_c)
+        return TargetRunner(Target(str(_targets[(core, bank_c)]), core))
     return get

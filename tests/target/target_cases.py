@@ -52,6 +52,17 @@ def every_design(arith: str) -> list[Design]:
 
 # (core, arithmetic) pairs that run on target
 TARGETS = [("m0plus", "q15"), ("m4", "q15"), ("m4", "float")]
+# Every on-target run: (core, arithmetic, bank_c, kind, case). bank_c is
+# the M0+ build with the bank's portable C loop instead of its assembly
+# one (lib/src/pf_bank_q15.c): both must equal the host's C bit for bit.
+RUNS = [(core, arith, bank_c, kind, case)
+        for core, arith in TARGETS for bank_c in ((False, True) if core == "m0plus" else (False,))
+        for kind, case in KIND_CASES if kind == "bank" or not bank_c]
+
+
+def run_id(run) -> str:
+    core, arith, bank_c, kind, case = run
+    return f"{core}{'-cloop' if bank_c else ''}-{arith}-{kind}-{case}"
 
 
 def stimulus(arith: str, n: int, seed: int) -> np.ndarray:

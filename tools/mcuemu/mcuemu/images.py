@@ -121,22 +121,28 @@ def write_table(sets: list[tuple[str, str, str]], out: Path) -> Path:
     return src
 
 
-def cross_archive(core: str, opt: str) -> Path:
+def cross_archive(core: str, opt: str, bank_c: bool = False) -> Path:
     """Cross-builds lib/ for a core at -Os or -O2 (scripts/fw-image.sh
     fw_build, incremental) and returns the archive. -Os uses the build
-    directories of scripts/firmware-check.sh."""
-    short = {"m0plus": "m0", "m4": "m4"}[core]
+    directories of scripts/firmware-check.sh. bank_c: the M0+ build with
+    the bank's portable C loop instead of its assembly one."""
+    if bank_c and core != "m0plus":
+        raise ValueError("only the Cortex-M0+ build has the bank's assembly loop")
+    short = {"m0plus": "m0", "m4": "m4"}[core] + ("-c" if bank_c else "")
     d = ROOT / (f"build-arm-{short}" if opt == "-Os" else f"build-arm-{short}{opt}")
-    _run(["bash", "scripts/fw-image.sh", "fw_build", CPUS[core], str(d), opt])
+    _run(["bash", "scripts/fw-image.sh", "fw_build", CPUS[core], str(d), opt]
+         + (["-DPNEUFRAC_BANK_ASM=OFF"] if bank_c else []))
     return d / "lib" / "libpneufrac.a"
 
 
-def link_target(core: str, opt: str, designs: list[Design], out: Path) -> Path:
-    """The Cortex-M image (ELF) holding the designs and the library."""
+def link_target(core: str, opt: str, designs: list[Design], out: Path,
+                bank_c: bool = False) -> Path:
+    """The Cortex-M image (ELF) holding the designs and the library
+    (bank_c: as cross_archive)."""
     if core == "m0plus" and any(d.arith != "q15" for d in designs):
         raise ValueError("the Cortex-M0+ build holds the Q15 runtime only")
     src = write_sets(designs, out)
-    archive = cross_archive(core, opt)
+    archive = cross_archive(core, opt, bank_c)
     used = sorted({(d.kind, d.arith) for d in designs})
     keep = [entry(k, op, a) for k, a in used for op in ("init", "step", "run", "reset")]
     keep += [f"fw_sets_{k}_{a}" for k, a in used] + ["fw_sizes"]
