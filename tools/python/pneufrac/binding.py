@@ -342,8 +342,13 @@ def _fill(struct, values: dict, what: str) -> None:
     for k, v in values.items():
         if k not in names:
             raise KeyError(f"{what} has no field '{k}'")
-        ctype = dict(struct._fields_)[k]
-        setattr(struct, k, int(v) if ctype is C.c_int else float(v))
+        if dict(struct._fields_)[k] is C.c_int:
+            # ctypes would wrap an int that does not fit round silently.
+            if not -2**31 <= int(v) < 2**31:
+                raise ValueError(f"{what}.{k}: {v} does not fit an int")
+            setattr(struct, k, int(v))
+        else:
+            setattr(struct, k, float(v))
 
 
 class DesignBuffer:

@@ -61,9 +61,10 @@ def _options(fs, band, order, approx, prewarp, t_slow, input_model) -> dict:
             raise ValueError(f"band: expected (wb, wh) in rad/s, got {band!r}") from None
         o["wb"], o["wh"] = _check_number("band wb", wb), _check_number("band wh", wh)
     if order is not None:
-        if isinstance(order, bool) or int(order) != order:
+        n = _check_number("order", order)
+        if isinstance(order, bool) or n != int(n):
             raise ValueError(f"order: {order!r} is not a whole number")
-        o["order"] = int(order)
+        o["order"] = int(n)
     if approx not in APPROX:
         raise ValueError(f"approx: '{approx}' (known: {', '.join(APPROX)})")
     if input_model not in INPUT_MODELS:

@@ -55,9 +55,11 @@ def severity(before: float, after: float, named: bool) -> float:
 
 def flatten(row: dict) -> dict:
     """A task's row (fleet.diagnose_text) as one table row."""
+    # Missing values are None or NaN, never "", so that the CSV (where an
+    # empty field reads back as missing) and the Parquet file agree.
     out = {name: math.nan for name, _ in COLUMNS}
-    out.update(loop=row["loop"], status=row["status"], error=row["error"], cause="",
-               causes="", elapsed_s=_num(row.get("elapsed_s")))
+    out.update(loop=row["loop"], status=row["status"], error=row["error"] or None,
+               cause=None, causes=None, elapsed_s=_num(row.get("elapsed_s")))
     j = row.get("diagnosis")
     if row["status"] != "ok" or j is None:
         return out
