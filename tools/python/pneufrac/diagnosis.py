@@ -5,6 +5,7 @@ this module only takes the record in the forms Python has it and hands
 back its result, the same one `pneufrac-fit diagnose --json` prints."""
 from __future__ import annotations
 
+import inspect
 from pathlib import Path
 
 import numpy as np
@@ -16,9 +17,12 @@ def _record(data, columns: dict | None):
     from pneufrac_fit import data as data_mod
     names = {"t": "t", "e": "e", "pc": "pc", **(columns or {})}
     if isinstance(data, (str, Path)):
-        if columns:
-            return data_mod.read_csv(data, columns=names)
-        return data_mod.read_csv(data)
+        if not columns:
+            return data_mod.read_csv(data)
+        if "columns" not in inspect.signature(data_mod.read_csv).parameters:
+            raise ValueError("columns= names the columns of a DataFrame or arrays; this "
+                             "pneufrac-fit reads CSV files with the header t,e,pc only")
+        return data_mod.read_csv(data, columns=names)
     try:
         t, e, pc = (np.asarray(data[names[k]], dtype=float) for k in ("t", "e", "pc"))
     except KeyError as exc:
@@ -30,9 +34,8 @@ def _record(data, columns: dict | None):
 
 
 def diagnose(data, config: str, *, columns: dict | None = None, fixes: dict | None = None,
-             e0: float | None = None, pc0: float | None = None, order: int = 8,
-             oversample: int = 2, jobs: int | None = None, seed: int = 0,
-             progress: bool = False) -> "Diagnosis":
+             e0: float | None = None, pc0: float | None = None, progress: bool = False,
+             **options) -> "Diagnosis":
     """Diagnose a measured record against the paper's model of @config
     ("p", "dd", "id", "pid"), as `pneufrac-fit diagnose` does.
 
@@ -41,8 +44,9 @@ def diagnose(data, config: str, *, columns: dict | None = None, fixes: dict | No
         for other column names.
     fixes: {group: value}, groups held at a value (K, L, tau, rho, beta,
         q, RC, nu, w, RCd, RCi_ratio); e0, pc0: the operating point, both
-        or neither (default: from the record); order, oversample, jobs,
-        seed: as the CLI's options; progress: progress lines on stderr.
+        or neither (default: from the record); progress: progress lines on
+        stderr; options: order, oversample, jobs, seed, as the CLI's
+        options of those names (their defaults too).
 
     Raises pneufrac_fit.data.DataError (a ValueError) for a record that
     cannot be analysed, ValueError for bad options.
@@ -61,9 +65,12 @@ def diagnose(data, config: str, *, columns: dict | None = None, fixes: dict | No
     rec = _record(data, columns)
     if e0 is not None:
         data_mod.set_operating_point(rec, float(e0), float(pc0))
-    raw = diag_mod.diagnose(rec, config, fixed, order=order, oversample=oversample,
-                            jobs=jobs, progress=progress, seed=seed)
-    return Diagnosis(raw)
+    known = ("order", "oversample", "jobs", "seed")
+    bad = [k for k in options if k not in known]
+    if bad:
+        raise ValueError(f"unknown option '{bad[0]}' (options: {', '.join(known)})")
+    raw = diag_mod.diagnose(rec, config, fixed, progress=progress, **options)
+    return Diagnosis(raw, rec)
 
 
 class Diagnosis:
@@ -76,9 +83,10 @@ class Diagnosis:
     evidence: the report's sentences; raw: pneufrac_fit's own result.
     """
 
-    def __init__(self, raw):
+    def __init__(self, raw, record):
         from pneufrac_fit import output
         self.raw = raw
+        self._record = record
         self._dict = output.to_dict(raw)
         j = self._dict
         self.config = j["config"]
@@ -91,6 +99,8 @@ class Diagnosis:
 
     @staticmethod
     def _causes(j: dict) -> list:
+        if "causes" in j:
+            return [dict(c) for c in j["causes"]]
         if j["cause"] == "none":
             return []
         names = j["effect_params"].keys()
@@ -114,10 +124,14 @@ class Diagnosis:
         - extended)."""
         import pandas as pd
         d = self.raw
-        measured = d.y + d.pc0
-        extended = d.extended.sim + d.pc0
-        return pd.DataFrame({"t": d.t, "measured": measured,
-                             "baseline": d.baseline.sim + d.pc0, "extended": extended,
+        measured = self._record.pc
+        # The fits may work on deviations from an operating point: the
+        # models' outputs in the record's units add back what the fit took
+        # off the measured output.
+        offset = measured - d.y
+        extended = d.extended.sim + offset
+        return pd.DataFrame({"t": self._record.t, "measured": measured,
+                             "baseline": d.baseline.sim + offset, "extended": extended,
                              "residual": measured - extended})
 
     def write_report(self, out) -> Path:
