@@ -16,6 +16,8 @@ import pytest
 pytest.importorskip("dask.distributed")
 from pneufrac_fit import fleet  # noqa: E402
 
+from conftest import ROOT  # noqa: E402
+
 # loop -> (generate arguments, the cause it must be given)
 GOOD = {
     "tank_a": (["--effect", "deadtime:t=0.03", "--seed", "11"], "dead_time"),
@@ -54,10 +56,19 @@ def records(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def report(records, tmp_path_factory):
-    out = tmp_path_factory.mktemp("report")
-    r = fit("fleet", records, "--config", "dd", "--workers", "2", "--out", out)
+    """docs/fleet.md's example, run as written (on two workers) from a
+    folder that has the repository's .venv and the records in exports/."""
+    doc = (ROOT / "docs" / "fleet.md").read_text()
+    block = doc.split("<!-- fleet-example", 1)[1].split("```sh\n", 1)[1].split("```", 1)[0]
+    assert "--workers 2" in block
+    here = tmp_path_factory.mktemp("site")
+    (here / ".venv").symlink_to(Path(sys.executable).parent.parent)
+    (here / "exports").symlink_to(records)
+    r = subprocess.run(["bash", "-euo", "pipefail", "-c", block], cwd=here,
+                       capture_output=True, text=True, timeout=600)
     assert r.returncode == 0, r.stderr
-    return out, r
+    assert "tank_a" in r.stdout                      # the second line printed the table
+    return here / "fleet-report", r
 
 
 def test_every_record_has_its_row(report):

@@ -28,12 +28,13 @@ def add_arguments(f) -> None:
     f.add_argument("--scheduler", metavar="ADDRESS", default=None,
                    help="a running dask scheduler (tcp://HOST:PORT); its workers need "
                         "pneufrac installed (default: a local cluster)")
-    f.add_argument("--workers", type=int, default=None,
+    f.add_argument("--workers", type=int, default=None, metavar="N",
                    help=f"processes of the local cluster, 1..{fleet.MAX_WORKERS} "
                         "(default 2)")
     f.add_argument("--out", metavar="DIR", default=DEFAULT_OUT,
                    help=f"report folder (default {DEFAULT_OUT})")
-    f.add_argument("--seed", type=int, default=0, help="seed of the fits' fresh starts")
+    f.add_argument("--seed", type=int, default=0, metavar="S",
+                   help="seed of the fits' fresh starts")
     f.add_argument("--quiet", action="store_true", help="no progress on stderr")
 
 
