@@ -11,7 +11,6 @@ fails on the figures.
 import argparse
 import os
 import pickle
-import platform
 import subprocess
 import sys
 import tempfile
@@ -25,6 +24,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 import numpy as np  # noqa: E402
 
+from bench_fit import machine  # noqa: E402  (bench/, the script's folder)
 from pneufrac_fit import fleet  # noqa: E402
 
 BEGIN = "<!-- generated: bench/bench_fleet.py -->"
@@ -34,18 +34,6 @@ END = "<!-- end generated -->"
 KINDS = [["--effect", "deadtime:t=0.012"], ["--effect", "lag:tau=0.02"],
          ["--effect", "backlash:width=0.04"], []]
 NOOP_TASKS = 2000
-
-
-def machine() -> str:
-    cpu = ""
-    try:
-        for ln in open("/proc/cpuinfo"):
-            if ln.startswith("model name"):
-                cpu = ln.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    return f"{platform.machine()}, {os.cpu_count()} cores, {cpu}"
 
 
 def make_records(folder: Path, k: int, n: int) -> list[Path]:

@@ -307,13 +307,19 @@ def param_range(name: str) -> ParamRange:
     return ParamRange(lib.pf_param_info(pid).contents)
 
 
+def _enum_id(lookup, name_of, name: str, what: str) -> int:
+    """The library's number of @name by its lookup function, checked by its
+    name function (an unknown name looks up to the count, named "?")."""
+    v = lookup(name.encode())
+    if name_of(v) != name.encode():
+        raise KeyError(f"the library has no {what} '{name}'")
+    return v
+
+
 def config_id(config: str) -> int:
     """The library's number of a configuration name ("p", "dd", ...)."""
     lib = load()
-    cid = lib.pf_topology_lookup(config.encode())
-    if lib.pf_topology_name(cid) != config.encode():
-        raise KeyError(f"the library has no configuration '{config}'")
-    return cid
+    return _enum_id(lib.pf_topology_lookup, lib.pf_topology_name, config, "configuration")
 
 
 def param_used(config: str, name: str) -> bool:
@@ -415,10 +421,7 @@ class DesignBuffer:
 def arith_id(name: str) -> int:
     """The library's number of an arithmetic ("double", "float", "q15")."""
     lib = load()
-    a = lib.pf_arith_lookup(name.encode())
-    if lib.pf_arith_name(a) != name.encode():
-        raise KeyError(f"the library has no arithmetic '{name}'")
-    return a
+    return _enum_id(lib.pf_arith_lookup, lib.pf_arith_name, name, "arithmetic")
 
 
 class Runtime:

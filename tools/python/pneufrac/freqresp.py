@@ -28,11 +28,6 @@ class FreqResp:
     delay_discrete: float    # dead time, s: whole samples
     title: str = ""
 
-    @staticmethod
-    def _db(h):
-        with np.errstate(divide="ignore"):
-            return 20.0 * np.log10(np.abs(h))
-
     def _deg(self, h, delay):
         """Unwrapped phase in degrees; the dead time's -omega T in closed
         form after the unwrapping, which a grid could not follow."""
@@ -42,29 +37,17 @@ class FreqResp:
         out[ok] = np.unwrap(np.angle(rot[ok]))
         return np.degrees(out - self.omega * delay)
 
-    @property
-    def ideal_db(self):
-        return self._db(self.ideal)
-
-    @property
-    def ideal_deg(self):
-        return self._deg(self.ideal, self.delay_ideal)
-
-    @property
-    def discrete_db(self):
-        return self._db(self.discrete)
-
-    @property
-    def discrete_deg(self):
-        return self._deg(self.discrete, self.delay_discrete)
-
     def to_frame(self):
         """pandas DataFrame with the columns of `pneufrac bode`: omega,
         ideal_db, ideal_deg, discrete_db, discrete_deg."""
         import pandas as pd
-        return pd.DataFrame({"omega": self.omega, "ideal_db": self.ideal_db,
-                             "ideal_deg": self.ideal_deg, "discrete_db": self.discrete_db,
-                             "discrete_deg": self.discrete_deg})
+        cols = {"omega": self.omega}
+        for name, h, delay in (("ideal", self.ideal, self.delay_ideal),
+                               ("discrete", self.discrete, self.delay_discrete)):
+            with np.errstate(divide="ignore"):
+                cols[f"{name}_db"] = 20.0 * np.log10(np.abs(h))
+            cols[f"{name}_deg"] = self._deg(h, delay)
+        return pd.DataFrame(cols)
 
 
 def default_omega(design, points: int | None = None) -> np.ndarray:
