@@ -61,16 +61,19 @@ def noop(x):
     return x
 
 
-def scheduler_cost(workers: int) -> float:
-    """Seconds per task of the whole dask round trip for a task that does
-    nothing: submission, scheduling, the worker's call, the result."""
+def scheduler_cost(workers: int) -> tuple[float, float]:
+    """Seconds per task, for tasks that do nothing: the wall time of the
+    whole dask round trip (submission, scheduling, the worker's call, the
+    result), and the CPU time of this process, where the local cluster's
+    scheduler runs beside the client."""
     client, cluster = fleet._client(None, workers)
     try:
         client.wait_for_workers(workers)
         client.gather(client.map(noop, range(50), pure=False))      # warm
-        t0 = time.monotonic()
+        t0, c0 = time.monotonic(), time.process_time()
         client.gather(client.map(noop, range(NOOP_TASKS), pure=False))
-        return (time.monotonic() - t0) / NOOP_TASKS
+        return ((time.monotonic() - t0) / NOOP_TASKS,
+                (time.process_time() - c0) / NOOP_TASKS)
     finally:
         client.close()
         cluster.close()
@@ -97,6 +100,7 @@ def main() -> int:
             ok = [r for r in rows if r["status"] == "ok"]
             runs.append({"workers": w, "wall": wall, "startup": up, "ok": len(ok),
                          "task": float(np.median([r["elapsed_s"] for r in ok])),
+                         "cpu": float(np.median([r["cpu_s"] for r in ok])),
                          "out_bytes": float(np.mean([len(pickle.dumps(r)) for r in rows]))})
             print(f"[bench_fleet] {w} worker(s): {wall:.1f} s for {len(rows)} records "
                   f"({len(ok)} diagnosed), startup {up:.1f} s", file=sys.stderr)
@@ -128,32 +132,35 @@ def report(a, runs, in_bytes, per_task, load0, load1) -> str:
       "dead time, a lag, a dead band and none; every record is diagnosed with "
       "pneufrac-fit's defaults (one process per record, `--jobs 1`).\n")
     w("| workers | wall time | of which cluster start | records/hour (wall) | "
-      "records/hour (after start) | median diagnosis per record |")
+      "records/hour (after start) | median per record: wall, CPU |")
     w("|---|---|---|---|---|---|")
     for r in runs:
         rate = a.records * 3600 / r["wall"]
         steady = a.records * 3600 / max(r["wall"] - r["startup"], 1e-9)
         w(f"| {r['workers']} | {r['wall']:.1f} s | {r['startup']:.1f} s | {rate:.0f} | "
-          f"{steady:.0f} | {r['task']:.1f} s |")
+          f"{steady:.0f} | {r['task']:.1f} s, {r['cpu']:.1f} s |")
     w("")
-    task = runs[0]["task"]
+    w("A record's wall time on its worker exceeds its CPU time by what the other work "
+      "on the machine takes from its core; on a core of its own the two would agree.\n")
+    task = runs[0]["cpu"]
     out_b = runs[0]["out_bytes"]
+    rt, cpu = per_task
     w(f"Each task carries its record's text to the worker ({in_bytes / 1e3:.0f} kB on "
       f"average here) and brings back the diagnosis's JSON object ({out_b / 1e3:.1f} kB "
-      f"pickled). A task that does nothing costs {per_task * 1e6:.0f} µs of dask's round "
-      f"trip on this machine ({NOOP_TASKS} of them on a local cluster of "
-      f"{runs[-1]['workers']}: submission, scheduling, the call, the result).\n")
+      f"pickled). {NOOP_TASKS} tasks that do nothing, on a local cluster of "
+      f"{runs[-1]['workers']}, took {rt * 1e6:.0f} µs each from submission to result, "
+      f"and {cpu * 1e6:.0f} µs of CPU each in the process of the client and the "
+      "scheduler.\n")
     w("**100 workers, on paper** (arithmetic on the figures above, not a measurement):\n")
     rate = 100 * 3600 / task
     tps = 100 / task
-    w(f"- Throughput: with {task:.1f} s of diagnosis per record, 100 single-threaded "
-      f"workers finish 100 records every {task:.1f} s, about {rate:.0f} records per hour "
-      "once started, if each worker has a core of its own.")
-    w(f"- Scheduler: {tps:.1f} tasks per second. At {per_task * 1e6:.0f} µs each (the whole "
-      f"round trip, an upper bound on the scheduler's own share) that is "
-      f"{100 * tps * per_task:.2f} % of one core: the scheduler is not the limit until "
-      f"tasks are about {100 * per_task * 1e3:.0f} ms long, thousands of times shorter "
-      "than a diagnosis.")
+    w(f"- Throughput: with {task:.1f} s of CPU per record, 100 single-threaded "
+      f"workers, each on a core of its own, finish 100 records every {task:.1f} s: about "
+      f"{rate:.0f} records per hour once started.")
+    w(f"- Scheduler: {tps:.1f} tasks per second. At {cpu * 1e6:.0f} µs of client and "
+      f"scheduler CPU each, that is {100 * tps * cpu:.2f} % of one core; the scheduler "
+      f"would saturate one core only when tasks got {task / (100 * cpu):.0f} times "
+      f"shorter ({100 * cpu * 1e3:.0f} ms each at 100 workers).")
     w(f"- Data: {tps * in_bytes / 1e6:.2f} MB/s of records out of the client and "
       f"{tps * out_b / 1e6:.3f} MB/s of results back; the client reads one file per "
       f"finished task, and holds at most {fleet.IN_FLIGHT} records per worker thread "

@@ -54,25 +54,28 @@ def loop_names(files: list[Path]) -> list[str]:
     return [str(f.resolve().relative_to(base).with_suffix("")) for f in files]
 
 
-def error_row(loop: str, message: str, elapsed: float = 0.0) -> dict:
+def error_row(loop: str, message: str, elapsed: float = 0.0, cpu: float = 0.0) -> dict:
     return {"loop": loop, "status": "error", "error": message, "diagnosis": None,
-            "elapsed_s": elapsed}
+            "elapsed_s": elapsed, "cpu_s": cpu}
 
 
 def diagnose_text(loop: str, text: str, config: str, seed: int = 0) -> dict:
-    """One task: the record's CSV text in, its row out. Never raises."""
+    """One task: the record's CSV text in, its row out. Never raises.
+    elapsed_s is the task's wall time, cpu_s its process's CPU time (the
+    cost on a core of its own)."""
     from . import data, diagnose, lib, output
-    t0 = time.monotonic()
+    t0, c0 = time.monotonic(), time.process_time()
     try:
         rec = data.parse_csv(text, loop)
         d = diagnose.diagnose(rec, config, {}, jobs=1, progress=False, seed=seed)
         j = output.to_dict(d)
     except (data.DataError, lib.ModelError) as exc:
-        return error_row(loop, str(exc), time.monotonic() - t0)
+        return error_row(loop, str(exc), time.monotonic() - t0, time.process_time() - c0)
     except Exception as exc:  # noqa: BLE001  a bug in one record must not stop the rest
-        return error_row(loop, f"{type(exc).__name__}: {exc}", time.monotonic() - t0)
+        return error_row(loop, f"{type(exc).__name__}: {exc}", time.monotonic() - t0,
+                         time.process_time() - c0)
     return {"loop": loop, "status": "ok", "error": "", "diagnosis": j,
-            "elapsed_s": time.monotonic() - t0}
+            "elapsed_s": time.monotonic() - t0, "cpu_s": time.process_time() - c0}
 
 
 def read_record(path: Path) -> str:

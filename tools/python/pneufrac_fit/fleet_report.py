@@ -32,7 +32,7 @@ COLUMNS = [("loop", ""), ("status", ""), ("severity", "fraction of output sd"),
            ("nrmse_val_before", "fraction of output sd"),
            ("nrmse_val_after", "fraction of output sd"), ("delta_bic", ""),
            ("noise_floor_val", "fraction of output sd"), ("n", "samples"), ("fs", "Hz"),
-           ("elapsed_s", "s"), ("error", "")]
+           ("elapsed_s", "s"), ("cpu_s", "s"), ("error", "")]
 
 
 def _num(v) -> float:
@@ -59,7 +59,8 @@ def flatten(row: dict) -> dict:
     # empty field reads back as missing) and the Parquet file agree.
     out = {name: math.nan for name, _ in COLUMNS}
     out.update(loop=row["loop"], status=row["status"], error=row["error"] or None,
-               cause=None, causes=None, elapsed_s=_num(row.get("elapsed_s")))
+               cause=None, causes=None, elapsed_s=_num(row.get("elapsed_s")),
+               cpu_s=_num(row.get("cpu_s")))
     j = row.get("diagnosis")
     if row["status"] != "ok" or j is None:
         return out
