@@ -16,10 +16,14 @@ log() { printf '[setup] %s\n' "$*"; }
 
 # g++: the exported headers are compiled as C++ too (test_export);
 # liblapacke-dev: eigenvalues for `pneufrac design --format zpk|sos`;
-# groff-base: the man pages' lint (docs/man/generate.py --check).
+# groff-base: the man pages' lint (docs/man/generate.py --check);
+# systemd, man-db: `systemd-analyze verify` of the installed unit, which
+# looks up its man:pneufracd(8) (ctest service_unit; no running systemd
+# needed); iproute2: the recipe checks' private loopback (tests/recipes).
 apt_packages=(
   cmake make gcc g++ libc6-dev pkg-config
   libcmocka-dev libmodbus-dev mbpoll liblapacke-dev groff-base
+  systemd man-db iproute2
   libssl-dev openssl
   gcc-arm-none-eabi libnewlib-arm-none-eabi
   valgrind cppcheck

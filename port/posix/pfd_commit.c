@@ -238,7 +238,9 @@ static int refuse(pfd_daemon *d, pfd_inst *in, uint16_t result, int param)
     /* An unstable set names the parameter, like an invalid one. */
     pthread_mutex_lock(&d->regs_mx);
     in->commit_result = result;
-    in->err_param = param == PF_P_COUNT ? 0xFFFFu : (uint16_t)param;
+    /* The library's pf_param_id; the daemon's own settings (bump_tau,
+     * arith, substeps) have none, and err_addr names them. */
+    in->err_param = param >= (int)PF_P_COUNT ? 0xFFFFu : (uint16_t)param;
     in->err_addr = param == PF_P_COUNT ? 0xFFFFu : pfd_regmap_staged_addr(param);
     pthread_mutex_unlock(&d->regs_mx);
     return result == PFD_COMMIT_BUSY     ? MODBUS_EXCEPTION_SLAVE_OR_SERVER_BUSY
@@ -298,6 +300,7 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_who *w, const pfd_stage *s
     if (pfd_slot_prepare(slot, &ip, &ref, d->scratch, d->check, &why) != 0) {
         uint16_t res = why.st == PF_E_SCALE         ? PFD_COMMIT_SCALE
                        : why.st == PFD_E_UNSTABLE   ? PFD_COMMIT_UNSTABLE
+                       : why.st == PFD_E_RATE       ? PFD_COMMIT_RATE
                        : why.param != PF_P_COUNT    ? PFD_COMMIT_INVALID
                                                     : PFD_COMMIT_FAILED;
         int rc;
@@ -307,6 +310,7 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_who *w, const pfd_stage *s
                 in->unit, (unsigned)res, pfd_param_name(why.param),
                 why.st == PFD_E_DAEMON     ? "out of range"
                 : why.st == PFD_E_UNSTABLE ? "unstable sampled loop"
+                : why.st == PFD_E_RATE     ? "the substep rule's rate is beyond the limits"
                                            : pf_status_str(why.st));
         /* The slot was free and stays free: a pending set, if any, is
          * still what `committed` and the config file describe. */
@@ -366,7 +370,6 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_who *w, const pfd_stage *s
             "peer=%s role=%s unit=%d config=%s arith=%s fs=%.9g substeps=%u internal_fs=%.9g "
             "load_pct=%.1f", w->peer, w->role, in->unit, pf_topology_name(ip.p.topology),
             pfd_arith_name(ip.arith), ip.fs, slot->rate.k, slot->rate.internal_fs, 100.0 * load);
-    pfd_rate_warn_capped(in->unit, &slot->rate);
     /* Answered only once the file is on disk; if it cannot be written the
      * set still runs (it was switched in above), and the client learns
      * that it would not survive a restart. */

@@ -324,8 +324,11 @@ int pfd_config_print(const pfd_config *c, FILE *f)
     return rc;
 }
 
-int pfd_config_write(const char *path, const pfd_config *c, char *err,
-                     size_t errlen)
+/* Write @p c's text to @p path with @p put (pfd_file_replace or
+ * pfd_file_create); its result, with "config PATH: ..." in @p err. */
+static int put_text(const char *path, const pfd_config *c,
+                    int (*put)(const char *, const char *, size_t, char *, size_t),
+                    char *err, size_t errlen)
 {
     size_t n;
     char *text = render(c, &n);
@@ -336,9 +339,21 @@ int pfd_config_write(const char *path, const pfd_config *c, char *err,
         snprintf(err, errlen, "config %s: out of memory", path);
         return -1;
     }
-    rc = pfd_file_replace(path, text, n, why, sizeof why);
+    rc = put(path, text, n, why, sizeof why);
     free(text);
-    if (rc != 0)
+    if (rc < 0)
         snprintf(err, errlen, "config %s: %s", path, why);
     return rc;
+}
+
+int pfd_config_write(const char *path, const pfd_config *c, char *err,
+                     size_t errlen)
+{
+    return put_text(path, c, pfd_file_replace, err, errlen);
+}
+
+int pfd_config_create(const char *path, const pfd_config *c, char *err,
+                      size_t errlen)
+{
+    return put_text(path, c, pfd_file_create, err, errlen);
 }

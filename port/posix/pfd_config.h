@@ -48,4 +48,9 @@ int pfd_config_print(const pfd_config *c, FILE *f);
 int pfd_config_write(const char *path, const pfd_config *c, char *err,
                      size_t errlen);
 
+/** Create @p path unless it exists (pfd_file_create). @return 0 created,
+ *  1 it exists (untouched), or -1 with @p err. */
+int pfd_config_create(const char *path, const pfd_config *c, char *err,
+                      size_t errlen);
+
 #endif

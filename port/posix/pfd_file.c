@@ -100,13 +100,14 @@ static int sync_dir_of(const char *path, char *err, size_t errlen)
     return 0;
 }
 
-int pfd_file_replace(const char *path, const char *text, size_t n, char *err,
-                     size_t errlen)
+/* PATH.tmp written with the @p n bytes at @p text and synced, its name in
+ * @p tmp (PATH_MAX bytes). @return 0, or -1 with @p err (nothing left). */
+static int write_temp(const char *path, const char *text, size_t n, char *tmp,
+                      char *err, size_t errlen)
 {
-    char tmp[PATH_MAX];
     int fd;
 
-    if (snprintf(tmp, sizeof tmp, "%s.tmp", path) >= (int)sizeof tmp) {
+    if (snprintf(tmp, PATH_MAX, "%s.tmp", path) >= PATH_MAX) {
         snprintf(err, errlen, "path too long");
         return -1;
     }
@@ -118,10 +119,49 @@ int pfd_file_replace(const char *path, const char *text, size_t n, char *err,
         unlink(tmp);
         return -1;
     }
-    if (close(fd) != 0 || rename(tmp, path) != 0) {
+    if (close(fd) != 0) {
+        snprintf(err, errlen, "writing %s: %s", tmp, strerror(errno));
+        unlink(tmp);
+        return -1;
+    }
+    return 0;
+}
+
+int pfd_file_replace(const char *path, const char *text, size_t n, char *err,
+                     size_t errlen)
+{
+    char tmp[PATH_MAX];
+
+    if (write_temp(path, text, n, tmp, err, errlen) != 0)
+        return -1;
+    if (rename(tmp, path) != 0) {
         snprintf(err, errlen, "replacing: %s", strerror(errno));
         unlink(tmp);
         return -1;
     }
     return sync_dir_of(path, err, errlen);
+}
+
+int pfd_file_create(const char *path, const char *text, size_t n, char *err,
+                    size_t errlen)
+{
+    char tmp[PATH_MAX];
+    int rc;
+
+    if (access(path, F_OK) == 0)
+        return 1;
+    if (write_temp(path, text, n, tmp, err, errlen) != 0)
+        return -1;
+    if (link(tmp, path) == 0) {
+        rc = 0;
+    } else if (errno == EEXIST) {
+        rc = 1;
+    } else {
+        snprintf(err, errlen, "creating: %s", strerror(errno));
+        rc = -1;
+    }
+    unlink(tmp);
+    if (rc == 0 && sync_dir_of(path, err, errlen) != 0)
+        return -1;
+    return rc;
 }

@@ -21,4 +21,12 @@ int pfd_file_read(const char *path, size_t max, char **buf, size_t *len,
 int pfd_file_replace(const char *path, const char *text, size_t n, char *err,
                      size_t errlen);
 
+/** Create @p path with the @p n bytes at @p text, as durably as
+ *  pfd_file_replace(), unless it exists: an existing file is never
+ *  touched, even one that appears meanwhile (the temp file is linked in,
+ *  which fails if the name is taken). @return 0 created, 1 it exists, or
+ *  -1 with a message in @p err. */
+int pfd_file_create(const char *path, const char *text, size_t n, char *err,
+                    size_t errlen);
+
 #endif

@@ -14,7 +14,7 @@ void pfd_log_set_level(enum pfd_log_level lvl) { min_level = lvl; }
 void pfd_log(enum pfd_log_level lvl, const char *msg, const char *fmt, ...)
 {
     static const char *const names[] = {"debug", "info", "warn", "error"};
-    char line[1024];
+    char line[2048];
     struct timespec ts;
     struct tm tm;
     size_t n;

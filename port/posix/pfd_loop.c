@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "pfd_log.h"
+#include "pfd_overrun.h"
 #include "pfd_sample.h"
 
 static int64_t mono_ns(void)
@@ -67,6 +68,7 @@ static void freerun(pfd_daemon *d)
 
             if (late < 0)
                 continue;
+            pfd_overrun_note(&in->late_max_ns, late);
             if (late >= period) {
                 int64_t m = late / period;
                 missed = m > (int64_t)UINT32_MAX ? UINT32_MAX : (uint32_t)m;

@@ -13,6 +13,7 @@
 #include "pfd_commit.h"
 #include "pfd_log.h"
 #include "pfd_loop.h"
+#include "pfd_overrun.h"
 #include "pfd_rate.h"
 #include "pfd_regmap.h"
 #include "pfd_server.h"
@@ -21,11 +22,19 @@
 /* What the main thread remembers between two housekeeping rounds. */
 typedef struct watch {
     uint16_t flags[PFD_MAX_INSTANCES];
-    uint32_t overruns[PFD_MAX_INSTANCES];
+    pfd_overrun_report overruns;
 } watch;
 
-/* Log watchdog trips/recoveries and new overruns, from the snapshots. */
-static void housekeeping(pfd_daemon *d, watch *w)
+static int64_t mono_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
+}
+
+/* Log watchdog trips/recoveries, from the snapshots, and report overruns
+ * (pfd_overrun.h); @p final: the loop has stopped, report what is left. */
+static void housekeeping(pfd_daemon *d, watch *w, int final)
 {
     int i;
     for (i = 0; i < d->n; i++) {
@@ -38,12 +47,11 @@ static void housekeeping(pfd_daemon *d, watch *w)
             pfd_log(PFD_LOG_WARN,
                     (s.flags & PFD_SNAP_TRIPPED) ? "watchdog-tripped" : "watchdog-recovered",
                     "unit=%d samples=%lu", in->unit, (unsigned long)s.samples);
-        if (s.overruns > w->overruns[i])
-            pfd_log(PFD_LOG_WARN, "overruns", "unit=%d overruns=%lu jitter_max_us=%lu",
-                    in->unit, (unsigned long)s.overruns, (unsigned long)s.jit_max_us);
         w->flags[i] = s.flags;
-        w->overruns[i] = s.overruns;
+        pfd_overrun_look(&w->overruns, i, in->unit, s.overruns,
+                         pfd_overrun_take(&in->late_max_ns));
     }
+    pfd_overrun_emit(&w->overruns, d->n, mono_ns(), final);
 }
 
 /* Refuse to start instances that the loop could not run within the
@@ -98,18 +106,15 @@ static int add_instances(pfd_daemon *d, const pfd_config *c, const char *path)
                 "unit=%d config=%s arith=%s fs=%.9g substeps=%u internal_fs=%.9g step_ns=%.0f",
                 d->inst[i]->unit, pf_topology_name(ip->p.topology),
                 pfd_arith_name(ip->arith), ip->fs, r->k, r->internal_fs, r->step_ns);
-        pfd_rate_warn_capped(d->inst[i]->unit, r);
     }
     return check_load(d);
 }
 
 /* Until SIGINT, SIGTERM or --run-for; housekeeping every 200 ms. */
-static void serve(pfd_daemon *d, const sigset_t *sigs, double run_for)
+static void serve(pfd_daemon *d, watch *w, const sigset_t *sigs, double run_for)
 {
-    watch w;
     struct timespec t0;
 
-    memset(&w, 0, sizeof w); /* nothing seen yet */
     clock_gettime(CLOCK_MONOTONIC, &t0);
     for (;;) {
         struct timespec to = {0, 200000000L}, now;
@@ -120,7 +125,7 @@ static void serve(pfd_daemon *d, const sigset_t *sigs, double run_for)
         }
         if (sig == SIGHUP)
             pfd_log(PFD_LOG_INFO, "sighup", "action=none");
-        housekeeping(d, &w);
+        housekeeping(d, w, 0);
         clock_gettime(CLOCK_MONOTONIC, &now);
         if (run_for > 0 &&
             (double)(now.tv_sec - t0.tv_sec) + 1e-9 * (double)(now.tv_nsec - t0.tv_nsec) >=
@@ -139,6 +144,7 @@ static int run(const pfd_cli *a, const pfd_config *c, int fallback)
     pfd_daemon *d = malloc(sizeof *d);
     pfd_settings set = c->set;
     sigset_t sigs;
+    watch *w = calloc(1, sizeof *w); /* nothing seen yet */
     int rc = 0;
 
     /* The file's [daemon] section (in a fallback: the defaults with the
@@ -146,8 +152,9 @@ static int run(const pfd_cli *a, const pfd_config *c, int fallback)
     if (fallback)
         pfd_settings_fallback(&set);
     pfd_settings_copy(&set, &a->set, a->given);
-    if (d == NULL || pfd_daemon_init(d, &set) != 0) {
+    if (d == NULL || w == NULL || pfd_daemon_init(d, &set) != 0) {
         pfd_fatal("out of memory");
+        free(w);
         free(d);
         return 1;
     }
@@ -157,6 +164,7 @@ static int run(const pfd_cli *a, const pfd_config *c, int fallback)
     d->wake_ns = pfd_rate_measure_wakeup();
     if (add_instances(d, c, a->run.config) != 0) {
         pfd_daemon_free(d);
+        free(w);
         free(d);
         return PFD_EXIT_USAGE;
     }
@@ -178,15 +186,18 @@ static int run(const pfd_cli *a, const pfd_config *c, int fallback)
         pfd_loop_stop(d);
         rc = 1;
     } else {
-        serve(d, &sigs, a->run.run_for);
+        pfd_overrun_init(&w->overruns, d->set.overrun_report_s, mono_ns());
+        serve(d, w, &sigs, a->run.run_for);
         pfd_server_stop(d);
         pfd_loop_stop(d);
+        housekeeping(d, w, 1);
         pfd_loop_log_stats(d);
         if (d->config_path != NULL && pfd_persist(d) != 0)
             rc = 1;
         pfd_log(PFD_LOG_INFO, "stopped", "status=%d", rc);
     }
     pfd_daemon_free(d);
+    free(w);
     free(d);
     return rc;
 }
@@ -221,6 +232,8 @@ int main(int argc, char **argv)
         return pfd_start_print_default(&a.run);
     if (a.run.seal != NULL)
         return pfd_start_seal(a.run.seal);
+    if (a.run.init != NULL)
+        return pfd_start_init(&a.run, a.run.init);
 
     c = malloc(sizeof *c);
     if (c == NULL) {

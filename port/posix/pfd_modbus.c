@@ -69,6 +69,7 @@ static void render(pfd_daemon *d, const pfd_session *s, pfd_inst *in, int space,
     v.snap = (const pfd_snap *)pfd_tbuf_latest(&in->out_tb);
     v.status = pfd_status_bits(d, in, v.snap, &h.staged);
     v.n_instances = (uint16_t)d->n;
+    v.word_order = d->set.word_order;
     pfd_regmap_render(space, &v, img);
     pthread_mutex_unlock(&d->regs_mx);
 }
@@ -168,7 +169,7 @@ static int write_regs(pfd_daemon *d, pfd_session *s, pfd_inst *in, unsigned addr
     }
     for (i = 0; i < cnt; i++)
         vals[i] = (uint16_t)be16(payload + 2 * i);
-    rc = pfd_regmap_decode(addr, cnt, vals, &wl);
+    rc = pfd_regmap_decode(addr, cnt, vals, d->set.word_order, &wl);
     if (rc != 0) {
         pfd_audit_refused(&s->who, in->unit, addr, cnt, rc,
                           rc == MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS ? "address" : "value");

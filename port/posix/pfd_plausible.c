@@ -4,6 +4,8 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "pfd_rate.h"
+
 static int stable(const pf_ctrl_design *d, pf_ctrl_check_work *work)
 {
     double rho;
@@ -31,17 +33,27 @@ static void set(pfd_iparams *ip, int k, double v)
         (void)pf_params_set(&ip->p, (pf_param_id)k, v);
 }
 
-/* Whether @p ip builds as a commit would build it (the same limits, the
- * same substeps, designed at the same internal rate fs x substeps) into a
- * stable loop. */
-static int builds_stable(const pfd_iparams *ip, pfd_slot *s, pf_ctrl_design *d,
-                         pf_ctrl_check_work *work)
+/* Why a built set (@p s, designed in @p d) is not plausible: 0 if it is,
+ * else PFD_E_UNSTABLE or PFD_E_RATE. */
+static pf_status implausible(const pfd_slot *s, const pf_ctrl_design *d,
+                             pf_ctrl_check_work *work)
 {
-    pfd_fail why;
-    return pfd_slot_build(s, ip, d, &why) == 0 && stable(d, work);
+    if (!stable(d, work))
+        return PFD_E_UNSTABLE;
+    return pfd_rate_capped(&s->rate) ? PFD_E_RATE : 0;
 }
 
-/* The parameter to blame for @p ip's instability, against @p ref: the
+/* Whether @p ip builds as a commit would build it (the same limits, the
+ * same substeps, designed at the same internal rate fs x substeps) into a
+ * plausible set. */
+static int builds_plausible(const pfd_iparams *ip, pfd_slot *s, pf_ctrl_design *d,
+                            pf_ctrl_check_work *work)
+{
+    pfd_fail why;
+    return pfd_slot_build(s, ip, d, &why) == 0 && implausible(s, d, work) == 0;
+}
+
+/* The parameter to blame for @p ip's implausibility, against @p ref: the
  * paper's parameters the configuration uses, then fs and substeps, which
  * together set the rate the loop is sampled at. */
 static int culprit(const pfd_iparams *ip, const pfd_iparams *ref, pf_ctrl_check_work *work)
@@ -64,7 +76,7 @@ static int culprit(const pfd_iparams *ip, const pfd_iparams *ref, pf_ctrl_check_
             continue;
         alt = *ip;
         set(&alt, k, b);
-        if (d != NULL && s != NULL && builds_stable(&alt, s, d, work)) {
+        if (d != NULL && s != NULL && builds_plausible(&alt, s, d, work)) {
             worst = k;
             break;
         }
@@ -82,12 +94,15 @@ static int culprit(const pfd_iparams *ip, const pfd_iparams *ref, pf_ctrl_check_
 int pfd_slot_prepare(pfd_slot *s, const pfd_iparams *ip, const pfd_iparams *ref,
                      pf_ctrl_design *scratch, pf_ctrl_check_work *work, pfd_fail *why)
 {
+    pf_status st;
+
     if (pfd_slot_build(s, ip, scratch, why) != 0)
         return -1;
     /* pfd_slot_build left the design in scratch. */
-    if (stable(scratch, work))
+    st = implausible(s, scratch, work);
+    if (st == 0)
         return 0;
-    why->st = PFD_E_UNSTABLE;
+    why->st = st;
     why->param = culprit(ip, ref, work);
     return -1;
 }

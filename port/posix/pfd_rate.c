@@ -7,7 +7,6 @@
 #include <string.h>
 #include <time.h>
 
-#include "pfd_log.h"
 
 /* Frequencies the loop-gain scan looks at, rad/s: from far above anything
  * the internal rate could resolve down to far below the slowest dynamics
@@ -126,13 +125,9 @@ unsigned pfd_rate_substeps(const pf_params *p, double fs)
     return (unsigned)fmin(k, k_max);
 }
 
-void pfd_rate_warn_capped(int unit, const pfd_rate *r)
+int pfd_rate_capped(const pfd_rate *r)
 {
-    if (r->wanted_fs > r->internal_fs * (1.0 + 1e-9))
-        pfd_log(PFD_LOG_WARN, "rate-capped",
-                "unit=%d wanted_fs=%.9g internal_fs=%.9g reason=\"the limits (%d substeps, "
-                "%.0f Hz inside) are below the rule's rate: the 0.1 %% aim is not met\"",
-                unit, r->wanted_fs, r->internal_fs, PFD_SUBSTEPS_MAX, PFD_INTERNAL_FS_MAX);
+    return r->wanted_fs > r->internal_fs * (1.0 + 1e-9);
 }
 
 static double thread_cpu_ns(void)

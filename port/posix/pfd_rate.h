@@ -41,9 +41,10 @@ double pfd_rate_wanted_fs(const pf_params *p);
  *  within k <= PFD_SUBSTEPS_MAX and fs x k <= max(fs, PFD_INTERNAL_FS_MAX). */
 unsigned pfd_rate_substeps(const pf_params *p, double fs);
 
-/** Log a warning if the rule asked for more than the limits gave
- *  (r->wanted_fs above r->internal_fs): the accuracy aim is then not met. */
-void pfd_rate_warn_capped(int unit, const pfd_rate *r);
+/** Whether the rule asked for more than the limits give (r->wanted_fs
+ *  above r->internal_fs): its accuracy aim cannot be met, and such a set
+ *  is refused (pfd_plausible.h). Never for substeps given explicitly. */
+int pfd_rate_capped(const pfd_rate *r);
 
 /** Measure @p s's CPU time per controller step (this thread's CPU clock,
  *  the median of a few rounds with a mid-scale input) into

@@ -174,13 +174,18 @@ const pfd_reg pfd_regs[] = {
       "last commit: 0 ok, 1 invalid parameter, 2 q15 scaling failed, 3 busy, 4 other error, "
       "5 applied and running but not persisted (config file write failed), "
       "6 the sampled loop would be unstable, "
-      "7 the loop could not run it within loop_budget")
+      "7 the loop could not run it within loop_budget, "
+      "8 substeps 0 and the substep rule needs an internal rate beyond the limits "
+      "(10000 substeps, 200 kHz): its accuracy aim cannot be met; give substeps to "
+      "choose the rate")
     I(17, PFD_T_U16, F_CADDR, "commit_err_addr", "",
       "holding address of the staged parameter that made the last commit fail "
-      "(result 6: the one whose change alone made the loop unstable; result 7: substeps "
+      "(results 6 and 8: the one whose change alone made the set so; result 7: substeps "
       "if the set runs more than one, else fs); 65535 none")
     I(18, PFD_T_U16, F_CPARAM, "commit_err_param", "",
-      "the library's pf_param_id of that parameter (pf_param_name); 65535 none")
+      "the library's pf_param_id of that parameter (pf_param_name); 65535 none, or one "
+      "of the daemon's own registers (arith, bump_tau, substeps), which only "
+      "commit_err_addr names")
     I(19, PFD_T_U16, F_COMMITS, "commits", "", "accepted commits, modulo 65536")
     I(20, PFD_T_U32, F_SAMPLES, "samples", "", "samples (exchanges) run, modulo 2^32")
     I(22, PFD_T_U32, F_OVERRUNS, "overruns", "samples",
@@ -278,17 +283,34 @@ void pfd_reg_format_range(const pfd_reg *r, char *buf, size_t n)
              pfd_reg_min(r), pfd_reg_max(r));
 }
 
-void pfd_f32_pack(float v, uint16_t *w)
+const char *pfd_word_order_name(int order)
+{
+    return order == PFD_WORDS_ABCD ? "abcd" : order == PFD_WORDS_CDAB ? "cdab" : "?";
+}
+
+void pfd_u32_pack(uint32_t u, int word_order, uint16_t *w)
+{
+    const int lo_first = word_order == PFD_WORDS_CDAB;
+    w[lo_first ? 1 : 0] = (uint16_t)(u >> 16);
+    w[lo_first ? 0 : 1] = (uint16_t)(u & 0xFFFFu);
+}
+
+uint32_t pfd_u32_unpack(const uint16_t *w, int word_order)
+{
+    const int lo_first = word_order == PFD_WORDS_CDAB;
+    return ((uint32_t)w[lo_first ? 1 : 0] << 16) | w[lo_first ? 0 : 1];
+}
+
+void pfd_f32_pack(float v, int word_order, uint16_t *w)
 {
     uint32_t u;
     memcpy(&u, &v, sizeof u);
-    w[0] = (uint16_t)(u >> 16);
-    w[1] = (uint16_t)(u & 0xFFFFu);
+    pfd_u32_pack(u, word_order, w);
 }
 
-float pfd_f32_unpack(const uint16_t *w)
+float pfd_f32_unpack(const uint16_t *w, int word_order)
 {
-    uint32_t u = ((uint32_t)w[0] << 16) | w[1];
+    uint32_t u = pfd_u32_unpack(w, word_order);
     float v;
     memcpy(&v, &u, sizeof v);
     return v;
@@ -419,14 +441,11 @@ void pfd_regmap_render(int space, const pfd_view *v, uint16_t *img)
         x = field_value(r, v);
         switch (r->type) {
         case PFD_T_F32:
-            pfd_f32_pack((float)x, img + r->addr);
+            pfd_f32_pack((float)x, v->word_order, img + r->addr);
             break;
-        case PFD_T_U32: {
-            uint32_t u = (uint32_t)x;
-            img[r->addr] = (uint16_t)(u >> 16);
-            img[r->addr + 1] = (uint16_t)(u & 0xFFFFu);
+        case PFD_T_U32:
+            pfd_u32_pack((uint32_t)x, v->word_order, img + r->addr);
             break;
-        }
         case PFD_T_I16:
             img[r->addr] = (uint16_t)(int16_t)x; /* two's complement on the wire */
             break;
@@ -438,7 +457,7 @@ void pfd_regmap_render(int space, const pfd_view *v, uint16_t *img)
 }
 
 int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
-                      pfd_wlist *out)
+                      int word_order, pfd_wlist *out)
 {
     unsigned a = addr;
 
@@ -463,7 +482,7 @@ int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
 
         switch (r->type) {
         case PFD_T_F32:
-            v = (double)pfd_f32_unpack(w);
+            v = (double)pfd_f32_unpack(w, word_order);
             ok = pfd_reg_in_range(r, v);
             break;
         case PFD_T_I16:
@@ -615,8 +634,14 @@ void pfd_regmap_print_md(FILE *f)
 "- Every instance has this map; the Modbus unit id selects the instance.\n"
 "  An unknown unit id is answered with exception 0B (gateway target failed).\n"
 "- Addresses are 0-based PDU addresses (mbpoll: add `-0`, or add 1).\n"
-"- `f32`: IEEE-754 binary32 in two registers, high word first (ABCD; mbpoll\n"
-"  `-B`). `u32`: likewise, high word first. `i16`: two's complement.\n"
+"- `f32`: IEEE-754 binary32 in two registers; `u32`: an unsigned 32-bit\n"
+"  integer in two registers. Each register is big-endian, and the word\n"
+"  order is the daemon's `--word-order` (config key `word_order`), the\n"
+"  same for every 32-bit register of every instance, read or written:\n"
+"  `abcd` (the default) high word first (mbpoll `-B`; pymodbus\n"
+"  `word_order=\"big\"`), `cdab` low word first (mbpoll without `-B`;\n"
+"  pymodbus `word_order=\"little\"`). 0.5 is `3F00 0000` in abcd and\n"
+"  `0000 3F00` in cdab. `i16`: two's complement.\n"
 "- Function codes: 03 read holding, 04 read input, 06 write one, 16 write\n"
 "  many, 23 write-and-read. Anything else: exception 01.\n"
 "- Exceptions: 01 a function code other than those above (also 0x80 and\n"

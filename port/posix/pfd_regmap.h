@@ -4,9 +4,11 @@
  * request against and from which `pneufracd --print-register-map` writes
  * docs/register-map.md. Every instance (unit id) has the same map.
  *
- * Encoding: 32-bit floats are IEEE-754 binary32 over two registers, high
- * word first (ABCD); u32 likewise. Floats are packed here by hand: the
- * float helpers of libmodbus 3.1.6 are not used.
+ * Encoding: 32-bit floats are IEEE-754 binary32 over two registers, u32
+ * likewise, in the daemon's word order (--word-order): high word first
+ * (ABCD, the default) or low word first (CDAB, which some SCADA systems
+ * expect). Floats are packed here by hand: the float helpers of libmodbus
+ * 3.1.6 are not used.
  */
 #ifndef PFD_REGMAP_H
 #define PFD_REGMAP_H
@@ -22,6 +24,17 @@
 enum pfd_space { PFD_HOLD = 0, PFD_INPUT = 1 };
 enum pfd_type { PFD_T_U16 = 0, PFD_T_I16, PFD_T_U32, PFD_T_F32 };
 enum pfd_access { PFD_R = 0, PFD_RW, PFD_W };
+
+/** The order of the two registers of a 32-bit value (f32, u32); within a
+ *  register the bytes are big-endian, as Modbus has it. */
+enum pfd_word_order {
+    PFD_WORDS_ABCD = 0, /**< high word first (mbpoll -B) */
+    PFD_WORDS_CDAB = 1, /**< low word first (mbpoll's default) */
+    PFD_WORDS_COUNT
+};
+
+/** "abcd" or "cdab" (the option's and the config key's words). */
+const char *pfd_word_order_name(int order);
 
 /* pfd_reg.flags */
 #define PFD_F_STAGED 0x01u  /**< staged parameter: each client's own (pfd_stage.h) */
@@ -89,6 +102,7 @@ typedef struct pfd_view {
     const pfd_snap *snap;   /* the loop's latest sample */
     uint16_t status;        /* composed status bits (pfd_modbus.c) */
     uint16_t n_instances;
+    int word_order;         /* enum pfd_word_order */
 } pfd_view;
 
 /** Every register of @p space into @p img (PFD_HOLD_SIZE or PFD_INPUT_SIZE words). */
@@ -109,13 +123,14 @@ typedef struct pfd_wlist {
     uint16_t commit, command, tick;       /* action values; 0 = none */
 } pfd_wlist;
 
-/** Decode holding registers [addr, addr+count) from @p vals. Every
+/** Decode holding registers [addr, addr+count) from @p vals, whose 32-bit
+ *  values are in @p word_order (enum pfd_word_order). Every
  *  register must be mapped and writable and every 32-bit field written
  *  whole (else MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS); every value must be
  *  in range (else MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE).
  *  @return 0 or the exception code; nothing is applied here. */
 int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
-                      pfd_wlist *out);
+                      int word_order, pfd_wlist *out);
 
 /** Apply the data writes (not the actions) of @p wl to @p h. The int16
  *  mirrors convert with @p committed's in_fs. */
@@ -134,8 +149,10 @@ uint16_t pfd_regmap_staged_addr(int param);
 /** The Markdown table of docs/register-map.md. */
 void pfd_regmap_print_md(FILE *f);
 
-/** ABCD: high word first. */
-void pfd_f32_pack(float v, uint16_t *w);
-float pfd_f32_unpack(const uint16_t *w);
+/** A 32-bit value into, or out of, two registers in @p word_order. */
+void pfd_u32_pack(uint32_t u, int word_order, uint16_t *w);
+uint32_t pfd_u32_unpack(const uint16_t *w, int word_order);
+void pfd_f32_pack(float v, int word_order, uint16_t *w);
+float pfd_f32_unpack(const uint16_t *w, int word_order);
 
 #endif

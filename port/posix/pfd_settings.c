@@ -7,6 +7,7 @@
 
 #include "pfd_access.h"
 #include "pfd_parse.h"
+#include "pfd_regmap.h"
 #include "pfd_state.h"
 #include "pfh_fmt.h"
 
@@ -23,13 +24,20 @@ const char *pfd_clock_name(int external)
  * [daemon] section; --help lists the groups in enum order. */
 const pfd_setting pfd_settings_table[] = {
     /* daemon-wide: command line and config file */
+    /* A security setting: it decides who can reach the port at all
+     * (docs/pneufracd.md, "What each setting protects"). */
     {.flag = "--listen", .key = "listen", .type = PFD_ST_ENDPOINT, .group = PFD_SG_DAEMON,
-     IN_SETTINGS(listen), .metavar = "ADDR:PORT",
+     SECURE, IN_SETTINGS(listen), .metavar = "ADDR:PORT",
      .help = "IPv4 address and port to serve; port 0 picks a free one, logged as "
              "msg=listening"},
     {.flag = "--clock", .key = "clock", .type = PFD_ST_CHOICE, .group = PFD_SG_DAEMON,
      .lo = 0, .hi = 1, .choice = pfd_clock_name, IN_SETTINGS(external_clock),
      .help = "external: only the tick register advances samples, for lockstep"},
+    {.flag = "--word-order", .key = "word_order", .type = PFD_ST_CHOICE,
+     .group = PFD_SG_DAEMON, .lo = 0, .hi = PFD_WORDS_COUNT - 1,
+     .choice = pfd_word_order_name, IN_SETTINGS(word_order),
+     .help = "register order of every 32-bit value (f32, u32), read and written: "
+             "abcd high word first, cdab low word first (docs/register-map.md)"},
     {.flag = "--max-clients", .key = "max_clients", .type = PFD_ST_INT,
      .group = PFD_SG_DAEMON, SECURE, .lo = 1, .hi = 256, IN_SETTINGS(max_clients),
      .metavar = "N", .help = "simultaneous clients"},
@@ -57,6 +65,10 @@ const pfd_setting pfd_settings_table[] = {
              "clock)"},
     {.flag = "--no-mlock", .key = "mlock", .type = PFD_ST_BOOL, .group = PFD_SG_DAEMON,
      .flag_value = 0, IN_SETTINGS(mlock), .help = "do not mlockall()"},
+    {.flag = "--overrun-report-s", .key = "overrun_report_s", .type = PFD_ST_INT,
+     .group = PFD_SG_DAEMON, .lo = 1, .hi = 3600, IN_SETTINGS(overrun_report_s),
+     .metavar = "N", .help = "at most one msg=overruns line this often, with the "
+                             "overruns of every instance since the line before"},
     {.flag = "--byte-timeout-ms", .key = "byte_timeout_ms", .type = PFD_ST_INT,
      .group = PFD_SG_DAEMON, SECURE, .lo = 1, .hi = 10000, IN_SETTINGS(byte_timeout_ms),
      .metavar = "N", .help = "drop a client that stalls this long mid-frame"},
@@ -138,6 +150,10 @@ const pfd_setting pfd_settings_table[] = {
     {.flag = "--print-default-config", .type = PFD_ST_BOOL, .group = PFD_SG_EXIT,
      .flag_value = 1, IN_RUN(print_config),
      .help = "print a config file for the default instances"},
+    {.flag = "--init-config", .type = PFD_ST_PATH, .group = PFD_SG_EXIT, IN_RUN(init),
+     .metavar = "FILE",
+     .help = "write that config file to FILE, unless FILE exists, which is left as it "
+             "is: a first start's config (the service's ExecStartPre)"},
     {.flag = "--seal-config", .type = PFD_ST_PATH, .group = PFD_SG_EXIT, IN_RUN(seal),
      .metavar = "FILE", .help = "check FILE and rewrite its checksum"},
     {.flag = "--version", .type = PFD_ST_BOOL, .group = PFD_SG_EXIT,
@@ -355,6 +371,7 @@ void pfd_settings_default(pfd_settings *s)
     strcpy(s->listen.addr, "127.0.0.1");
     s->listen.port = 1502;
     s->external_clock = 0;
+    s->word_order = PFD_WORDS_ABCD;
     s->max_clients = 16;
     strcpy(s->allow, PFD_ALLOW_DEFAULT);
     s->read_only = 0;
@@ -362,6 +379,7 @@ void pfd_settings_default(pfd_settings *s)
     s->rt_priority = 80;
     s->loop_budget = 50;
     s->mlock = 1;
+    s->overrun_report_s = 10;
     s->byte_timeout_ms = 100;
     s->idle_timeout_s = 300;
     s->max_per_addr = 8;

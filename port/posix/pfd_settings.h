@@ -25,6 +25,7 @@ typedef uint64_t pfd_mask;
 typedef struct pfd_settings {
     pfd_endpoint listen;
     int external_clock;
+    int word_order;      /**< enum pfd_word_order of every 32-bit register */
     int max_clients;
     char allow[512];     /**< comma-separated CIDR list (pfd_allow_parse) */
     int read_only;
@@ -32,6 +33,7 @@ typedef struct pfd_settings {
     int rt_priority;     /**< SCHED_FIFO priority; 0 = do not try */
     int loop_budget;     /**< % of one core the loop's measured load may reach */
     int mlock;
+    int overrun_report_s; /**< at most one msg=overruns line this often */
     int byte_timeout_ms;
     int idle_timeout_s;
     int max_per_addr;    /**< clients from one IPv4 address */
@@ -59,7 +61,7 @@ typedef struct pfd_run {
     int verbose;
     /* print something and exit */
     int print_map, print_config;
-    const char *seal;
+    const char *seal, *init;
     int version, help;
 } pfd_run;
 

@@ -36,6 +36,13 @@ void pfd_start_describe(char *buf, size_t n, const char *path,
     else if (why->st == PFD_E_UNSTABLE)
         snprintf(d, sizeof d, "the sampled loop is unstable (its output would grow without "
                  "bound)");
+    else if (why->st == PFD_E_RATE)
+        snprintf(d, sizeof d, "the substep rule needs an internal rate beyond the limits "
+                 "(%d substeps, %.0f Hz)%s%s%s; give substeps to choose the rate",
+                 PFD_SUBSTEPS_MAX, PFD_INTERNAL_FS_MAX,
+                 why->param != (int)PF_P_COUNT ? ": '" : "",
+                 why->param != (int)PF_P_COUNT ? pfd_param_name(why->param) : "",
+                 why->param != (int)PF_P_COUNT ? "' makes it so" : "");
     else if (why->st == PF_E_SCALE)
         snprintf(d, sizeof d, "q15: a coefficient does not fit (change in_fs/out_fs)");
     else if (why->param != (int)PF_P_COUNT && why->st == PFD_E_DAEMON)
@@ -54,8 +61,9 @@ void pfd_start_describe(char *buf, size_t n, const char *path,
 
 /* Design every instance of @p c, as pfd_inst_add() will: a file that
  * parses but cannot be designed is as unusable as a corrupt one, and must
- * be found out before the daemon commits to it (or seals it).
- * @return 0, or -1 with the reason in @p err. */
+ * be found out before the daemon commits to it (or seals it). @p path:
+ * the file @p c was read from, named in messages; NULL for instances that
+ * are not from a file. @return 0, or -1 with the reason in @p err. */
 static int design_all(const char *path, const pfd_config *c, char *err, size_t n)
 {
     pf_ctrl_design *scratch = malloc(sizeof *scratch);
@@ -64,7 +72,7 @@ static int design_all(const char *path, const pfd_config *c, char *err, size_t n
     int i, rc = 0;
 
     if (scratch == NULL || slot == NULL || work == NULL) {
-        snprintf(err, n, "config %s: out of memory", path);
+        snprintf(err, n, "out of memory");
         rc = -1;
     }
     for (i = 0; i < c->n && rc == 0; i++) {
@@ -150,4 +158,31 @@ int pfd_start_print_default(const pfd_run *run)
     }
     free(c);
     return rc;
+}
+
+int pfd_start_init(const pfd_run *run, const char *path)
+{
+    pfd_config *c = malloc(sizeof *c);
+    char err[600];
+    int rc;
+
+    if (c == NULL) {
+        pfd_fatal("out of memory");
+        return 1;
+    }
+    default_instances(c, run);
+    /* What the daemon would refuse to start from is not written. */
+    if (design_all(NULL, c, err, sizeof err) != 0) {
+        pfd_fatal("%s", err);
+        free(c);
+        return PFD_EXIT_USAGE;
+    }
+    rc = pfd_config_create(path, c, err, sizeof err);
+    if (rc < 0)
+        pfd_fatal("%s", err);
+    else
+        fprintf(stderr, "pneufracd: %s: %s\n", path,
+                rc == 0 ? "created for the default instances" : "exists, left as it is");
+    free(c);
+    return rc < 0 ? 1 : 0;
 }

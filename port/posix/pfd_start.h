@@ -36,4 +36,9 @@ int pfd_start_seal(const char *path);
 /** --print-default-config. @return the exit status. */
 int pfd_start_print_default(const pfd_run *run);
 
+/** --init-config FILE: the config file of --print-default-config, into
+ *  FILE unless it exists, once every instance designs. @return the exit
+ *  status (0 also when FILE exists). */
+int pfd_start_init(const pfd_run *run, const char *path);
+
 #endif

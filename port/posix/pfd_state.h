@@ -74,6 +74,8 @@ typedef struct pfd_inst {
     uint64_t tick_target;       /* atomic; Modbus adds */
     uint64_t tick_done;         /* atomic; loop stores */
     uint32_t reset_req, stats_req; /* atomic; Modbus increments */
+    int64_t late_max_ns;        /* atomic; the worst lateness of a sample since
+                                   the main thread last took it (pfd_overrun.h) */
 
     /* loop private */
     struct {
@@ -114,9 +116,12 @@ enum {
                                  could not be written */
     PFD_COMMIT_UNSTABLE = 6, /**< the set's sampled loop would be unstable:
                                   err_addr names the culprit */
-    PFD_COMMIT_LOAD = 7     /**< the loop could not sustain the set within
+    PFD_COMMIT_LOAD = 7,    /**< the loop could not sustain the set within
                                  loop_budget: err_addr names substeps (if
                                  the set runs more than one) or fs */
+    PFD_COMMIT_RATE = 8     /**< substeps 0, and the rule needs an internal
+                                 rate beyond the limits: err_addr names the
+                                 culprit (pfd_plausible.h) */
 };
 
 /** Period jitter over every sample of every instance, in 1 us bins; the

@@ -145,11 +145,14 @@ class Daemon:
 
 
 class Regs:
-    """Named access to one instance (unit id) through a pymodbus client."""
+    """Named access to one instance (unit id) through a pymodbus client.
+    word_order: pymodbus's name for the daemon's --word-order, "big" for
+    abcd (the default), "little" for cdab."""
 
-    def __init__(self, client, unit=1):
+    def __init__(self, client, unit=1, word_order="big"):
         self.c = client
         self.unit = unit
+        self.word_order = word_order
 
     def _check(self, rr):
         assert not rr.isError(), f"Modbus error: {rr}"
@@ -161,18 +164,18 @@ class Regs:
         fn = self.c.read_holding_registers if space == "hold" else self.c.read_input_registers
         regs = self._check(fn(addr, count=n, device_id=self.unit)).registers
         if typ == "f32":
-            return self.c.convert_from_registers(regs, F32)
+            return self.c.convert_from_registers(regs, F32, word_order=self.word_order)
         if typ == "u32":
-            return self.c.convert_from_registers(regs, U32)
+            return self.c.convert_from_registers(regs, U32, word_order=self.word_order)
         if typ == "i16":
             return regs[0] - 65536 if regs[0] >= 32768 else regs[0]
         return regs[0]
 
-    @staticmethod
-    def encode(name, value):
+    def encode(self, name, value):
         _, _, typ = REG[name]
         if typ == "f32":
-            return ModbusTcpClient.convert_to_registers(float(value), F32)
+            return ModbusTcpClient.convert_to_registers(float(value), F32,
+                                                        word_order=self.word_order)
         if typ == "i16":
             return [int(value) & 0xFFFF]
         return [int(value)]

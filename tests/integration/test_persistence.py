@@ -258,7 +258,7 @@ def staged_payload(r, values):
     regs = list(rr.registers)
     for name, v in values.items():
         a = REG[name][1] - start
-        regs[a:a + 2] = Regs.encode(name, v)
+        regs[a:a + 2] = r.encode(name, v)
     return start, regs
 
 

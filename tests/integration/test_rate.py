@@ -49,6 +49,7 @@ def test_substeps_beyond_the_internal_limit(daemon):
     assert commit(r, fs=1000.0, substeps=201) == 3  # 201 kHz
     assert r.read("commit_result") == 1
     assert r.read("commit_err_addr") == REG["substeps"][1]
+    assert r.read("commit_err_param") == 65535  # the daemon's own setting
     assert committed_image(r) == before
     assert commit(r, substeps=200) is None
     assert r.read("substeps_used") == 200 and r.read("internal_fs") == 200000.0
@@ -113,3 +114,19 @@ def test_start_over_the_budget_is_refused():
     last = p.stderr.strip().splitlines()[-1]
     assert last.startswith("pneufracd: the instances need ") and "--loop-budget 1 %" in last, last
     assert "msg=listening" not in p.stderr
+
+
+def test_start_beyond_the_rules_rate(tmp_path):
+    """Example 6 at a 1 Hz exchange rate: the rule wants 20 kHz inside, and
+    10000 substeps give 10 kHz. Refused at start with the reason; with
+    substeps given, the rate is the client's choice and it runs."""
+    p = subprocess.run([DAEMON, "--fs", "1", "--listen", "127.0.0.1:0", "--run-for", "1"],
+                       capture_output=True, text=True, timeout=60)
+    assert p.returncode == 2
+    assert p.stderr.startswith("pneufracd: instance 1: the substep rule needs an internal "
+                               "rate beyond the limits (10000 substeps, 200000 Hz); give "
+                               "substeps to choose the rate"), p.stderr
+    p = subprocess.run([DAEMON, "--fs", "1", "--substeps", "10000", "--listen", "127.0.0.1:0",
+                        "--run-for", "0.5"], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0, p.stderr
+    assert "substeps=10000 internal_fs=10000 " in p.stderr

@@ -456,6 +456,42 @@ def test_unstable_set_is_refused(daemon, gain):
                      d.log())
 
 
+def test_set_beyond_the_rules_rate_is_refused(daemon):
+    """O4 with the default substeps (0: the rule's): k1 = k2 = 1e9 makes
+    the flapper-bellows loop cross over near 1e10 rad/s, so the rule would
+    need about 1e10 Hz inside; capped at 200 kHz the loop is stable but
+    rings at +-1.7e11 for a unit step. Refused: exception 03,
+    commit_result 8, commit_err_addr on k1 (k2 alone does not restore it,
+    so the first of the two changed most), and nothing changes. With
+    substeps given, the client chose the rate, and stability at that rate
+    is what is checked: the same gains at 200 substeps are accepted."""
+    d = daemon("--clock", "external")
+    r = Regs(d.client())
+    ref = simulate("--config", "dd", "--fs", "20000", "--duration", "0.05")[::20]
+    r.write("e", 1.0)
+    r.write("k1", 1e9)
+    r.write("k2", 1e9)
+    resp = r.write_raw("commit", 1)
+    assert resp.isError() and resp.exception_code == 3, resp
+    assert r.read("commit_result") == 8
+    assert r.read("commit_err_addr") == REG["k1"][1]
+    assert r.read("commit_err_param") == 2  # PF_P_K1
+    assert r.read("committed_k1") == f32(0.1) and r.read("substeps_used") == 20
+    pcs = []
+    for _ in range(50):
+        r.tick(1)
+        pcs.append(r.read("pc"))
+    assert max(abs(p - float(row["pc"])) for p, row in zip(pcs, ref)) <= 1e-6
+    assert re.search(r"msg=commit-refused .*result=8 param=k1 status=\"the substep rule's "
+                     r"rate is beyond the limits\"", d.log())
+    # The staged gains are still this client's; with substeps given they
+    # are judged by their stability at 1 kHz x 200.
+    r.write("substeps", 200)
+    r.write("commit", 1)
+    assert r.read("commit_result") == 0
+    assert r.read("committed_k1") == f32(1e9) and r.read("substeps_used") == 200
+
+
 def test_stability_is_judged_at_the_internal_rate(daemon):
     """The check judges the loop that runs, designed at fs x substeps:
     k1 = k2 = 1e5 is stable at 1 kHz x 20 substeps (rho = 1 - 7.6e-8) and
@@ -490,6 +526,20 @@ def test_unstable_config_file_is_refused(conf):
     p = subprocess.run([DAEMON, "--seal-config", str(conf)], capture_output=True, text=True)
     assert p.returncode == 2
     assert "the sampled loop is unstable" in p.stderr and "'k1'" in p.stderr, p.stderr
+
+
+def test_config_file_beyond_the_rules_rate_is_refused(conf):
+    """The default substeps, and gains whose loop the rule cannot follow
+    within the limits: refused at --seal-config (and so at start), with
+    the reason and what to do."""
+    text = re.sub(r"^k1 = .*$", "k1 = 1e9", conf.read_text(), count=1, flags=re.M)
+    text = re.sub(r"^k2 = .*$", "k2 = 1e9", text, count=1, flags=re.M)
+    conf.write_text(text)
+    p = subprocess.run([DAEMON, "--seal-config", str(conf)], capture_output=True, text=True)
+    assert p.returncode == 2
+    assert ("the substep rule needs an internal rate beyond the limits (10000 substeps, "
+            "200000 Hz): 'k1' makes it so; give substeps to choose the rate") in p.stderr, \
+        p.stderr
 
 
 # ---- O5: audit -------------------------------------------------------------

@@ -269,8 +269,10 @@ static void write_read_back(void **state)
     c.set.max_clients = 5;
     c.set.mlock = 0;
     c.set.external_clock = 1;
+    c.set.word_order = PFD_WORDS_CDAB;
     strcpy(c.set.allow, "10.0.0.0/8, 127.0.0.1");
     c.set_mask = pfd_setting_bit(pfd_setting_by_key("max_clients")) |
+                 pfd_setting_bit(pfd_setting_by_key("word_order")) |
                  pfd_setting_bit(pfd_setting_by_key("mlock")) |
                  pfd_setting_bit(pfd_setting_by_key("clock")) |
                  pfd_setting_bit(pfd_setting_by_key("allow"));
@@ -315,6 +317,36 @@ static void write_read_back(void **state)
     assert_non_null(strstr(err, "config /nonexistent-dir/x.conf: writing"));
 }
 
+/* pfd_config_create: a file that exists is never touched; one that does
+ * not is written whole, with nothing left beside it. */
+static void create_unless_it_exists(void **state)
+{
+    static pfd_config c, back;
+    char err[400], *before, *after;
+    (void)state;
+    memset(&c, 0, sizeof c);
+    pfd_settings_default(&c.set);
+    c.n = 1;
+    pfd_config_inst_default(&c.inst[0], 1);
+
+    assert_int_equal(pfd_config_create(path_of("c.conf"), &c, err, sizeof err), 0);
+    assert_int_equal(access(path_of("c.conf.tmp"), F_OK), -1);
+    assert_int_equal(pfd_config_load(path_of("c.conf"), &back, 1, err, sizeof err), 0);
+    assert_int_equal(back.n, 1);
+
+    put("c.conf", "# not a config file at all\n");
+    before = slurp("c.conf");
+    assert_int_equal(pfd_config_create(path_of("c.conf"), &c, err, sizeof err), 1);
+    after = slurp("c.conf");
+    assert_string_equal(before, after);
+    assert_int_equal(access(path_of("c.conf.tmp"), F_OK), -1);
+    free(before);
+    free(after);
+
+    assert_int_equal(pfd_config_create("/nonexistent-dir/c.conf", &c, err, sizeof err), -1);
+    assert_non_null(strstr(err, "config /nonexistent-dir/c.conf: writing"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -324,6 +356,7 @@ int main(void)
         cmocka_unit_test(parameter_registers_have_library_names),
         cmocka_unit_test(instance_keys_have_register_ranges),
         cmocka_unit_test(write_read_back),
+        cmocka_unit_test(create_unless_it_exists),
     };
     return cmocka_run_group_tests(tests, make_dir, remove_dir);
 }

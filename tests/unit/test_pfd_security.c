@@ -176,8 +176,9 @@ static void staging(void **state)
     pfd_iparams_default(&committed);
     memset(&st, 0, sizeof st);
     assert_false(pfd_stage_any(&st));
-    pfd_f32_pack(0.5f, w);
-    assert_int_equal(pfd_regmap_decode(pfd_reg_named(PFD_HOLD, "q")->addr, 2, w, &wl), 0);
+    pfd_f32_pack(0.5f, PFD_WORDS_ABCD, w);
+    assert_int_equal(
+        pfd_regmap_decode(pfd_reg_named(PFD_HOLD, "q")->addr, 2, w, PFD_WORDS_ABCD, &wl), 0);
     pfd_stage_record(&st, &wl);
     assert_true(pfd_stage_any(&st));
     /* The committed set changes meanwhile (another client's commit): the
@@ -186,8 +187,9 @@ static void staging(void **state)
     pfd_stage_compose(&st, NULL, &committed, &out);
     assert_true(out.p.q == (double)0.5f && out.p.k2 == 0.3);
     /* A live write is not staged. */
-    pfd_f32_pack(1.0f, w);
-    assert_int_equal(pfd_regmap_decode(pfd_reg_named(PFD_HOLD, "e")->addr, 2, w, &wl), 0);
+    pfd_f32_pack(1.0f, PFD_WORDS_ABCD, w);
+    assert_int_equal(
+        pfd_regmap_decode(pfd_reg_named(PFD_HOLD, "e")->addr, 2, w, PFD_WORDS_ABCD, &wl), 0);
     memset(&st, 0, sizeof st);
     pfd_stage_record(&st, &wl);
     assert_false(pfd_stage_any(&st));
@@ -223,15 +225,21 @@ static void fallback_settings(void **state)
         }
         assert_string_equal(a, b);
     }
-    /* These are security settings (the list docs/pneufracd.md gives). */
+    /* These are the security settings, and no others (the list
+     * docs/pneufracd.md gives). */
     {
         static const char *const keys[] = {
-            "max_clients", "allow", "read_only", "param_lock", "byte_timeout_ms",
-            "idle_timeout_s", "max_clients_per_addr", "first_request_timeout_ms",
-            "plain_access", "tls_listen", "tls_cert", "tls_key", "tls_ca", "tls_roles",
-            "loop_budget"};
-        for (i = 0; i < sizeof keys / sizeof keys[0]; i++)
+            "listen", "max_clients", "allow", "read_only", "param_lock",
+            "byte_timeout_ms", "idle_timeout_s", "max_clients_per_addr",
+            "first_request_timeout_ms", "plain_access", "tls_listen", "tls_cert",
+            "tls_key", "tls_ca", "tls_roles", "loop_budget"};
+        const unsigned n_keys = sizeof keys / sizeof keys[0];
+        unsigned n_secure = 0;
+        for (i = 0; i < n_keys; i++)
             assert_true(pfd_setting_by_key(keys[i])->flags & PFD_SF_SECURE);
+        for (i = 0; i < pfd_settings_count; i++)
+            n_secure += (pfd_settings_table[i].flags & PFD_SF_SECURE) != 0;
+        assert_int_equal(n_secure, n_keys);
     }
 }
 
