@@ -333,6 +333,8 @@ static void table_memory(void)
     printf("| pf_ctrl_q15 (instance) | %zu |\n", sizeof(pf_ctrl_q15));
     printf("| pf_ctrl_coeffs_f32 (coefficient set) | %zu |\n", sizeof(pf_ctrl_coeffs_f32));
     printf("| pf_ctrl_coeffs_q15 (coefficient set) | %zu |\n", sizeof(pf_ctrl_coeffs_q15));
+    printf("| pf_nozzle_q15 (the nozzle curve's table, with a nozzle only) | %zu |\n",
+           sizeof(pf_nozzle_q15));
     printf("| pf_fracop_f32 (one operator) | %zu |\n", sizeof(pf_fracop_f32));
     printf("| pf_fracop_q15 (one operator) | %zu |\n", sizeof(pf_fracop_q15));
     printf("| pf_ctrl_design (double, design time only) | %zu |\n", sizeof(pf_ctrl_design));

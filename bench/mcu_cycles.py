@@ -33,6 +33,11 @@ CORE_NAME = {"m0plus": "Cortex-M0+", "m4": "Cortex-M4"}
 # The fewest sections that keep Example 6 within 0.1 % of the exact
 # response at 20 kHz (bench_accuracy --orders: 0.035 %, N = 4 gives 0.12 %).
 EX6_ORDER = 5
+# The nozzle curve (x_1/2 = 0.2 of in_fs: the step drives x far into its
+# compression) in Example 6, whose in-sample loop gain is too small to
+# move x (the table's direct case), and in id, whose is not (the inverse).
+NOZZLE = ("nozzle:xh=0.2",)
+NOZZLE_CONFIGS = ("dd", "id")
 
 
 def designs(core: str) -> list[Design]:
@@ -42,7 +47,15 @@ def designs(core: str) -> list[Design]:
             for order in (None, 1) + ((EX6_ORDER,) if c == "dd" else ()):
                 ds.append(Design(f"b_{c}_{arith}_{order or 'def'}", c, arith,
                                  out_fs=OUT_FS[c], order=order))
+        for c in NOZZLE_CONFIGS:
+            ds.append(Design(f"b_{c}_{arith}_nozzle", c, arith, out_fs=OUT_FS[c],
+                             effects=NOZZLE))
     return ds
+
+
+def key_config(d: Design) -> str:
+    """The configuration's name in the results: dd+nozzle for the nozzle."""
+    return d.config + ("+nozzle" if d.effects else "")
 
 
 def sections(header: Path) -> int:
@@ -63,7 +76,7 @@ def measure(samples: int, work: Path) -> dict:
                 for index, d in enumerate(mine):
                     costs = step_costs(runner, arith, index, samples)
                     n = len(costs)
-                    res[(core, arith, opt, d.config, d.order)] = {
+                    res[(core, arith, opt, key_config(d), d.order)] = {
                         "sections": sections(out / f"{d.name}.h"),
                         "instr": sum(c.instructions for c in costs) / n,
                         "cycles": sum(c.cycles for c in costs) / n,
@@ -128,6 +141,21 @@ def reduced(res) -> str:
     return "\n".join(lines)
 
 
+def nozzle(res) -> str:
+    """What the nozzle curve adds, every build."""
+    lines = ["| core | arithmetic | build | config | cycles/sample (mean / max) "
+             "| with the nozzle (mean / max) | the nozzle, max |", "|---" * 7 + "|"]
+    for core, arith in BUILDS:
+        for opt in OPTS:
+            for c in NOZZLE_CONFIGS:
+                a, b = res[(core, arith, opt, c, None)], res[(core, arith, opt, c + "+nozzle", None)]
+                lines.append(f"| {CORE_NAME[core]} | {'Q15' if arith == 'q15' else 'float'} "
+                             f"| {opt} | {c} | {a['cycles']:,.0f} / {a['max_cycles']:,} "
+                             f"| {b['cycles']:,.0f} / {b['max_cycles']:,} "
+                             f"| {b['max_cycles'] - a['max_cycles']:+,} |")
+    return "\n".join(lines)
+
+
 def breakdown(res) -> str:
     """Where Example 6's cycles go, per function, in each build."""
     lines = ["| core | arithmetic | build | function | cycles/sample | share |",
@@ -162,6 +190,11 @@ def main() -> int:
           "0.1 % of the exact response at 20 kHz (docs/accuracy.md), against the "
           "default N = 8; cycles per sample, maximum over the run:\n")
     print(reduced(res))
+    print("\nThe nozzle curve (x_1/2 = 0.2 of in_fs). Q15: in dd the in-sample loop "
+          "cannot move x, so one search and one cubic piece per sample; in id it can, "
+          "so a search among the loop map's knots and two pieces (the inverse, then "
+          "the curve). Float solves the loop by false position:\n")
+    print(nozzle(res))
     print("\nWhere Example 6 (dd, default design) spends its cycles, by function "
           "(inlined code counts in its caller):\n")
     print(breakdown(res))

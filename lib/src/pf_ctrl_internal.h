@@ -10,4 +10,13 @@
 void pf_ctrl_node_resp(const pf_ctrl_coeffs_f64 *c, double omega,
                        double complex g[PF_N_COUNT]);
 
+/* The nozzle curve's Q15 table for an x node of sx internal units per
+ * physical unit (pf_nozzle_q15_design.c): PF_OK, PF_E_SCALE when a
+ * coefficient does not fit, or PF_E_UNSUPPORTED when the loop map is not
+ * monotone (1 + L0 h' <= 0 somewhere). t_r is left to the caller. */
+pf_status pf_nozzle_q15_make(pf_nozzle_q15 *nz, const pf_ctrl_coeffs_f64 *c, double sx);
+
+/* The largest |h(x)| for |x| <= x_range (physical units). */
+double pf_nozzle_q15_reach(const pf_ctrl_coeffs_f64 *c, double x_range);
+
 #endif

@@ -19,10 +19,17 @@
  * below, down; otherwise it stays. Moving, xe follows from the linear
  * solution x_lin as x_lin -+ r/(1 + L0), unless that p_c is beyond a
  * supply limit, where p_c sits on the limit and x = X(limit).
+ *
+ * The nozzle curve h (pf_nozzle_q15.h) sits between the play and p_b: P
+ * takes h(xe), and the moving play's xe solves W(xe) = W's target of
+ * x_lin -+ r (the loop map, increasing because h is), in place of the
+ * linear xe = x_lin -+ r/(1 + L0). X(P(h(.))) is still non-increasing, so
+ * the cases above, and their order, stay as they are.
  */
 #include <stddef.h>
 #include <string.h>
 
+#include "pf_nozzle_q15.h"
 #include "pf_q15_ops.h"
 #include "pneufrac/pf_controller.h"
 
@@ -65,38 +72,74 @@ static int32_t x_of_pc(const pf_ctrl_coeffs_q15 *c, int32_t e, int32_t pc, int32
                     pf_mulw(c->t_v, sV) + pf_mulw(c->t_w, sW));
 }
 
-/* p_c before the supply limits, for a play output xe */
-static int32_t pc_of_xe(const pf_ctrl_coeffs_q15 *c, int32_t xe, int32_t sP)
+/* v - dir r for dir in {-1, 0, 1}: the play's offset, without a 64-bit
+ * multiply (a libgcc call on an M0+). */
+static int64_t off(int64_t v, int dir, int32_t r)
 {
-    return pf_q_sat(pf_mulw(c->pc_x, xe) + pf_mulw(c->pc_p, sP));
+    return dir > 0 ? v - r : (dir < 0 ? v + r : v);
+}
+
+/* p_c before the supply limits, for a nozzle output h */
+static int32_t pc_of_h(const pf_ctrl_coeffs_q15 *c, int32_t h, int32_t sP)
+{
+    return pf_q_sat(pf_mulw(c->pc_x, h) + pf_mulw(c->pc_p, sP));
+}
+
+/* The nozzle's table; none in a build without the curve (pf_config.h:
+ * init has refused a set that points to one), whose code then drops out. */
+#if PF_Q15_NOZZLE_SEG > 0
+#define NOZZLE(c) ((c)->nz)
+#else
+#define NOZZLE(c) ((void)(c), (const pf_nozzle_q15 *)NULL)
+#endif
+
+/* The nozzle's output for a play output xe: its curve, or xe (eq. 9). */
+static int32_t nozzle(const pf_ctrl_coeffs_q15 *c, int32_t xe)
+{
+    return NOZZLE(c) != NULL ? pf_nz_h(NOZZLE(c), xe) : xe;
+}
+
+/* The loop's play output xe, and *h = nozzle(xe), from the linear
+ * solution x_lin, with the play moving up (dir = 1), down (-1), or absent
+ * (0): x = xe + dir r. */
+static int32_t loop_solve(const pf_ctrl_coeffs_q15 *c, int32_t x_lin, int dir, int32_t *h)
+{
+    const pf_nozzle_q15 *nz = NOZZLE(c);
+    if (nz != NULL)
+        return pf_nz_solve(nz, off(pf_mulw(nz->t_x, x_lin), dir, nz->t_r), h);
+    return *h = pf_q_sat(off(x_lin, dir, c->play_ri));
 }
 
 /* The play's new output and x, from the linear solution x_lin (see the
- * head of the file). */
+ * head of the file); *h the nozzle's output. */
 static int32_t play_solve(const pf_ctrl_q15 *S, int32_t e, int32_t x_lin, int32_t sP,
-                          int32_t sQ, int32_t sV, int32_t sW, int32_t *x)
+                          int32_t sQ, int32_t sV, int32_t sW, int32_t *x, int32_t *h)
 {
     const pf_ctrl_coeffs_q15 *c = S->c;
-    int32_t xb = S->xb, r = c->play_r, xe, pc;
-    int32_t xs = x_of_pc(c, e, clamp_pc(c, pc_of_xe(c, xb, sP)), sQ, sV, sW);
+    int32_t xb = S->xb, r = c->play_r, xe, pc, hb = nozzle(c, xb);
+    int32_t xs = x_of_pc(c, e, clamp_pc(c, pc_of_h(c, hb, sP)), sQ, sV, sW);
     int dir = (int64_t)xs - xb > r ? 1 : ((int64_t)xs - xb < -(int64_t)r ? -1 : 0);
     if (dir == 0) {
         *x = xs;
+        *h = hb;
         return xb;
     }
-    xe = pf_q_sat((int64_t)x_lin - (int64_t)dir * c->play_ri);
-    pc = pc_of_xe(c, xe, sP);
-    if (clamp_pc(c, pc) != pc) /* on a supply limit: x from it */
-        xe = pf_q_sat((int64_t)(*x = x_of_pc(c, e, clamp_pc(c, pc), sQ, sV, sW)) - (int64_t)dir * r);
-    else
-        *x = pf_q_sat((int64_t)xe + (int64_t)dir * r);
+    xe = loop_solve(c, x_lin, dir, h);
+    pc = pc_of_h(c, *h, sP);
+    if (clamp_pc(c, pc) != pc) { /* on a supply limit: x from it */
+        *x = x_of_pc(c, e, clamp_pc(c, pc), sQ, sV, sW);
+        xe = pf_q_sat(off(*x, dir, r));
+        *h = nozzle(c, xe);
+    } else {
+        *x = pf_q_sat(off(xe, -dir, r));
+    }
     return xe;
 }
 
 int16_t pf_ctrl_step_q15(pf_ctrl_q15 *S, int16_t e_q15)
 {
     const pf_ctrl_coeffs_q15 *c = S->c;
-    int32_t e, sP, sQ = 0, sV = 0, sW = 0, x, xe, pb, v, w, pc, rv = 0, rw = 0, m;
+    int32_t e, sP, sQ = 0, sV = 0, sW = 0, x, xe, h, pb, v, w, pc, rv = 0, rw = 0, m;
     int64_t fP, fQ = 0, fV = 0, fW = 0;
 
     e = pf_mulc(c->e_in, c->hold ? (int32_t)e_q15 + S->e1 : (int32_t)e_q15);
@@ -114,21 +157,27 @@ int16_t pf_ctrl_step_q15(pf_ctrl_q15 *S, int16_t e_q15)
     x = pf_q_sat(pf_mulw(c->x_e, e) - pf_mulw(c->x_q, sQ) - pf_mulw(c->x_v, sV) +
                  pf_mulw(c->x_w, sW) - pf_mulw(c->x_p, sP));
     if (c->play_r > 0) {
-        xe = play_solve(S, e, x, sP, sQ, sV, sW, &x);
+        xe = play_solve(S, e, x, sP, sQ, sV, sW, &x, &h);
         S->xb = xe;
-    } else if (c->saturate) {
-        /* Saturation alone is monotone: if the linear solution's p_c is
-         * beyond a limit, the true one sits on that limit, and x follows
-         * from it directly. */
-        int32_t pc_lin = pc_of_xe(c, x, sP);
-        int32_t pc_c = clamp_pc(c, pc_lin);
-        if (pc_c != pc_lin)
-            x = x_of_pc(c, e, pc_c, sQ, sV, sW);
-        xe = x;
     } else {
+        if (NOZZLE(c) != NULL)
+            x = loop_solve(c, x, 0, &h);
+        else
+            h = x;
         xe = x;
+        if (c->saturate) {
+            /* Saturation is monotone too: if the unclipped solution's p_c
+             * is beyond a limit, the true one sits on that limit, and x
+             * follows from it directly. */
+            int32_t pc_lin = pc_of_h(c, h, sP);
+            int32_t pc_c = clamp_pc(c, pc_lin);
+            if (pc_c != pc_lin) {
+                x = xe = x_of_pc(c, e, pc_c, sQ, sV, sW);
+                h = nozzle(c, xe);
+            }
+        }
     }
-    pb = pf_mulc(c->k1, xe);
+    pb = pf_mulc(c->k1, h);
     v = pf_q_sat(pf_mulw(c->relay_v_pb, pb) + pf_mulw(c->relay_v_s, sP));
     w = pf_q_op_update(&S->P, v, fP);
     pc = clamp_pc(c, pf_q_sat(pf_mulw(c->relay_z_pb, pb) + pf_mulw(c->relay_z_w, w)));
@@ -180,6 +229,9 @@ pf_status pf_ctrl_init_q15(pf_ctrl_q15 *S, const pf_ctrl_coeffs_q15 *c,
     if (S == NULL || c == NULL)
         return PF_E_NULL;
     if (c->delay_len > 0 && (dbuf == NULL || dlen < c->delay_len))
+        return PF_E_BUFFER;
+    /* the knots are searched up to n - 1: n must be within the table */
+    if (c->nz != NULL && (c->nz->n < 3 || c->nz->n > PF_Q15_NOZZLE_SEG + 1))
         return PF_E_BUFFER;
     memset(S, 0, sizeof *S);
     S->c = c;

@@ -19,18 +19,45 @@
 
 #define PF_PI 3.14159265358979323846
 
+/* With a nozzle curve, the linear peaks are not the whole story. Where the
+ * curve compresses, the loop's gain falls and x grows towards the open
+ * lever's ce e - cy y: x's scale covers that. And the curve bounds p_b,
+ * whatever x does, at pb_max = k1 times its reach within x's range; every
+ * node after p_b but the bellows (an integrator in the open loop, held by
+ * the loop) is a linear response to p_b, so at most its peak gain from p_b
+ * times pb_max: where that is below the linear peak it sets the scale, and
+ * a strongly compressing nozzle does not leave those nodes coarse. */
+static void nozzle_peaks(const pf_ctrl_coeffs_f64 *c, double in_fs, double peak[PF_N_COUNT],
+                         const double per_pb[PF_N_COUNT])
+{
+    double pb_max;
+    int n;
+    peak[PF_N_X] = fmax(peak[PF_N_X], fabs(c->ce) + fabs(c->cy) * peak[PF_N_Y]);
+    /* x's range: its peak maps to 2^28 of the 2^30 it holds */
+    pb_max = c->k1 * pf_nozzle_q15_reach(c, 4.0 * peak[PF_N_X] * in_fs) / in_fs;
+    for (n = PF_N_PB; n < PF_N_COUNT; n++)
+        if (n != PF_N_Y && n != PF_N_FQ && per_pb[n] * pb_max < peak[n])
+            peak[n] = per_pb[n] * pb_max;
+}
+
 static void node_scales(const pf_ctrl_design *d, double in_fs,
                         double s[PF_N_COUNT])
 {
-    double peak[PF_N_COUNT] = {0};
+    double peak[PF_N_COUNT] = {0}, per_pb[PF_N_COUNT] = {0};
     int i, n;
     for (i = 0; i < PF_GRID; i++) {
         double complex g[PF_N_COUNT];
         pf_ctrl_node_resp(&d->rt, pf_grid_omega(&d->rt.P, d->opt.wb, i), g);
-        for (n = 0; n < PF_N_COUNT; n++)
+        for (n = 0; n < PF_N_COUNT; n++) {
             if (cabs(g[n]) > peak[n])
                 peak[n] = cabs(g[n]);
+            /* nodes after p_b: their gain from p_b */
+            if (cabs(g[PF_N_PB]) > 0.0 && cabs(g[n]) / cabs(g[PF_N_PB]) > per_pb[n])
+                per_pb[n] = cabs(g[n]) / cabs(g[PF_N_PB]);
+        }
     }
+    if (d->rt.nozzle_xh > 0.0)
+        nozzle_peaks(&d->rt, in_fs, peak, per_pb);
     /* A node the configuration does not use (peak 0) borrows p_c's scale,
      * so the coefficients that touch it stay finite (they multiply 0). */
     for (n = 0; n < PF_N_COUNT; n++)
@@ -68,8 +95,15 @@ pf_status pf_ctrl_coeffs_q15_make(pf_ctrl_coeffs_q15 *cq,
                                   const pf_ctrl_design *d, double in_fs,
                                   double out_fs)
 {
+    return pf_ctrl_coeffs_q15_make_nz(cq, NULL, d, in_fs, out_fs);
+}
+
+pf_status pf_ctrl_coeffs_q15_make_nz(pf_ctrl_coeffs_q15 *cq, pf_nozzle_q15 *nz,
+                                     const pf_ctrl_design *d, double in_fs,
+                                     double out_fs)
+{
     const pf_ctrl_coeffs_f64 *c;
-    double s[PF_N_COUNT];
+    double s[PF_N_COUNT], hs = 1.0;
     pf_status st = PF_OK;
     if (cq == NULL || d == NULL)
         return PF_E_NULL;
@@ -77,14 +111,23 @@ pf_status pf_ctrl_coeffs_q15_make(pf_ctrl_coeffs_q15 *cq,
     if (st != PF_OK)
         return st;
     c = &d->rt;
-    /* The nozzle curve needs the iterative loop solution; the refined
-     * approximant's extra pole has a branch gain 1e6..1e13 times the
-     * others, more than one shared branch shift can hold. (Backlash, like
-     * saturation, is piecewise linear: solved exactly, pf_ctrl_q15.c.) */
-    if (c->nozzle_xh > 0.0 || d->opt.approx == PF_APPROX_REFINED)
+    /* The refined approximant's extra pole has a branch gain 1e6..1e13
+     * times the others, more than one shared branch shift can hold. */
+    if (d->opt.approx == PF_APPROX_REFINED)
         return PF_E_UNSUPPORTED;
+    if (c->nozzle_xh > 0.0 && PF_Q15_NOZZLE_SEG == 0)
+        return PF_E_UNSUPPORTED; /* left out of this build (pf_config.h) */
+    if (c->nozzle_xh > 0.0 && nz == NULL)
+        return PF_E_BUFFER;
     node_scales(d, in_fs, s);
     memset(cq, 0, sizeof *cq);
+    if (c->nozzle_xh > 0.0) {
+        st = pf_nozzle_q15_make(nz, c, s[PF_N_X]);
+        cq->nz = nz;
+        /* the nozzle's output h, in x's scale times 2^h_sh, feeds p_b
+         * and p_c in place of x */
+        hs = ldexp(1.0, -nz->h_sh);
+    }
     cq->has_q = c->has_q;
     cq->has_v = c->has_v;
     cq->has_w = c->has_w;
@@ -92,7 +135,8 @@ pf_status pf_ctrl_coeffs_q15_make(pf_ctrl_coeffs_q15 *cq,
     cq->hold = c->hold;
     cq->delay_len = c->delay_len;
 
-    st = pf_q15_op_make(&cq->P, &c->P, s[PF_N_V], s[PF_N_FP], s[PF_N_W]);
+    if (st == PF_OK)
+        st = pf_q15_op_make(&cq->P, &c->P, s[PF_N_V], s[PF_N_FP], s[PF_N_W]);
     if (st == PF_OK && c->has_q)
         st = pf_q15_op_make(&cq->Q, &c->Q, s[PF_N_M], s[PF_N_FQ], s[PF_N_Y]);
     if (st == PF_OK && c->has_v)
@@ -121,10 +165,10 @@ pf_status pf_ctrl_coeffs_q15_make(pf_ctrl_coeffs_q15 *cq,
         QC(t_q, cy, PF_N_X, PF_N_Y);
         QC(t_v, cy * Dq * c->v_den_inv, PF_N_X, PF_N_RV);
         QC(t_w, cy * Dq * c->w_den_inv, PF_N_X, PF_N_RW);
-        QC(pc_x, c->k2 * c->alpha_z * c->k1, PF_N_PC, PF_N_X);
+        QC(pc_x, c->k2 * c->alpha_z * c->k1 * hs, PF_N_PC, PF_N_X);
         QC(pc_p, c->k2 * c->relay_sz, PF_N_PC, PF_N_W);
     }
-    QC(k1, c->k1, PF_N_PB, PF_N_X);
+    QC(k1, c->k1 * hs, PF_N_PB, PF_N_X);
     QC(relay_v_pb, c->relay_den_inv, PF_N_V, PF_N_PB);
     QC(relay_v_s, -c->pmin * c->relay_den_inv, PF_N_V, PF_N_W);
     QC(relay_z_pb, c->k2 * c->relay_d0, PF_N_PC, PF_N_PB);
@@ -146,6 +190,9 @@ pf_status pf_ctrl_coeffs_q15_make(pf_ctrl_coeffs_q15 *cq,
     /* A play wider than the x node's range never moves: clamped there. */
     cq->play_r = q_limit(c->play_r * s[PF_N_X]);
     cq->play_ri = q_limit(c->play_r * c->loop_inv * s[PF_N_X]);
+    /* the play's half-width in the loop map W (pf_nozzle_q15) */
+    if (c->nozzle_xh > 0.0)
+        nz->t_r = c->loop_inv <= 1.0 ? cq->play_ri : cq->play_r;
     cq->sat_lo = q_limit(c->sat_lo * s[PF_N_PC]);
     cq->sat_hi = q_limit(c->sat_hi * s[PF_N_PC]);
     /* Monitoring: x and y in Q15 of in_fs, p_b of k1*in_fs, p_c of out_fs. */

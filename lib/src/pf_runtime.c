@@ -50,7 +50,7 @@ pf_status pf_runtime_init(pf_runtime *S, const pf_ctrl_design *d,
         pf_ctrl_coeffs_f32_make(&S->u.f32.c, &d->rt);
         return pf_ctrl_init_f32(&S->u.f32.S, &S->u.f32.c, dbuf, dlen);
     case PF_ARITH_Q15:
-        st = pf_ctrl_coeffs_q15_make(&S->u.q15.c, d, in_fs, out_fs);
+        st = pf_ctrl_coeffs_q15_make_nz(&S->u.q15.c, &S->u.q15.nz, d, in_fs, out_fs);
         if (st != PF_OK)
             return st;
         return pf_ctrl_init_q15(&S->u.q15.S, &S->u.q15.c, dbuf, dlen);

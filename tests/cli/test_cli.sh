@@ -216,8 +216,10 @@ expect_err "effect: repeated key" "'lo' given twice" "${SIM[@]}" --effect satura
 expect_err "effect: given twice" "lag given twice" "${SIM[@]}" --effect lag:tau=1 --effect lag:tau=2
 expect_err "effect: negative value is invalid" "invalid parameter 'lag'" "${SIM[@]}" --effect lag:tau=-1
 expect_err "effect: saturation lo >= hi" "invalid parameter 'sat_hi'" "${SIM[@]}" --effect saturation:lo=1,hi=0
-expect_err "effect: nozzle not in q15" "q15 does not support" "${SIM[@]}" --arith q15 \
-  --in-fs 1 --out-fs 1 --effect nozzle:xh=0.1
+check "--effect nozzle and backlash run in q15" run_ok "$TMP/nzq.csv" "${SIM[@]}" --arith q15 \
+  --in-fs 1 --out-fs 1 --effect nozzle:xh=0.1 --effect backlash:width=0.01
+expect_err "refined approximation not in q15" "q15 does not support the refined" "${SIM[@]}" \
+  --arith q15 --in-fs 1 --out-fs 1 --approx refined
 
 # --- bad arguments ----------------------------------------------------------
 expect_err "no command" "no command" 

@@ -3,9 +3,11 @@
 Cortex-M4 cores (tools/mcuemu), against the host build, bit for bit.
 
 The designs: every configuration at the library's defaults at 20 kHz
-(dd is the paper's Example 6), and a dd with the Q15-capable effects
-(backlash, saturation, output lag, dead time). Q15 runs on both cores, float on the
-M4 (the M0+ has no FPU and its build holds only the Q15 runtime).
+(dd is the paper's Example 6), a dd with the line and in-loop effects
+(backlash, saturation, output lag, dead time), and a dd with the nozzle
+curve among the in-loop effects (its table searched and solved on the
+target). Q15 runs on both cores, float on the M4 (the M0+ has no FPU and
+its build holds only the Q15 runtime).
 """
 from __future__ import annotations
 
@@ -18,15 +20,19 @@ CONFIGS = ("p", "dd", "id", "pid")
 OUT_FS = {"p": 0.02, "dd": 0.02, "id": 20.0, "pid": 20.0}
 EFFECTS = ("backlash:width=0.06", "saturation:lo=-0.01,hi=0.012", "lag:tau=0.002",
            "deadtime:t=0.001")
+# x_1/2 well inside the input's range: large steps drive x onto both flat
+# ends of the curve, small ones stay near its operating point.
+NOZZLE = ("nozzle:xh=0.2", "backlash:width=0.06", "saturation:lo=-0.01,hi=0.012")
 
 
 def designs(arith: str) -> list[Design]:
     ds = [Design(f"t_{c}_{arith}", c, arith, out_fs=OUT_FS[c]) for c in CONFIGS]
     ds.append(Design(f"t_fx_{arith}", "dd", arith, out_fs=OUT_FS["dd"], effects=EFFECTS))
+    ds.append(Design(f"t_nozzle_{arith}", "dd", arith, out_fs=OUT_FS["dd"], effects=NOZZLE))
     return ds
 
 
-CASES = [c for c in CONFIGS] + ["fx"]   # index i of designs() is CASES[i]
+CASES = [c for c in CONFIGS] + ["fx", "nozzle"]   # index i of designs() is CASES[i]
 # (core, arithmetic) pairs that run on target
 TARGETS = [("m0plus", "q15"), ("m4", "q15"), ("m4", "float")]
 

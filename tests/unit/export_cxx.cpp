@@ -6,6 +6,7 @@
 #include "pf_example6_q15.h"
 #include "pf_pid_fx_q15.h"
 #include "pf_pid_fx_f32.h"
+#include "pf_nozzle_fx_q15.h"
 
 #include "export_cxx.h"
 
@@ -13,3 +14,4 @@ const pf_ctrl_coeffs_q15 *cxx_example6_q15(void) { return &pf_example6_q15; }
 const pf_ctrl_coeffs_f32 *cxx_example6_f32(void) { return &pf_example6_f32; }
 const pf_ctrl_coeffs_q15 *cxx_pid_fx_q15(void) { return &pf_pid_fx_q15; }
 const pf_ctrl_coeffs_f32 *cxx_pid_fx_f32(void) { return &pf_pid_fx_f32; }
+const pf_ctrl_coeffs_q15 *cxx_nozzle_fx_q15(void) { return &pf_nozzle_fx_q15; }

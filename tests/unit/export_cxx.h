@@ -14,6 +14,7 @@ const pf_ctrl_coeffs_q15 *cxx_example6_q15(void);
 const pf_ctrl_coeffs_f32 *cxx_example6_f32(void);
 const pf_ctrl_coeffs_q15 *cxx_pid_fx_q15(void);
 const pf_ctrl_coeffs_f32 *cxx_pid_fx_f32(void);
+const pf_ctrl_coeffs_q15 *cxx_nozzle_fx_q15(void);
 
 #ifdef __cplusplus
 }

@@ -628,6 +628,7 @@ static void report(stats *s, long *category, long n, const trial *t, const char 
 static pf_ctrl_design g_d;
 static pf_ctrl_coeffs_f32 g_c32;
 static pf_ctrl_coeffs_q15 g_cq;
+static pf_nozzle_q15 g_nz;
 
 /* pf_controller.h: the float runtimes saturate every solved node at
  * +-1e300 (f64) / +-1e30 (f32), so extreme inputs never produce inf or
@@ -754,17 +755,19 @@ static int full_scale_ok(double v)
     return finite_pos(v) && v <= FULL_SCALE_MAX;
 }
 
-/* pf_ctrl_coeffs_q15_make: in_fs, out_fs in (0, 1e12], else PF_E_PARAM
- * naming it; the nozzle curve and the refined approximation give
- * PF_E_UNSUPPORTED (which of the two refusals comes first is not
- * documented); inside the range only PF_E_SCALE may refuse the rest. */
+/* pf_ctrl_coeffs_q15_make_nz (with room for a nozzle table): in_fs,
+ * out_fs in (0, 1e12], else PF_E_PARAM naming it; the refined
+ * approximation gives PF_E_UNSUPPORTED (which of the two refusals comes
+ * first is not documented); inside the range only PF_E_SCALE may refuse
+ * the rest, the nozzle curve included (its loop is monotone at the
+ * inflection whatever L0). */
 static void run_q15(rng *r, stats *s, long n, const trial *t, double pk)
 {
     const double out_fs = t->out_fs_fixed ? t->out_fs_val
                                           : (pk > 0.0 ? pk * t->out_fs_mul : 1.0);
-    const int lin_only = g_d.fx.nozzle_xh == 0.0 && g_d.opt.approx != PF_APPROX_REFINED;
+    const int lin_only = g_d.opt.approx != PF_APPROX_REFINED;
     const int in_ok = full_scale_ok(t->in_fs), out_ok = full_scale_ok(out_fs);
-    pf_status st = pf_ctrl_coeffs_q15_make(&g_cq, &g_d, t->in_fs, out_fs);
+    pf_status st = pf_ctrl_coeffs_q15_make_nz(&g_cq, &g_nz, &g_d, t->in_fs, out_fs);
     pf_ctrl_q15 iq;
     int16_t *buf = NULL, e[NRUN];
     int16_t mx, mpb, my, mpc;
@@ -783,7 +786,7 @@ static void run_q15(rng *r, stats *s, long n, const trial *t, double pk)
     }
     if (!lin_only) {
         if (st != PF_E_UNSUPPORTED && st != PF_E_SCALE) {
-            report(s, &s->fail_q15, n, t, "q15_make with nozzle/refined = %d (%s)", st,
+            report(s, &s->fail_q15, n, t, "q15_make with refined = %d (%s)", st,
                    pf_param_name(pf_status_param(st)));
         }
         s->q15_unsup++;

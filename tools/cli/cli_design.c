@@ -209,7 +209,8 @@ int cli_design_main(int argc, char **argv)
                  pf_topology_name(d.p.topology), d.opt.fs, d.opt.wb, d.opt.wh, d.opt.order);
         if (run.arith == PF_ARITH_Q15) {
             static pf_ctrl_coeffs_q15 cq;
-            pf_status st = pf_ctrl_coeffs_q15_make(&cq, &d, run.in_fs, run.out_fs);
+            static pf_nozzle_q15 nz;
+            pf_status st = pf_ctrl_coeffs_q15_make_nz(&cq, &nz, &d, run.in_fs, run.out_fs);
             if (st != PF_OK) {
                 cli_error("design: no Q15 coefficient set: %s", pf_status_str(st));
                 return CLI_EXIT_USAGE;

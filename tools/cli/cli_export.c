@@ -98,13 +98,37 @@ static void opening(FILE *f, const char *name, const char *comment, const char *
         fprintf(f, " * %s\n", comment);
     fprintf(f, " * Regenerate rather than edit. */\n");
     fprintf(f, "#include \"pneufrac/pf_controller.h\"\n\n");
-    fprintf(f, "static const %s %s = {\n", type, name);
+}
+
+/* The nozzle curve's table, <name>_nozzle, which the set points to. */
+static void nozzle_q15(FILE *f, const char *name, const pf_nozzle_q15 *nz)
+{
+    int n = nz->n;
+    fprintf(f, "static const pf_nozzle_q15 %s_nozzle = {\n", name);
+    int_array(f, "x", nz->x, sizeof nz->x[0], n);
+    int_array(f, "h", nz->h, sizeof nz->h[0], n);
+    int_array(f, "w", nz->w, sizeof nz->w[0], n);
+    int_array(f, "ha", nz->ha, sizeof nz->ha[0], n - 1);
+    int_array(f, "hb", nz->hb, sizeof nz->hb[0], n - 1);
+    int_array(f, "xa", nz->xa, sizeof nz->xa[0], n - 1);
+    int_array(f, "xb", nz->xb, sizeof nz->xb[0], n - 1);
+    int_array(f, "rx_m", nz->rx_m, sizeof nz->rx_m[0], n - 1);
+    int_array(f, "rw_m", nz->rw_m, sizeof nz->rw_m[0], n - 1);
+    int_array(f, "rx_sh", nz->rx_sh, sizeof nz->rx_sh[0], n - 1);
+    int_array(f, "rw_sh", nz->rw_sh, sizeof nz->rw_sh[0], n - 1);
+    fprintf(f, "    .h_sh = %u, .n = %u, .direct = %u, .t_x = {%ld, %u}, .t_r = %ld,\n",
+            (unsigned)nz->h_sh, (unsigned)nz->n, (unsigned)nz->direct, (long)nz->t_x.m,
+            (unsigned)nz->t_x.sh, (long)nz->t_r);
+    fprintf(f, "};\n\n");
 }
 
 int cli_export_c_q15(FILE *f, const char *name, const char *comment,
                      const pf_ctrl_coeffs_q15 *c)
 {
     opening(f, name, comment, "pf_ctrl_coeffs_q15");
+    if (c->nz != NULL)
+        nozzle_q15(f, name, c->nz);
+    fprintf(f, "static const pf_ctrl_coeffs_q15 %s = {\n", name);
     fprintf(f, "  .has_q = %u, .has_v = %u, .has_w = %u, .saturate = %u, .hold = %u,\n",
             (unsigned)c->has_q, (unsigned)c->has_v, (unsigned)c->has_w,
             (unsigned)c->saturate, (unsigned)c->hold);
@@ -121,6 +145,10 @@ int cli_export_c_q15(FILE *f, const char *name, const char *comment,
     QC(dw_pc); QC(dw_r); QC(pc_out);
     fprintf(f, "  .sat_lo = %ld, .sat_hi = %ld, .play_r = %ld, .play_ri = %ld,\n",
             (long)c->sat_lo, (long)c->sat_hi, (long)c->play_r, (long)c->play_ri);
+    if (c->nz != NULL)
+        fprintf(f, "  .nz = &%s_nozzle,\n", name);
+    else
+        fprintf(f, "  .nz = 0,\n");
     fprintf(f, "  .lag_m = %ld, .lag_sh = %u,\n", (long)c->lag_m, (unsigned)c->lag_sh);
     fprintf(f, "  .delay_len = %luu,\n", (unsigned long)c->delay_len);
     QC(mon_x); QC(mon_pb); QC(mon_y);
@@ -133,6 +161,7 @@ int cli_export_c_f32(FILE *f, const char *name, const char *comment,
                      const pf_ctrl_coeffs_f32 *c)
 {
     opening(f, name, comment, "pf_ctrl_coeffs_f32");
+    fprintf(f, "static const pf_ctrl_coeffs_f32 %s = {\n", name);
     fprintf(f, "  .has_q = %u, .has_v = %u, .has_w = %u, .in_loop_fx = %u, .hold = %u,\n",
             (unsigned)c->has_q, (unsigned)c->has_v, (unsigned)c->has_w,
             (unsigned)c->in_loop_fx, (unsigned)c->hold);

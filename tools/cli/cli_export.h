@@ -7,7 +7,8 @@
 
 #include "pneufrac/pneufrac.h"
 
-/* Write a header defining `static const pf_ctrl_coeffs_q15 <name>`.
+/* Write a header defining `static const pf_ctrl_coeffs_q15 <name>` (and,
+ * with a nozzle curve, the table it points to, <name>_nozzle).
  * @p comment is placed in the header's opening comment (may be NULL).
  * Returns 0, or -1 on a write error. */
 int cli_export_c_q15(FILE *f, const char *name, const char *comment,

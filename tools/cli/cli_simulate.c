@@ -55,7 +55,6 @@ void cli_simulate_usage(FILE *f)
 "                       last value\n"
 "  --effect NAME:K=V[,K=V]  repeatable: backlash:width=W  nozzle:xh=X\n"
 "                       saturation:lo=L,hi=H  deadtime:t=S  lag:tau=S\n"
-"                       (nozzle: double and float only)\n"
 "\n"
 "Options take their value as the next argument or after '='.\n");
     cli_exit_status_help(f);
@@ -137,9 +136,9 @@ static void report_status(const cli_run *run, pf_status st)
         describe_param(run, id, why, sizeof why);
         cli_error("invalid parameter '%s' (%s)", pf_param_name(id), why);
     } else if (st == PF_E_UNSUPPORTED) {
-        cli_error("--arith q15 does not support the nozzle curve "
-                  "or the refined approximation (%s); use --arith double or float",
-                  pf_status_str(st));
+        cli_error("--arith q15 does not support the refined approximation, nor a "
+                  "nozzle curve whose in-sample loop is not monotone (%s); use "
+                  "--arith double or float", pf_status_str(st));
     } else if (st == PF_E_SCALE) {
         cli_error("--arith q15: %s; try other --in-fs/--out-fs or a "
                   "narrower --band", pf_status_str(st));

@@ -29,6 +29,21 @@
  *  sized by this. */
 #define PF_Q15_MAX_SEC (2 * PF_MAX_ORDER + 1)
 
+/** Pieces of the Q15 nozzle curve's table (pf_nozzle_q15), each a cubic
+ *  through the curve: 38 bytes each, in a table apart from the
+ *  coefficient set, so only a design with a nozzle holds one. 32 keep the
+ *  curve within 2^-16 of its span for the paper's loop gains (the bound:
+ *  docs/architecture.md, "Effects in Q15"). 0 leaves the curve out of the
+ *  Q15 runtime, and its code out of the firmware:
+ *  pf_ctrl_coeffs_q15_make_nz then refuses a nozzle (PF_E_UNSUPPORTED),
+ *  and an exported table does not compile. Otherwise at least 4. */
+#ifndef PF_Q15_NOZZLE_SEG
+#define PF_Q15_NOZZLE_SEG 32
+#endif
+
+/** The table's room in pieces: at least one, as C has no empty arrays. */
+#define PF_Q15_NOZZLE_CAP (PF_Q15_NOZZLE_SEG > 0 ? PF_Q15_NOZZLE_SEG : 1)
+
 /** Largest |integer part| of an operator order (|alpha| < 2 rounds to <= 2). */
 #define PF_MAX_INT 2
 

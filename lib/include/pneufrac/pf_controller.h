@@ -210,6 +210,35 @@ enum pf_ctrl_node {
     PF_N_COUNT
 };
 
+/** The nozzle curve on x in Q15 (built by pf_ctrl_coeffs_q15_make_nz, run
+ *  by pf_nozzle_q15.c), kept apart from the coefficient set so that only a
+ *  firmware with a nozzle pays for its table (38 bytes per piece; see
+ *  docs/architecture.md, "Effects in Q15"). Knots x_k on x carry the
+ *  curve, h_k = h(x_k), and the in-sample loop map W_k = (x_k + L0 h_k)/
+ *  max(1, 1 + L0), which increases with x because the curve does (the
+ *  divisor keeps it within +-2^31 for any accepted L0). Between two knots
+ *  h is a cubic in x, and x one in W, each through both knots:
+ *    h = h_k + (h_{k+1} - h_k) P(r),  r = (x - x_k)/(x_{k+1} - x_k)
+ *    x = x_k + (x_{k+1} - x_k) P(r),  r = (W - W_k)/(W_{k+1} - W_k)
+ *    P(r) = r + r (1 - r) (a + b r),  a, b in Q24, r in Q27
+ *  The loop is solved by one search among the W_k and one piece: no
+ *  iteration. */
+typedef struct pf_nozzle_q15 {
+    int32_t x[PF_Q15_NOZZLE_CAP + 1]; /**< knots (internal x), increasing, from -2^30 to 2^30 */
+    int32_t h[PF_Q15_NOZZLE_CAP + 1]; /**< the curve at the knots, x's scale times 2^h_sh */
+    int32_t w[PF_Q15_NOZZLE_CAP + 1]; /**< the loop map at the knots, non-decreasing */
+    int32_t ha[PF_Q15_NOZZLE_CAP], hb[PF_Q15_NOZZLE_CAP]; /**< the curve's P, per piece */
+    int32_t xa[PF_Q15_NOZZLE_CAP], xb[PF_Q15_NOZZLE_CAP]; /**< the inverse's P */
+    int32_t rx_m[PF_Q15_NOZZLE_CAP], rw_m[PF_Q15_NOZZLE_CAP]; /**< 2^27 over the piece's */
+    uint8_t rx_sh[PF_Q15_NOZZLE_CAP], rw_sh[PF_Q15_NOZZLE_CAP]; /**< width in x, in W */
+    uint8_t h_sh;                   /**< h's scale: x's times 2^h_sh (k1, pc_x take h) */
+    uint8_t n;                      /**< knots in use, 3 to PF_Q15_NOZZLE_SEG + 1 */
+    uint8_t direct;                 /**< 1: W = x within half a unit (L0 too small to
+                                         move the solution): x is W's target */
+    pf_qc t_x;                      /**< linear solution x_lin -> W: (1 + L0)/max(1, 1 + L0) */
+    int32_t t_r;                    /**< backlash half-width r in W: r/max(1, 1 + L0) */
+} pf_nozzle_q15;
+
 /** Q15 coefficient set: integers only, usable as static const data on an
  *  MCU without FPU. Every pf_qc multiplies one internal signal into the
  *  scale of another; scales were chosen at design time
@@ -239,6 +268,8 @@ typedef struct pf_ctrl_coeffs_q15 {
     int32_t sat_lo, sat_hi;        /**< saturation limits, internal p_c */
     int32_t play_r, play_ri;       /**< backlash: half-width r and r/(1 + L0),
                                         internal x (0: no backlash) */
+    const pf_nozzle_q15 *nz;       /**< nozzle curve, caller-owned
+                                        (pf_ctrl_coeffs_q15_make_nz); NULL: linear */
     int32_t lag_m; uint8_t lag_sh; /**< output lag leak */
     uint32_t delay_len;
     pf_qc mon_x, mon_pb, mon_y;    /**< monitored node -> Q15 of its full scale */
@@ -258,14 +289,33 @@ typedef struct pf_ctrl_q15 {
 
 /** Derive the Q15 coefficient set. e = in_fs maps to Q15 +1.0 at the input,
  *  p_c = out_fs to +1.0 at the output (ranges: pf_param_info).
- *  Supports backlash, saturation, lag and dead time; the nozzle curve and
- *  the refined approximation are float/double only (PF_E_UNSUPPORTED).
+ *  Supports backlash, saturation, lag and dead time; the nozzle curve needs
+ *  room for its table (pf_ctrl_coeffs_q15_make_nz), and the refined
+ *  approximation is float/double only (PF_E_UNSUPPORTED).
  *  @return PF_OK, PF_E_PARAM(PF_P_IN_FS | PF_P_OUT_FS), PF_E_UNSUPPORTED,
- *          or PF_E_SCALE when a coefficient between two node scales does
- *          not fit a 31-bit mantissa with a shift in [0, 62]. */
+ *          PF_E_BUFFER for a nozzle curve, or PF_E_SCALE when a
+ *          coefficient between two node scales does not fit a 31-bit
+ *          mantissa with a shift in [0, 62]. */
 pf_status pf_ctrl_coeffs_q15_make(pf_ctrl_coeffs_q15 *cq,
                                   const pf_ctrl_design *d, double in_fs,
                                   double out_fs);
+/** pf_ctrl_coeffs_q15_make with room @p nz for the nozzle curve's table
+ *  (caller-owned, like the dead-time buffer: @p cq points to it, so it
+ *  must outlive @p cq); @p nz may be NULL for a design without one. The
+ *  curve then runs in Q15 within the bound of docs/architecture.md
+ *  ("Effects in Q15").
+ *  @return as pf_ctrl_coeffs_q15_make; PF_E_BUFFER if the design has a
+ *          nozzle curve and @p nz is NULL; PF_E_UNSUPPORTED if the
+ *          in-sample loop through the curve is not monotone (only a loop
+ *          gain L0 < 0 with a curve steeper than 1/|L0| can do that), or
+ *          the build leaves the curve out (PF_Q15_NOZZLE_SEG = 0). */
+pf_status pf_ctrl_coeffs_q15_make_nz(pf_ctrl_coeffs_q15 *cq, pf_nozzle_q15 *nz,
+                                     const pf_ctrl_design *d, double in_fs,
+                                     double out_fs);
+/** Bind an instance to a coefficient set, at rest. @return PF_OK,
+ *  PF_E_NULL, or PF_E_BUFFER when the dead-time buffer is missing or short,
+ *  or a nozzle table claims more knots than PF_Q15_NOZZLE_SEG + 1 (any,
+ *  in a build without the curve) or fewer than 3. */
 pf_status pf_ctrl_init_q15(pf_ctrl_q15 *S, const pf_ctrl_coeffs_q15 *c,
                            int16_t *dbuf, size_t dlen);
 void pf_ctrl_reset_q15(pf_ctrl_q15 *S);

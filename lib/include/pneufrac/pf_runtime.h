@@ -54,6 +54,7 @@ typedef struct pf_runtime {
         } f32;
         struct {
             pf_ctrl_coeffs_q15 c;
+            pf_nozzle_q15 nz; /**< the nozzle curve's table, if any */
             pf_ctrl_q15 S;
         } q15;
     } u;
