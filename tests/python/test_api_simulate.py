@@ -16,7 +16,7 @@ from conftest import BUILD, CLI, ROOT
 FS = 20000.0
 N = 8000
 # (config, paper parameters, effects, in_fs, out_fs): every configuration,
-# the effect blocks Q15 runs (backlash, saturation, lag, dead time), and
+# every effect block (backlash, nozzle curve, saturation, lag, dead time), and
 # full scales that the input and output exceed now and then, so that the
 # Q15 path saturates too.
 CASES = [
@@ -25,6 +25,7 @@ CASES = [
     ("id", {}, {"backlash": 0.02}, 1.0, 12.0),
     ("pid", {"q": 0.9}, {"backlash": 0.01, "lag": 0.004, "dead_time": 0.001}, 1.0, 16.0),
     ("dd", {}, {"sat_lo": -0.004, "sat_hi": 0.006}, 1.2, 0.01),
+    ("dd", {}, {"nozzle_xh": 0.2, "backlash": 0.06}, 1.0, 0.012),
 ]
 
 
@@ -48,6 +49,8 @@ def cli_simulate(tmp_path, config, params, effects, e, arith, in_fs=None, out_fs
     for k, v in effects.items():
         if k == "backlash":
             args += ["--effect", f"backlash:width={v!r}"]
+        elif k == "nozzle_xh":
+            args += ["--effect", f"nozzle:xh={v!r}"]
         elif k == "lag":
             args += ["--effect", f"lag:tau={v!r}"]
         elif k == "dead_time":
@@ -164,11 +167,11 @@ def test_bad_runtime_arguments():
         rt.run_q15(np.array([40000]))
     with pytest.raises(ValueError, match="integers"):
         rt.run_q15(np.array([0.5]))
-    # Q15 has no nozzle curve: the library says so.
-    nz = pneufrac.design("dd", FS, effects={"nozzle_xh": 0.05})
+    # The refined approximation is float/double only: the library says so.
+    refined = pneufrac.design("dd", FS, approx="refined")
     with pytest.raises(pneufrac.ModelError):
-        nz.simulate(np.ones(3), "q15", in_fs=1.0, out_fs=0.01)
-    assert np.all(np.isfinite(nz.simulate(np.ones(3), "float")))
+        refined.simulate(np.ones(3), "q15", in_fs=1.0, out_fs=0.01)
+    assert np.all(np.isfinite(refined.simulate(np.ones(3), "float")))
     # Extreme and NaN inputs: finite outputs, as the library promises.
     out = d.simulate(np.array([1e300, -1e300, np.nan, 0.0]))
     assert np.all(np.isfinite(out))

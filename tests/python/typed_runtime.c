@@ -46,6 +46,7 @@ int main(int argc, char **argv)
     static int16_t eq[MAX_N], oq[MAX_N], dq[MAX_N];
     static pf_ctrl_coeffs_f32 cf;
     static pf_ctrl_coeffs_q15 cq;
+    static pf_nozzle_q15 nz;     /* the nozzle curve's table, when there is one */
     pf_params p;
     pf_effects fx;
     pf_design_opts o;
@@ -84,8 +85,8 @@ int main(int argc, char **argv)
     if (strcmp(argv[1], "q15") == 0) {
         pf_ctrl_q15 S;
         n = fread(eq, sizeof eq[0], MAX_N, stdin);
-        if (pf_ctrl_coeffs_q15_make(&cq, &d, strtod(argv[4], NULL),
-                                    strtod(argv[5], NULL)) != PF_OK ||
+        if (pf_ctrl_coeffs_q15_make_nz(&cq, &nz, &d, strtod(argv[4], NULL),
+                                       strtod(argv[5], NULL)) != PF_OK ||
             pf_ctrl_init_q15(&S, &cq, dq, d.rt.delay_len) != PF_OK)
             return 2;
         pf_ctrl_run_q15(&S, eq, oq, n);
