@@ -44,6 +44,27 @@ def test_the_diagnosis_names_the_cause(dx):
     assert "dead_time" in repr(dx)
 
 
+def test_causes_from_either_json(dx):
+    """causes_of reads a JSON with a causes list (most important first) as
+    it stands, and one with a single cause as a list of that one; both the
+    Diagnosis and the fleet's rows read causes through it."""
+    from pneufrac.diagnosis import causes_of
+    from pneufrac_fit import fleet_report
+    j = json.loads(json.dumps(dx.to_dict()))
+    single = {k: v for k, v in j.items() if k != "causes"}
+    assert [c["name"] for c in causes_of(single)] == [single["cause"]]
+    assert causes_of({**single, "cause": "none"}) == []
+    two = [{"name": "lag", "place": "output", "params": {"lag": 0.02}, "ci95": {}},
+           {"name": "dead_time", "place": "output", "params": {"dead_time": 0.01},
+            "ci95": {}}]
+    listed = {**single, "cause": "lag", "causes": two}
+    assert causes_of(listed) == two
+    row = fleet_report.flatten({"loop": "a", "status": "ok", "error": None,
+                                "diagnosis": listed})
+    assert row["causes"] == "lag+dead_time"
+    assert row["lag"] == 0.02 and row["dead_time"] == 0.01
+
+
 def test_to_dict_is_the_cli_json(dx, record, tmp_path):
     r = subprocess.run(fit_exe() + ["diagnose", str(record), "--config", "dd", "--json",
                                     "--jobs", "1", "--quiet"],

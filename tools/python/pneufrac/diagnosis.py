@@ -73,6 +73,19 @@ def diagnose(data, config: str, *, columns: dict | None = None, fixes: dict | No
     return Diagnosis(raw, rec)
 
 
+def causes_of(j: dict) -> list[dict]:
+    """The named effects of a diagnosis's JSON object @j, most important
+    first, each {"name", "place", "params", "ci95"}: its "causes" list, or,
+    from a pneufrac-fit whose JSON names one cause only, that cause."""
+    if "causes" in j:
+        return [dict(c) for c in j["causes"]]
+    if j["cause"] == "none":
+        return []
+    names = j["effect_params"].keys()
+    return [{"name": j["cause"], "place": j["place"], "params": dict(j["effect_params"]),
+             "ci95": {k: v for k, v in j["extended"]["ci95"].items() if k in names}}]
+
+
 class Diagnosis:
     """The result of diagnose().
 
@@ -92,20 +105,10 @@ class Diagnosis:
         self.config = j["config"]
         self.params = dict(j["extended"]["params"])
         self.intervals = {k: tuple(v) for k, v in j["extended"]["ci95"].items()}
-        self.causes = self._causes(j)
+        self.causes = causes_of(j)
         self.cause = self.causes[0]["name"] if self.causes else "none"
         self.verdict = list(j["verdict"])
         self.evidence = list(j["evidence"])
-
-    @staticmethod
-    def _causes(j: dict) -> list:
-        if "causes" in j:
-            return [dict(c) for c in j["causes"]]
-        if j["cause"] == "none":
-            return []
-        names = j["effect_params"].keys()
-        return [{"name": j["cause"], "place": j["place"], "params": dict(j["effect_params"]),
-                 "ci95": {k: v for k, v in j["extended"]["ci95"].items() if k in names}}]
 
     def __repr__(self) -> str:
         names = ", ".join(c["name"] for c in self.causes) or "none"

@@ -19,6 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
+from pneufrac.diagnosis import causes_of
+
 from . import model
 
 # Units of the effect parameters, as model.EFFECT_PARAMS reports them.
@@ -39,14 +41,6 @@ def _num(v) -> float:
     return float(v) if v is not None and math.isfinite(float(v)) else math.nan
 
 
-def named_causes(j: dict) -> list[dict]:
-    """The diagnosis's named effects, most important first: {"name",
-    "params"} each."""
-    if "causes" in j:
-        return [{"name": c["name"], "params": c["params"]} for c in j["causes"]]
-    return [] if j["cause"] == "none" else [{"name": j["cause"], "params": j["effect_params"]}]
-
-
 def severity(before: float, after: float, named: bool) -> float:
     if not named:
         return 0.0
@@ -64,7 +58,7 @@ def flatten(row: dict) -> dict:
     j = row.get("diagnosis")
     if row["status"] != "ok" or j is None:
         return out
-    causes = named_causes(j)
+    causes = causes_of(j)
     g = j["gain"]
     out.update(cause=j["cause"], causes="+".join(c["name"] for c in causes) or "none",
                nrmse_val_before=_num(g["nrmse_val_before"]),
