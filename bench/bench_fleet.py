@@ -132,16 +132,26 @@ def report(a, runs, in_bytes, per_task, load0, load1) -> str:
       "dead time, a lag, a dead band and none; every record is diagnosed with "
       "pneufrac-fit's defaults (one process per record, `--jobs 1`).\n")
     w("| workers | wall time | of which cluster start | records/hour (wall) | "
-      "records/hour (after start) | median per record: wall, CPU |")
-    w("|---|---|---|---|---|---|")
+      "records/hour (after start) | median per record: wall, CPU | "
+      "records/hour if each worker had a core (from the CPU) |")
+    w("|---|---|---|---|---|---|---|")
     for r in runs:
         rate = a.records * 3600 / r["wall"]
         steady = a.records * 3600 / max(r["wall"] - r["startup"], 1e-9)
         w(f"| {r['workers']} | {r['wall']:.1f} s | {r['startup']:.1f} s | {rate:.0f} | "
-          f"{steady:.0f} | {r['task']:.1f} s, {r['cpu']:.1f} s |")
+          f"{steady:.0f} | {r['task']:.1f} s, {r['cpu']:.1f} s | "
+          f"{r['workers'] * 3600 / r['cpu']:.0f} |")
     w("")
+    first, last = runs[0], runs[-1]
+    speedup = first["wall"] / last["wall"]
     w("A record's wall time on its worker exceeds its CPU time by what the other work "
-      "on the machine takes from its core; on a core of its own the two would agree.\n")
+      "on the machine takes from its core; on a core of its own the two would agree. "
+      f"From {first['workers']} to {last['workers']} workers the wall time fell by a "
+      f"factor {speedup:.2f}: each worker got the share of a core that the machine's "
+      "load left it, so that factor measures this shared machine, not dask. The last "
+      "column is the rate the CPU time allows, workers × 3600 s / CPU per record: an "
+      "estimate for idle cores, not a measurement, and on this 2-core machine the "
+      "client and scheduler (below) would share the cores with the workers.\n")
     task = runs[0]["cpu"]
     out_b = runs[0]["out_bytes"]
     rt, cpu = per_task
@@ -156,7 +166,7 @@ def report(a, runs, in_bytes, per_task, load0, load1) -> str:
     tps = 100 / task
     w(f"- Throughput: with {task:.1f} s of CPU per record, 100 single-threaded "
       f"workers, each on a core of its own, finish 100 records every {task:.1f} s: about "
-      f"{rate:.0f} records per hour once started.")
+      f"{round(rate, -3):,.0f} records per hour once started.")
     w(f"- Scheduler: {tps:.1f} tasks per second. At {cpu * 1e6:.0f} µs of client and "
       f"scheduler CPU each, that is {100 * tps * cpu:.2f} % of one core; the scheduler "
       f"would saturate one core only when tasks got {task / (100 * cpu):.0f} times "
