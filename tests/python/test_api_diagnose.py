@@ -128,6 +128,18 @@ def test_write_report(dx, tmp_path):
     assert json.loads((tmp_path / "rep" / "diagnosis.json").read_text())["cause"] == "dead_time"
 
 
+def test_diagnosis_figures_write_nothing(dx, tmp_path, monkeypatch):
+    from matplotlib.figure import Figure
+    monkeypatch.chdir(tmp_path)
+    figs = dx.figures()
+    assert sorted(figs) == ["after", "before", "candidates", "overview"]
+    assert all(isinstance(f, Figure) and f.axes for f in figs.values())
+    assert list(tmp_path.iterdir()) == []
+    # The overview draws the measured record and both models on its top axes.
+    labels = [ln.get_label() for ln in figs["overview"].axes[0].get_lines()]
+    assert labels[:2] == ["measured", "baseline"] and labels[2].startswith("extended")
+
+
 def test_plots_are_figures_and_write_nothing(tmp_path, monkeypatch):
     from matplotlib.figure import Figure
     monkeypatch.chdir(tmp_path)

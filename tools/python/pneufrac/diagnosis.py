@@ -137,6 +137,15 @@ class Diagnosis:
                              "baseline": d.baseline.sim + offset, "extended": extended,
                              "residual": measured - extended})
 
+    def figures(self) -> dict:
+        """The report's figures as matplotlib Figures, written nowhere:
+        {"overview": measured, baseline and extended model with their
+        residuals; "before", "after": the residual evidence of the linear
+        and the extended model; "candidates": the held-out NRMSE of every
+        model tried}."""
+        from pneufrac_fit import plots
+        return plots.figures(self.raw)
+
     def write_report(self, out) -> Path:
         """report.md, diagnosis.json and the figures in folder @out, as
         `pneufrac-fit diagnose --out`; returns the report's path."""
