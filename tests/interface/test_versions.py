@@ -34,14 +34,15 @@ def out(*cmd):
 
 def test_every_program_has_the_header_version():
     v = header_version()
+    import pneufrac
     import pneufrac_fit
     assert out(CLI, "--version") == f"pneufrac {v}\n"
     assert re.fullmatch(rf"pneufracd {re.escape(v)} \(register map \d+\)\n",
                         out(DAEMON, "--version"))
     assert out(FIT, "--version") == f"pneufrac-fit {v}\n"
     assert out(REDUCE, "--version") == f"pneufrac-reduce {v}\n"
-    assert pneufrac_fit.__version__ == v
-    assert importlib.metadata.version("pneufrac-fit") == v
+    assert pneufrac.__version__ == pneufrac_fit.__version__ == v
+    assert importlib.metadata.version("pneufrac") == v
 
 
 def test_cmake_package_version_file_has_it_too():

@@ -67,7 +67,7 @@ def _pair(text: str, what: str) -> tuple[float, float]:
 
 
 def _parser() -> _Parser:
-    from pneufrac_fit import __version__   # one version for the Python tools
+    from pneufrac import __version__   # one version for the Python tools
 
     p = _Parser(prog="pneufrac-reduce", description=__doc__.split("\n\n")[0],
                 epilog=__doc__.split("\n\n")[-1], formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -201,16 +201,16 @@ def _summary(req: dict, red, ctrl) -> list[str]:
 
 
 def run(a) -> int:
-    from pneufrac_fit import lib
+    from pneufrac import binding as lib
 
     from . import export, fixed
-    from .reduce import CannotReduce, design, reduce_design
+    from .reduce import CannotReduce, design, design_buffer, reduce_design
 
     req = _request(a, lib)
     try:
         ctrl = design(req["config"], req["fs"], req["params"], req["effects"], **req["design_opts"])
-        dl = lib.Controller(req["config"], req["params"], req["effects"], req["fs"],
-                            **req["design_opts"]).delay_len if "dead_time" in req["effects"] else 0
+        dl = design_buffer(req["config"], req["fs"], req["params"], req["effects"],
+                           **req["design_opts"]).delay_len if "dead_time" in req["effects"] else 0
     except lib.ModelError as exc:
         raise UsageError(str(exc)) from None
     except CannotReduce as exc:
@@ -253,8 +253,8 @@ def main(argv=None) -> int:
         print(f"pneufrac-reduce: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
     except Exception as exc:  # noqa: BLE001 - the binding's own errors
-        from pneufrac_fit import lib
-        if isinstance(exc, lib.LibraryError):
+        from pneufrac import binding
+        if isinstance(exc, binding.LibraryError):
             print(f"pneufrac-reduce: {exc}", file=sys.stderr)
             return EXIT_LIBRARY
         raise

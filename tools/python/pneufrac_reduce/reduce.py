@@ -2,7 +2,7 @@
 """The reduction rule: the fewest states whose step response stays within a
 requested accuracy of the full design's over a requested horizon.
 
-The full design is the library's (through ctypes, pneufrac_fit.lib): its
+The full design is the library's (through ctypes, pneufrac.binding): its
 state space is read off the double runtime (pf_ctrl_state_space), and the
 reference the reduced system is measured against is that runtime's own
 step response (pf_ctrl_run_f64), not the state space, so an error in
@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pneufrac_fit import lib
+from pneufrac import binding
 
 from .balance import Balanced, NotStable
 from .realise import LAM_MIN, Bank, NotRealisable, realise
@@ -51,16 +51,39 @@ class Reduction:
     tried: list            # (order, error or the reason it was passed over)
 
 
-def design(config: str, fs: float, params: dict, effects: dict, **opts) -> lib.Controller:
-    """The full design (pneufrac_fit.lib.Controller), without its dead time;
-    CannotReduce with an in-loop effect, lib.ModelError for a parameter the
-    library refuses."""
+class FullDesign:
+    """The library's design (binding.DesignBuffer): its options (head.opt),
+    its step or any response from rest in double, its state space."""
+
+    def __init__(self, buf: binding.DesignBuffer):
+        self.buf = buf
+        self.head = buf.head
+
+    def run(self, e) -> np.ndarray:
+        """The double runtime's response to e, from rest."""
+        return binding.Runtime(self.buf, "double").run(e)
+
+    def state_space(self):
+        return self.buf.state_space()
+
+
+def design_buffer(config: str, fs: float, params: dict, effects: dict,
+                  **opts) -> binding.DesignBuffer:
+    """pf_ctrl_design_make through the binding; opts as pneufrac-reduce's
+    request names them (input_model is pf_design_opts' input)."""
+    fields = {("input" if k == "input_model" else k): v for k, v in opts.items()}
+    return binding.DesignBuffer(config, params, effects, {"fs": fs, **fields})
+
+
+def design(config: str, fs: float, params: dict, effects: dict, **opts) -> FullDesign:
+    """The full design, without its dead time; CannotReduce with an in-loop
+    effect, binding.ModelError for a parameter the library refuses."""
     on = [name for k, name in IN_LOOP.items() if effects.get(k)]
     if on:
         raise CannotReduce(f"{' and '.join(on)} sit{'s' if len(on) == 1 else ''} inside the "
                            "loop: no linear system to reduce (run the full controller, pf_ctrl_*)")
     linear = {k: v for k, v in effects.items() if k != "dead_time"}
-    return lib.Controller(config, params, linear, fs, **opts)
+    return FullDesign(design_buffer(config, fs, params, linear, **opts))
 
 
 def _step_error(bank: Bank, y_full: np.ndarray, n0: int) -> np.ndarray:
@@ -72,7 +95,7 @@ def _step_error(bank: Bank, y_full: np.ndarray, n0: int) -> np.ndarray:
     return out
 
 
-def reduce_design(ctrl: lib.Controller, fs: float, horizon=(0.0, 10.0), tol=5e-4,
+def reduce_design(ctrl: FullDesign, fs: float, horizon=(0.0, 10.0), tol=5e-4,
                   method="residualise", max_order=None, delay_len=0) -> Reduction:
     t0, t1 = horizon
     n0, n1 = math.ceil(t0 * fs - 1e-9), math.floor(t1 * fs + 1e-9)
