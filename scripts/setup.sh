@@ -91,15 +91,15 @@ fi
 
 # The Python side (tools/python), editable: the pneufrac API with its
 # ctypes binding, which finds build/lib/libpneufrac.so from the checkout;
-# pneufrac-fit; and pneufrac-plot, which `pneufrac bode|step --plot` runs.
-# The distribution was called pneufrac-fit before it held the API: a venv
-# that still has that one gets it replaced.
-py_check="import pneufrac, pneufrac_fit, pathlib, sys; sys.exit(any(pathlib.Path(m.__file__).resolve().parent != pathlib.Path('tools/python', m.__name__).resolve() for m in (pneufrac, pneufrac_fit)))"
-if [[ -x .venv/bin/pneufrac-fit && -x .venv/bin/pneufrac-plot ]] &&
+# pneufrac-fit; pneufrac-reduce; and pneufrac-plot, which `pneufrac
+# bode|step --plot` runs. The distribution was called pneufrac-fit before
+# it held the API: a venv that still has that one gets it replaced.
+py_check="import pneufrac, pneufrac_fit, pneufrac_reduce, pathlib, sys; sys.exit(any(pathlib.Path(m.__file__).resolve().parent != pathlib.Path('tools/python', m.__name__).resolve() for m in (pneufrac, pneufrac_fit, pneufrac_reduce)))"
+if [[ -x .venv/bin/pneufrac-fit && -x .venv/bin/pneufrac-plot && -x .venv/bin/pneufrac-reduce ]] &&
    "$venv_python" -c "$py_check" >/dev/null 2>&1; then
-  log "pneufrac (Python API, pneufrac-fit): installed"
+  log "pneufrac (Python API, pneufrac-fit, pneufrac-reduce): installed"
 else
-  log "installing pneufrac (Python API, pneufrac-fit; tools/python, editable)"
+  log "installing pneufrac (Python API, pneufrac-fit, pneufrac-reduce; tools/python, editable)"
   if "$venv_python" -m pip show --quiet pneufrac-fit >/dev/null 2>&1; then
     "$venv_python" -m pip uninstall --quiet --yes pneufrac-fit
   fi

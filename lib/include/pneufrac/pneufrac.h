@@ -27,6 +27,7 @@
 #include "pf_params.h"
 #include "pf_effects.h"
 #include "pf_controller.h"
+#include "pf_bank.h"
 #include "pf_q15.h"
 #include "pf_runtime.h"
 #include "pf_layout.h"

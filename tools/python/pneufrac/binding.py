@@ -106,6 +106,7 @@ def _declare(lib) -> None:
         ("pf_type_name", [i], cp),
         ("pf_sizeof", [i], sz),
         ("pf_field_get", [i, i, C.POINTER(Field)], i),
+        ("pf_bank_max_order", [], i),
     ]:
         f = getattr(lib, name)
         f.argtypes = args
