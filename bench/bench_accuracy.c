@@ -13,9 +13,15 @@
  *                                case against N = 1 .. PF_MAX_ORDER in double
  *                                and Q15, and Q15's distance from double in
  *                                LSB: how few sections a target error needs
+ *   bench_accuracy --exact CASE FS T0 T1
+ *                                the exact step response of one case at every
+ *                                sample n/fs in [T0, T1], one "n value" line
+ *                                each (bench/bench_reduce.py measures the
+ *                                reduced banks against it)
  */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "pfh_accuracy.h"
@@ -201,6 +207,24 @@ static void toolbox_example(void)
     pfh_acc_ref_free(&ref);
 }
 
+/* The exact response of case @p name at the samples of [t0, t1]. */
+static int exact(const char *name, double fs, double t0, double t1)
+{
+    const pf_params *p = pfh_ref_cases_find(&cases, name);
+    pfh_acc_ref ref;
+    long n;
+    if (p == NULL || !(fs > 0 && t0 >= 0 && t1 > t0 && t1 * fs <= 1e8)) {
+        fprintf(stderr, "bench_accuracy --exact: no case '%s', or a bad window\n", name);
+        return 2;
+    }
+    if (pfh_acc_ref_make(&ref, p, fs, t0, t1) != 0)
+        return 1;
+    for (n = ref.n0; n <= ref.n1; n++)
+        printf("%ld %.17g\n", n, ref.y[n - ref.n0]);
+    pfh_acc_ref_free(&ref);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     int quick = argc > 1 && strcmp(argv[1], "--quick") == 0;
@@ -211,6 +235,8 @@ int main(int argc, char **argv)
     }
     if (argc > 1 && strcmp(argv[1], "--orders") == 0)
         return order_sweep();
+    if (argc > 5 && strcmp(argv[1], "--exact") == 0)
+        return exact(argv[2], atof(argv[3]), atof(argv[4]), atof(argv[5]));
     if (argc > 2 && strcmp(argv[1], "--grid") == 0) {
         toolbox_example();
         return grid(argv[2]);

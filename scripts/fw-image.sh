@@ -4,15 +4,17 @@
 # so that the budget check, the benchmarks and the on-target tests build,
 # link and measure firmware images the same way.
 
-# fw_build <cpu> <dir> <opt>: cross-builds lib/ for <cpu> (cortex-m0plus or
-# cortex-m4) at <opt> (-Os, the firmware default, or -O2) into <dir>.
+# fw_build <cpu> <dir> <opt> [cmake args...]: cross-builds lib/ for <cpu>
+# (cortex-m0plus or cortex-m4) at <opt> (-Os, the firmware default, or -O2)
+# into <dir>; extra arguments (-DPNEUFRAC_BANK_ASM=OFF) go to cmake.
 # Chained with && because errexit is off inside an "if" condition.
 fw_build() {
   local cpu=$1 dir=$2 opt=$3
+  shift 3
   cmake -S . -B "$dir" --log-level=WARNING \
     -DCMAKE_TOOLCHAIN_FILE="$PWD/cmake/arm-none-eabi.cmake" \
     -DCMAKE_BUILD_TYPE=MinSizeRel \
-    -DPNEUFRAC_CPU="$cpu" -DPNEUFRAC_FW_OPT="$opt" &&
+    -DPNEUFRAC_CPU="$cpu" -DPNEUFRAC_FW_OPT="$opt" "$@" &&
     cmake --build "$dir" --parallel "$(nproc 2>/dev/null || echo 2)"
 }
 

@@ -5,7 +5,8 @@
 # Safe to run again: each step is skipped when its result is already there.
 #   1. Debian packages (apt only when one is missing)
 #   2. Python venv in .venv/ with the analysis and test packages, and
-#      pneufrac-fit (tools/python) installed editable
+#      the pneufrac Python API with pneufrac-fit (tools/python) installed
+#      editable
 #   3. CMake configure + build (Release, tests on)
 set -euo pipefail
 
@@ -29,15 +30,20 @@ apt_packages=(
   python3 python3-venv
 )
 # Each of these imports under its own PyPI name.
-python_packages=(numpy scipy matplotlib pymodbus pytest mpmath cryptography control pandas)
+python_packages=(numpy scipy matplotlib pymodbus pytest mpmath cryptography control pandas
+                 distributed pyarrow)
 # pip requirements: the README's pymodbus example and the integration tests
 # use the 3.x client API (device_id=, convert_to_registers), tested with 3.16.
 # mpmath: tests/ref/make_reference.py, and the test that checks its table.
 # cryptography: the Modbus/TCP Security test makes its CA and certificates
 # (tests/integration/test_tls.py).
 # control (python-control) and pandas: tests/interface checks the exports
-# with them, and the CSV files as pandas reads them.
-pip_specs=(numpy scipy matplotlib "pymodbus>=3.16,<4" pytest mpmath cryptography control pandas)
+# with them, and the CSV files as pandas reads them; pandas is also the
+# Python API's table type (to_frame).
+# dask[distributed] and pyarrow: `pneufrac-fit fleet` runs the diagnoses on
+# dask.distributed and writes its report as Parquet too.
+pip_specs=(numpy scipy matplotlib "pymodbus>=3.16,<4" pytest mpmath cryptography control pandas
+           "dask[distributed]" pyarrow)
 
 # --- 1. Debian packages ------------------------------------------------------
 missing=()
@@ -83,14 +89,20 @@ else
   "$venv_python" -m pip install --quiet "${pip_specs[@]}"
 fi
 
-# The analysis package (tools/python), editable: it loads build/lib/libpneufrac.so;
-# with it pneufrac-plot, which `pneufrac bode|step --plot` runs.
-fit_check="import pneufrac_fit, pathlib, sys; sys.exit(pathlib.Path(pneufrac_fit.__file__).resolve().parent != pathlib.Path('tools/python/pneufrac_fit').resolve())"
-if [[ -x .venv/bin/pneufrac-fit && -x .venv/bin/pneufrac-plot ]] &&
-   "$venv_python" -c "$fit_check" >/dev/null 2>&1; then
-  log "pneufrac-fit: installed"
+# The Python side (tools/python), editable: the pneufrac API with its
+# ctypes binding, which finds build/lib/libpneufrac.so from the checkout;
+# pneufrac-fit; pneufrac-reduce; and pneufrac-plot, which `pneufrac
+# bode|step --plot` runs. The distribution was called pneufrac-fit before
+# it held the API: a venv that still has that one gets it replaced.
+py_check="import pneufrac, pneufrac_fit, pneufrac_reduce, pathlib, sys; sys.exit(any(pathlib.Path(m.__file__).resolve().parent != pathlib.Path('tools/python', m.__name__).resolve() for m in (pneufrac, pneufrac_fit, pneufrac_reduce)))"
+if [[ -x .venv/bin/pneufrac-fit && -x .venv/bin/pneufrac-plot && -x .venv/bin/pneufrac-reduce ]] &&
+   "$venv_python" -c "$py_check" >/dev/null 2>&1; then
+  log "pneufrac (Python API, pneufrac-fit, pneufrac-reduce): installed"
 else
-  log "installing pneufrac-fit (tools/python, editable)"
+  log "installing pneufrac (Python API, pneufrac-fit, pneufrac-reduce; tools/python, editable)"
+  if "$venv_python" -m pip show --quiet pneufrac-fit >/dev/null 2>&1; then
+    "$venv_python" -m pip uninstall --quiet --yes pneufrac-fit
+  fi
   "$venv_python" -m pip install --quiet --disable-pip-version-check -e tools/python
 fi
 

@@ -9,7 +9,8 @@ text, copied in between the lines
 so that an option is described in one place, the program. This script
 rewrites those blocks (default) or checks them and groff's warnings
 (--check: exit 1 and name the page; ctest runs it as man_pages). The programs are found in
-the environment (PNEUFRAC_CLI, PNEUFRACD, PNEUFRAC_FIT) or the build tree.
+the environment (PNEUFRAC_CLI, PNEUFRACD, PNEUFRAC_FIT, PNEUFRAC_REDUCE) or
+the build tree.
 
     docs/man/generate.py [--check]
 """
@@ -25,6 +26,7 @@ PROGRAMS = {
     "pneufrac": os.environ.get("PNEUFRAC_CLI", str(ROOT / "build/tools/pneufrac")),
     "pneufracd": os.environ.get("PNEUFRACD", str(ROOT / "build/port/posix/pneufracd")),
     "pneufrac-fit": os.environ.get("PNEUFRAC_FIT", str(ROOT / ".venv/bin/pneufrac-fit")),
+    "pneufrac-reduce": os.environ.get("PNEUFRAC_REDUCE", str(ROOT / ".venv/bin/pneufrac-reduce")),
 }
 BLOCK = re.compile(r'(\.\\" generated: ([^\n]+)\n)(.*?)(\.\\" end generated\n)', re.S)
 

@@ -128,3 +128,13 @@ int pf_max_order(void)
 {
     return PF_MAX_ORDER;
 }
+
+int pf_bank_max_order(void)
+{
+    return PF_BANK_MAX_ORDER;
+}
+
+int pf_ctrl_max_states(void)
+{
+    return PF_CTRL_MAX_STATES;
+}

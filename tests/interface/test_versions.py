@@ -15,6 +15,7 @@ from conftest import CLI, ROOT
 BIN = Path(sys.executable).parent
 DAEMON = os.environ.get("PNEUFRACD", str(ROOT / "build/port/posix/pneufracd"))
 FIT = str(BIN / "pneufrac-fit")
+REDUCE = str(BIN / "pneufrac-reduce")
 PLOT = os.environ.get("PNEUFRAC_PLOT", str(BIN / "pneufrac-plot"))
 
 
@@ -33,13 +34,15 @@ def out(*cmd):
 
 def test_every_program_has_the_header_version():
     v = header_version()
+    import pneufrac
     import pneufrac_fit
     assert out(CLI, "--version") == f"pneufrac {v}\n"
     assert re.fullmatch(rf"pneufracd {re.escape(v)} \(register map \d+\)\n",
                         out(DAEMON, "--version"))
     assert out(FIT, "--version") == f"pneufrac-fit {v}\n"
-    assert pneufrac_fit.__version__ == v
-    assert importlib.metadata.version("pneufrac-fit") == v
+    assert out(REDUCE, "--version") == f"pneufrac-reduce {v}\n"
+    assert pneufrac.__version__ == pneufrac_fit.__version__ == v
+    assert importlib.metadata.version("pneufrac") == v
 
 
 def test_cmake_package_version_file_has_it_too():
@@ -57,6 +60,7 @@ HELPS = [
     [FIT, "diagnose", "--help"],
     [FIT, "generate", "--help"],
     [PLOT, "--help"],
+    [REDUCE, "--help"],
 ]
 
 

@@ -12,3 +12,7 @@ try:
     import pneufrac_fit  # noqa: F401  (installed by scripts/setup.sh)
 except ImportError:
     sys.path.insert(0, str(ROOT / "tools" / "python"))
+
+# The build the tests check against (scripts/test.sh sets PNEUFRAC_BUILD_DIR).
+BUILD = Path(os.environ.get("PNEUFRAC_BUILD_DIR", str(ROOT / "build")))
+CLI = BUILD / "tools" / "pneufrac"

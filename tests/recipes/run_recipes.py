@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""Run the daemon recipes of the docs as written, so that they cannot rot.
+"""Run the command recipes of the docs as written, so that they cannot rot.
 
     run_recipes.py BUILD_DIR FILE.md...
 
 Every fenced block right after a line `<!-- runnable -->` in each FILE is
 run, in file order, one line at a time (a line ending in a backslash goes
 on with the next; `#` starts a comment, as in the shell), with bash, in
-one scratch working directory whose `build` is BUILD_DIR, as root in a
+one scratch working directory whose `build` is BUILD_DIR and whose `.venv`
+is the project's (as in a checkout after scripts/setup.sh), as root in a
 namespace of its own (sandbox.py: an empty /usr/local, a private
 loopback). A line must finish with status 0, or, if it serves (it logs
 msg=listening), stop on SIGTERM with status 0. A FILE without a runnable
@@ -24,6 +25,9 @@ from pathlib import Path
 import sandbox
 
 MARK = "<!-- runnable -->"
+# A diagnosis with its plots is the slowest line (tens of seconds alone);
+# the margin is for a CI machine running other tests beside it.
+LINE_TIMEOUT_S = 400
 
 
 def blocks(text):
@@ -86,12 +90,15 @@ def main():
 
     work = Path(tempfile.mkdtemp(prefix="pneufrac-recipes-"))
     (work / "build").symlink_to(build)
+    venv = sandbox.ROOT / ".venv"
+    if venv.is_dir():
+        (work / ".venv").symlink_to(venv)
     failed = 0
     for f, bs in found.items():
         for first, cmds in bs:
             for n, line in enumerate(cmds):
                 log = work / f"line-{first}-{n}.log"
-                rc, served = sandbox.run_line(line, work, log)
+                rc, served = sandbox.run_line(line, work, log, timeout_s=LINE_TIMEOUT_S)
                 ok = rc == 0
                 print(f"{'ok  ' if ok else 'FAIL'} {f.name} block at line {first}: {line}"
                       f"{'  (served, stopped by SIGTERM)' if served else ''}", flush=True)

@@ -3,11 +3,15 @@
 Cortex-M4 cores (tools/mcuemu), against the host build, bit for bit.
 
 The designs: every configuration at the library's defaults at 20 kHz
-(dd is the paper's Example 6), a dd with the line and in-loop effects
-(backlash, saturation, output lag, dead time), and a dd with the nozzle
-curve among the in-loop effects (its table searched and solved on the
-target). Q15 runs on both cores, float on the M4 (the M0+ has no FPU and
-its build holds only the Q15 runtime).
+(dd is the paper's Example 6), a dd with effects and a dd with the nozzle
+curve. For the full controller (kind "ctrl", pf_ctrl_*) the effects are
+the Q15-capable ones (backlash, saturation, output lag, dead time) and the
+nozzle case has the curve among the in-loop effects (its table searched
+and solved on the target); for its reduced-order bank (kind "bank",
+pf_bank_*, made by pneufrac-reduce at its defaults) the output line's
+(lag, dead time: the in-loop ones, the nozzle among them, have no bank).
+Q15 runs on both cores, float on the M4 (the M0+ has no FPU and its build
+holds only the Q15 runtime).
 """
 from __future__ import annotations
 
@@ -15,26 +19,50 @@ import numpy as np
 from mcuemu.images import Design
 
 CONFIGS = ("p", "dd", "id", "pid")
+KINDS = ("ctrl", "bank")
 # Output full scales that keep each configuration's step response inside
 # Q15 for most of the stimulus, yet let the large steps saturate it.
 OUT_FS = {"p": 0.02, "dd": 0.02, "id": 20.0, "pid": 20.0}
-EFFECTS = ("backlash:width=0.06", "saturation:lo=-0.01,hi=0.012", "lag:tau=0.002",
-           "deadtime:t=0.001")
+EFFECTS = {"ctrl": ("backlash:width=0.06", "saturation:lo=-0.01,hi=0.012", "lag:tau=0.002",
+                    "deadtime:t=0.001"),
+           "bank": ("lag:tau=0.002", "deadtime:t=0.001")}
 # x_1/2 well inside the input's range: large steps drive x onto both flat
 # ends of the curve, small ones stay near its operating point.
 NOZZLE = ("nozzle:xh=0.2", "backlash:width=0.06", "saturation:lo=-0.01,hi=0.012")
+# Index i of designs(arith, kind) is CASES[kind][i]; the nozzle sits in
+# the loop, so only the full controller has it.
+CASES = {"ctrl": list(CONFIGS) + ["fx", "nozzle"], "bank": list(CONFIGS) + ["fx"]}
+KIND_CASES = [(kind, case) for kind in KINDS for case in CASES[kind]]
 
 
-def designs(arith: str) -> list[Design]:
-    ds = [Design(f"t_{c}_{arith}", c, arith, out_fs=OUT_FS[c]) for c in CONFIGS]
-    ds.append(Design(f"t_fx_{arith}", "dd", arith, out_fs=OUT_FS["dd"], effects=EFFECTS))
-    ds.append(Design(f"t_nozzle_{arith}", "dd", arith, out_fs=OUT_FS["dd"], effects=NOZZLE))
+def designs(arith: str, kind: str = "ctrl") -> list[Design]:
+    ds = [Design(f"t_{c}_{arith}_{kind}", c, arith, out_fs=OUT_FS[c], kind=kind)
+          for c in CONFIGS]
+    ds.append(Design(f"t_fx_{arith}_{kind}", "dd", arith, out_fs=OUT_FS["dd"],
+                     effects=EFFECTS[kind], kind=kind))
+    if "nozzle" in CASES[kind]:
+        ds.append(Design(f"t_nozzle_{arith}_{kind}", "dd", arith, out_fs=OUT_FS["dd"],
+                         effects=NOZZLE, kind=kind))
     return ds
 
 
-CASES = [c for c in CONFIGS] + ["fx", "nozzle"]   # index i of designs() is CASES[i]
+def every_design(arith: str) -> list[Design]:
+    return [d for kind in KINDS for d in designs(arith, kind)]
+
+
 # (core, arithmetic) pairs that run on target
 TARGETS = [("m0plus", "q15"), ("m4", "q15"), ("m4", "float")]
+# Every on-target run: (core, arithmetic, bank_c, kind, case). bank_c is
+# the M0+ build with the bank's portable C loop instead of its assembly
+# one (lib/src/pf_bank_q15.c): both must equal the host's C bit for bit.
+RUNS = [(core, arith, bank_c, kind, case)
+        for core, arith in TARGETS for bank_c in ((False, True) if core == "m0plus" else (False,))
+        for kind, case in KIND_CASES if kind == "bank" or not bank_c]
+
+
+def run_id(run) -> str:
+    core, arith, bank_c, kind, case = run
+    return f"{core}{'-cloop' if bank_c else ''}-{arith}-{kind}-{case}"
 
 
 def stimulus(arith: str, n: int, seed: int) -> np.ndarray:

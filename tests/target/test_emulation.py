@@ -36,9 +36,9 @@ def test_block_counts_equal_instruction_counts(target_of, core):
     tg.run(a, e)
     tg.run(b, e)
     for v in (16384, -32768, 0):
-        slow = count_per_instruction(tg.t, "pf_ctrl_step_q15", a[1], v)
+        slow = count_per_instruction(tg.t, "pf_ctrl_step_q15", a.inst, v)
         profile = tg.t.start_counting()
-        tg.t.call("pf_ctrl_step_q15", b[1], v)
+        tg.t.call("pf_ctrl_step_q15", b.inst, v)
         tg.t.stop_counting()
         cost = tg.t.cost(profile)
         assert cost.instructions == slow
@@ -55,7 +55,7 @@ def test_m0plus_decoder_refuses_armv7m_code(target_of):
         t = runner.t
         h = runner.new("q15", 1)
         profile = t.start_counting()
-        t.call("pf_ctrl_step_q15", h[1], 16384)
+        t.call("pf_ctrl_step_q15", h.inst, 16384)
         t.stop_counting()
         decoder = Decoder("m0plus")
         blocks = [(a, bytes(t.uc.mem_read(a, n))) for a, n, _ in profile.edges]

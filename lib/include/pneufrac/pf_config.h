@@ -29,6 +29,14 @@
  *  sized by this. */
 #define PF_Q15_MAX_SEC (2 * PF_MAX_ORDER + 1)
 
+/** Most states of a reduced-order bank (pf_bank.h): real sections plus two
+ *  per complex pair. Sizes its instances and coefficient sets; Example 6
+ *  needs 11 at pneufrac-reduce's defaults, 16 for 2e-5 of its peak
+ *  (docs/accuracy.md). */
+#ifndef PF_BANK_MAX_ORDER
+#define PF_BANK_MAX_ORDER 16
+#endif
+
 /** Pieces of the Q15 nozzle curve's table (pf_nozzle_q15), each a cubic
  *  through the curve: 38 bytes each, in a table apart from the
  *  coefficient set, so only a design with a nozzle holds one. 32 keep the

@@ -73,6 +73,14 @@ size_t pf_ctrl_design_delay_len(const pf_ctrl_design *d);
  *  operator and controller structs. */
 int pf_max_order(void);
 
+/** @return PF_BANK_MAX_ORDER of this build (pf_config.h): the most states
+ *  a reduced-order bank (pf_bank.h) may have. */
+int pf_bank_max_order(void);
+
+/** @return PF_CTRL_MAX_STATES of this build (pf_controller.h): the room
+ *  pf_ctrl_state_space needs (A holds its square). */
+int pf_ctrl_max_states(void);
+
 #ifdef __cplusplus
 }
 #endif

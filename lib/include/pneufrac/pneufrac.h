@@ -9,8 +9,8 @@
 
 /* The one place the version is written: CMake reads these three lines
  * (project version, package files, SOVERSION), every program prints them
- * with --version, and tests/interface/test_versions.py holds pneufrac-fit
- * to the same. */
+ * with --version, and tests/interface/test_versions.py holds the Python
+ * package (pneufrac, with pneufrac-fit) to the same. */
 #define PNEUFRAC_VERSION_MAJOR 0
 #define PNEUFRAC_VERSION_MINOR 1
 #define PNEUFRAC_VERSION_PATCH 0
@@ -27,6 +27,7 @@
 #include "pf_params.h"
 #include "pf_effects.h"
 #include "pf_controller.h"
+#include "pf_bank.h"
 #include "pf_q15.h"
 #include "pf_runtime.h"
 #include "pf_layout.h"

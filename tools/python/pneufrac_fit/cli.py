@@ -5,6 +5,8 @@
                  [--columns t=NAME,e=NAME,pc=NAME] [--e0 E --pc0 P] [--out DIR] [--json]
     pneufrac-fit generate --config CFG [--effect NAME:K=V[,K=V]] [--n N] [--fs HZ]
                  [--noise F] [--seed S] [--set NAME=VALUE ...] [-o FILE.csv]
+    pneufrac-fit fleet DIR|GLOB --config CFG [--scheduler ADDRESS] [--workers N]
+                 [--out DIR]
 
 Exit status: 0 success, 2 bad input or arguments (one line on stderr), 3 the
 shared library is missing or does not match. A closed output pipe
@@ -120,6 +122,9 @@ def _parser():
     g.add_argument("--order", type=int, default=0,
                    help="the plant's Oustaloup order, 1..8 (0: the library's default)")
     g.add_argument("-o", "--output", help="CSV file (default stdout)")
+    from . import fleet_cli
+    fleet_cli.add_arguments(sub.add_parser("fleet", help=fleet_cli.HELP, epilog=EXIT_HELP,
+                                           description=fleet_cli.DESCRIPTION))
     return p
 
 
@@ -323,6 +328,9 @@ def main(argv=None) -> int:
     try:
         if a.cmd == "diagnose":
             return cmd_diagnose(a)
+        if a.cmd == "fleet":
+            from . import fleet_cli
+            return fleet_cli.run(a, UsageError)
         return cmd_generate(a)
     except (UsageError, data.DataError) as exc:
         print(f"pneufrac-fit: error: {exc}", file=sys.stderr)

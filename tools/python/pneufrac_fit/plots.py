@@ -1,16 +1,23 @@
 # SPDX-License-Identifier: MIT
-"""Figures of the diagnosis (matplotlib, Agg: no display needed)."""
+"""Figures of the diagnosis, as matplotlib Figures made without pyplot (no
+display, no global state; see pneufrac.plots): all_figures writes them for
+the report, pneufrac.Diagnosis.figures hands them to Python."""
 from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+import numpy as np
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from . import evidence as ev_mod
 
-from . import evidence as ev_mod  # noqa: E402
+# The resolution each figure is written at in the report.
+DPI = {"overview": 90, "before": 80, "after": 80, "candidates": 80}
+
+
+def _subplots(*grid, figsize):
+    fig = Figure(figsize=figsize, layout="constrained")
+    return fig, fig.subplots(*grid)
 
 
 def _zoom(d, width: int):
@@ -23,14 +30,14 @@ def _zoom(d, width: int):
     return a, min(d.n, a + width)
 
 
-def overview(d, path: Path) -> None:
+def overview(d) -> Figure:
     t = d.t - d.t[0]
     y = d.y
     yb = d.baseline.sim
     ye = d.extended.sim
     named = ", ".join(d.causes) if d.causes else "none"
     a, b = _zoom(d, int(min(d.n // 4, 1.0 * d.fs)))
-    fig, ax = plt.subplots(3, 1, figsize=(9, 7.5), constrained_layout=True)
+    fig, ax = _subplots(3, 1, figsize=(9, 7.5))
     ax[0].plot(t, y, lw=0.6, color="0.5", label="measured")
     ax[0].plot(t, yb, lw=0.8, color="C3", label="baseline")
     if d.causes:
@@ -64,14 +71,13 @@ def overview(d, path: Path) -> None:
     ax[2].set_xlabel("t (s)")
     ax[2].set_ylabel("residual")
     ax[2].legend(loc="lower left", fontsize=8, ncol=3)
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
+    return fig
 
 
-def residuals(d, ev: dict, fr, title: str, path: Path) -> None:
+def residuals(d, ev: dict, fr, title: str) -> Figure:
     fs = d.fs
     t = d.t - d.t[0]
-    fig, ax = plt.subplots(2, 3, figsize=(12, 6.5), constrained_layout=True)
+    fig, ax = _subplots(2, 3, figsize=(12, 6.5))
     fig.suptitle(title, fontsize=11)
     a = ax[0, 0]
     a.plot(t, ev["r"], lw=0.5)
@@ -116,11 +122,10 @@ def residuals(d, ev: dict, fr, title: str, path: Path) -> None:
         a.set_xlabel("time after step (ms)")
         a.set_ylabel("Δp_c / Δe (mean over steps)")
         a.legend(fontsize=8)
-    fig.savefig(path, dpi=80)
-    plt.close(fig)
+    return fig
 
 
-def candidates(d, path: Path) -> None:
+def candidates(d) -> Figure:
     """Held-out NRMSE of every model tried, round by round."""
     rows = [("baseline", d.baseline.nrmse_val, "0.6")]
     for i, r in enumerate(d.rounds):
@@ -128,27 +133,35 @@ def candidates(d, path: Path) -> None:
             on = "" if i == 0 else f" (on {t.ref.effect})"
             col = "C0" if t.passes and t.effect in d.causes else ("C2" if t.passes else "C7")
             rows.append((t.effect + on, t.model.nrmse_val, col))
-    fig, ax = plt.subplots(figsize=(7.5, 0.9 + 0.28 * len(rows)), constrained_layout=True)
+    fig, ax = _subplots(figsize=(7.5, 0.9 + 0.28 * len(rows)))
     names = [r[0] for r in rows][::-1]
     ax.barh(names, [r[1] for r in rows][::-1], color=[r[2] for r in rows][::-1])
     ax.axvline(d.noise_floor_val, color="k", ls="--", lw=0.8, label="noise floor")
     ax.set_xlabel("validation NRMSE (blue: named, green: passes, grey: fails a guard)")
     ax.set_title("models tried (verdict: " + (", ".join(d.causes) or "none") + ")", fontsize=10)
     ax.legend(fontsize=8)
-    fig.savefig(path, dpi=80)
-    plt.close(fig)
+    return fig
+
+
+def figures(d) -> dict:
+    """The report's figures of diagnosis @d: overview, the residual
+    evidence before and after, the candidates; {key: Figure}."""
+    return {
+        "overview": overview(d),
+        "before": residuals(d, d.ev_before, d.baseline,
+                            "Baseline (paper's linear model): residual evidence"),
+        "after": residuals(d, d.ev_after, d.extended,
+                           f"After the fix ({', '.join(d.causes)}): residual evidence"
+                           if d.causes else "Baseline kept (no cause named): residual evidence"),
+        "candidates": candidates(d),
+    }
 
 
 def all_figures(d, out: Path) -> dict:
+    """Writes the figures into folder @out; {key: file name}."""
     out = Path(out)
     files = {"overview": "overview.png", "before": "residuals-baseline.png",
              "after": "residuals-extended.png", "candidates": "candidates.png"}
-    overview(d, out / files["overview"])
-    residuals(d, d.ev_before, d.baseline, "Baseline (paper's linear model): residual evidence",
-              out / files["before"])
-    residuals(d, d.ev_after, d.extended,
-              f"After the fix ({', '.join(d.causes)}): residual evidence" if d.causes
-              else "Baseline kept (no cause named): residual evidence",
-              out / files["after"])
-    candidates(d, out / files["candidates"])
+    for key, fig in figures(d).items():
+        fig.savefig(out / files[key], dpi=DPI[key])
     return files

@@ -28,50 +28,22 @@ def _read(path: str):
     return data, notes
 
 
-def _need(data, cols, path):
-    missing = [c for c in cols if c not in (data.dtype.names or ())]
-    if missing:
-        raise ValueError(f"{path}: no column {missing[0]!r} (a CSV of pneufrac?)")
-
-
 def _bode(data, notes, path, png):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    _need(data, ("omega", "ideal_db", "ideal_deg", "discrete_db", "discrete_deg"), path)
-    fig, (mag, ph) = plt.subplots(2, 1, sharex=True, figsize=(7.5, 6.5))
-    for ax, key, unit in ((mag, "db", "magnitude (dB)"), (ph, "deg", "phase (degrees)")):
-        ax.semilogx(data["omega"], data[f"ideal_{key}"], "k-", lw=1.6,
-                    label="ideal (irrational)")
-        ax.semilogx(data["omega"], data[f"discrete_{key}"], "C1--", lw=1.4,
-                    label="realised at fs")
-        ax.set_ylabel(unit)
-        ax.grid(True, which="both", alpha=0.3)
-    ph.set_xlabel("omega (rad/s)")
-    mag.legend(loc="best")
-    mag.set_title(notes[0] if notes else "pneufrac bode", fontsize=9)
-    fig.tight_layout()
+    from pneufrac import plots
+    try:
+        fig = plots.bode(data, notes[0] if notes else None)
+    except ValueError as e:
+        raise ValueError(f"{path}: {e} (a CSV of pneufrac bode?)") from None
     fig.savefig(png, dpi=120)
-    plt.close(fig)
 
 
 def _step(data, notes, path, png):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    _need(data, ("t", "pc"), path)
-    fig, ax = plt.subplots(figsize=(7.5, 4.5))
-    ax.plot(data["t"], data["pc"], "C1-", lw=1.4, label="realised (pc)")
-    if "pc_exact" in data.dtype.names:
-        ax.plot(data["t"], data["pc_exact"], "k--", lw=1.2, label="exact (pc_exact)")
-    ax.set_xlabel("t (s)")
-    ax.set_ylabel("p_c (output units)")
-    ax.grid(True, alpha=0.3)
-    ax.legend(loc="best")
-    ax.set_title(notes[0] if notes else "pneufrac step: unit-step response", fontsize=9)
-    fig.tight_layout()
+    from pneufrac import plots
+    if "t" not in (data.dtype.names or ()) or "pc" not in data.dtype.names:
+        raise ValueError(f"{path}: no columns 't' and 'pc' (a CSV of pneufrac step?)")
+    exact = data["pc_exact"] if "pc_exact" in data.dtype.names else None
+    fig = plots.step(data["t"], data["pc"], exact, notes[0] if notes else None)
     fig.savefig(png, dpi=120)
-    plt.close(fig)
 
 
 def main(argv=None) -> int:

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: MIT
-"""ctypes binding to libpneufrac: the one implementation of the model.
+"""ctypes binding to libpneufrac: the one implementation of the model, for
+both the public API (the pneufrac package) and pneufrac-fit.
 
 Nothing about the C side is restated here. The input structs (pf_params,
 pf_effects, pf_design_opts and the head of pf_ctrl_design) are built at
@@ -15,11 +16,12 @@ mirrored by hand, and its size is checked too.
 from __future__ import annotations
 
 import ctypes as C
-import os
 from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
+
+from . import locate
 
 
 class ParamSpec(C.Structure):
@@ -54,29 +56,13 @@ class ModelError(ValueError):
         self.param = param
 
 
-def _candidates():
-    env = os.environ.get("PNEUFRAC_LIBRARY")
-    if env:
-        yield Path(env)
-        return
-    here = Path(__file__).resolve()
-    for up in here.parents:
-        p = up / "build" / "lib" / "libpneufrac.so"
-        if p.exists():
-            yield p
-            return
-    import ctypes.util
-    name = ctypes.util.find_library("pneufrac")
-    if name:
-        yield Path(name)
-
-
 _lib = None
 _layout = None      # the mirrors and sizes built from the loaded library
+_path = None        # where the loaded library is
 
 # Module attributes that exist once the library is loaded (PEP 562).
 _LAYOUT_NAMES = ("Params", "Effects", "DesignOpts", "DesignHead", "RT_OFFSET",
-                 "DESIGN_BYTES", "INSTANCE_BYTES")
+                 "DESIGN_BYTES", "INSTANCE_BYTES", "RUNTIME_BYTES", "MAX_STATES")
 
 
 def __getattr__(name):
@@ -97,6 +83,15 @@ def _declare(lib) -> None:
         ("pf_ctrl_init_f64", [vp, vp, C.POINTER(d), sz], i),
         ("pf_ctrl_reset_f64", [vp], None),
         ("pf_ctrl_run_f64", [vp, C.POINTER(d), C.POINTER(d), sz], None),
+        ("pf_ctrl_freqresp", [vp, d, C.POINTER(d), C.POINTER(d)], None),
+        ("pf_ctrl_state_space", [vp, i, C.POINTER(d), C.POINTER(d), C.POINTER(d),
+                                 C.POINTER(d)], i),
+        ("pf_runtime_init", [vp, vp, i, d, d, vp, sz], i),
+        ("pf_runtime_reset", [vp], None),
+        ("pf_runtime_run", [vp, C.POINTER(d), C.POINTER(d), sz], None),
+        ("pf_arith_lookup", [cp], i),
+        ("pf_arith_name", [i], cp),
+        ("pf_arith_sample_size", [i], sz),
         ("pf_status_param", [i], i),
         ("pf_status_str", [i], cp),
         ("pf_param_name", [i], cp),
@@ -111,6 +106,7 @@ def _declare(lib) -> None:
         ("pf_type_name", [i], cp),
         ("pf_sizeof", [i], sz),
         ("pf_field_get", [i, i, C.POINTER(Field)], i),
+        ("pf_bank_max_order", [], i),
     ]:
         f = getattr(lib, name)
         f.argtypes = args
@@ -172,20 +168,26 @@ def _build_layout(lib) -> SimpleNamespace:
         i += 1
     if rt is None:
         raise LibraryError("pf_ctrl_design has no member rt")
+    instance = lib.pf_sizeof(types["pf_ctrl_f64"])
     return SimpleNamespace(
         Params=built["pf_params"], Effects=built["pf_effects"],
         DesignOpts=built["pf_design_opts"], DesignHead=head, RT_OFFSET=rt,
         DESIGN_BYTES=lib.pf_sizeof(types["pf_ctrl_design"]),
-        INSTANCE_BYTES=lib.pf_sizeof(types["pf_ctrl_f64"]))
+        INSTANCE_BYTES=instance, RUNTIME_BYTES=lib.pf_sizeof(types["pf_runtime"]),
+        # Every state of the linear runtime (pf_ctrl_state_space) is a double
+        # of the double runtime's instance, so this bounds their number
+        # without restating PF_CTRL_MAX_STATES.
+        MAX_STATES=instance // C.sizeof(C.c_double))
 
 
 def load():
-    """Load libpneufrac once (PNEUFRAC_LIBRARY overrides the search)."""
-    global _lib, _layout
+    """Load libpneufrac once, from the first place of locate.candidates()
+    where it loads; LibraryError if none, or if it does not match."""
+    global _lib, _layout, _path
     if _lib is not None:
         return _lib
     tried = []
-    for path in _candidates():
+    for path in locate.candidates():
         tried.append(str(path))
         try:
             lib = C.CDLL(str(path))
@@ -194,8 +196,9 @@ def load():
             tried[-1] += f" ({exc})"
     else:
         raise LibraryError(
-            "libpneufrac.so not found (tried: %s); run ./scripts/setup.sh or "
-            "set PNEUFRAC_LIBRARY" % (", ".join(tried) or "nothing"))
+            "libpneufrac.so not found (tried: %s); run ./scripts/setup.sh, or set "
+            "PNEUFRAC_PREFIX to the prefix of `cmake --install` or PNEUFRAC_LIBRARY "
+            "to the file" % (", ".join(tried) or "nothing"))
     try:
         _declare(lib)
     except AttributeError as exc:
@@ -203,7 +206,14 @@ def load():
     _layout = _build_layout(lib)
     check_layout(lib)
     _lib = lib          # cached only once the mirror is known to match
+    _path = Path(path)
     return lib
+
+
+def library_path() -> Path:
+    """The file of the loaded library (loading it if needed)."""
+    load()
+    return _path
 
 
 def _layout_request(lib):
@@ -259,7 +269,7 @@ def check_layout(lib) -> None:
             bad.append("pf_ctrl_design.rt (the run gave garbage)")
     if not ok:
         raise LibraryError(
-            "libpneufrac does not match the ctypes mirror in pneufrac_fit/lib.py "
+            "libpneufrac does not match the ctypes mirror in pneufrac/binding.py "
             f"(mismatch at {', '.join(bad[:4])}; pf_params, pf_effects, "
             "pf_design_opts or pf_ctrl_design changed?)")
 
@@ -298,13 +308,19 @@ def param_range(name: str) -> ParamRange:
     return ParamRange(lib.pf_param_info(pid).contents)
 
 
+def _enum_id(lookup, name_of, name: str, what: str) -> int:
+    """The library's number of @name by its lookup function, checked by its
+    name function (an unknown name looks up to the count, named "?")."""
+    v = lookup(name.encode())
+    if name_of(v) != name.encode():
+        raise KeyError(f"the library has no {what} '{name}'")
+    return v
+
+
 def config_id(config: str) -> int:
     """The library's number of a configuration name ("p", "dd", ...)."""
     lib = load()
-    cid = lib.pf_topology_lookup(config.encode())
-    if lib.pf_topology_name(cid) != config.encode():
-        raise KeyError(f"the library has no configuration '{config}'")
-    return cid
+    return _enum_id(lib.pf_topology_lookup, lib.pf_topology_name, config, "configuration")
 
 
 def param_used(config: str, name: str) -> bool:
@@ -320,45 +336,149 @@ def default_params(config: str) -> dict:
     return {n: getattr(p, n) for n, _ in _layout.Params._fields_[1:]}
 
 
-class Controller:
-    """A designed controller (double runtime) that runs whole records."""
+def _alloc(nbytes: int):
+    """Zeroed memory for a library struct, aligned for doubles and pointers
+    (pf_layout.h: none needs more than malloc's alignment)."""
+    return (C.c_uint64 * max(1, (nbytes + 7) // 8))()
 
-    def __init__(self, config: str, params: dict, effects: dict | None, fs: float,
-                 order: int = 0, t_slow: float = 0.0, wh: float = 0.0):
+
+def _fill(struct, values: dict, what: str) -> None:
+    """Set fields of a mirrored struct by name; a name it lacks is an
+    error (ctypes would quietly add an attribute instead)."""
+    names = {n for n, _ in struct._fields_}
+    for k, v in values.items():
+        if k not in names:
+            raise KeyError(f"{what} has no field '{k}'")
+        if dict(struct._fields_)[k] is C.c_int:
+            # ctypes would wrap an int that does not fit round silently.
+            if not -2**31 <= int(v) < 2**31:
+                raise ValueError(f"{what}.{k}: {v} does not fit an int")
+            setattr(struct, k, int(v))
+        else:
+            setattr(struct, k, float(v))
+
+
+class DesignBuffer:
+    """A pf_ctrl_design the library made (pf_ctrl_design_make), in memory
+    owned here: @params are pf_params fields by the paper's names (over the
+    configuration's defaults), @effects pf_effects fields, @opts
+    pf_design_opts fields (fs required; the rest over
+    pf_design_opts_default). ModelError names a parameter it refuses."""
+
+    def __init__(self, config: str, params: dict | None, effects: dict | None, opts: dict):
         lib = load()
         m = _layout
         self._lib = lib
         p = m.Params()
         lib.pf_params_default(C.byref(p), config_id(config))
-        for k, v in params.items():
-            setattr(p, k, float(v))
+        if "topology" in (params or {}):
+            raise KeyError("the configuration is the config argument, not a parameter")
+        _fill(p, params or {}, "pf_params")
         fx = m.Effects()
-        for k, v in (effects or {}).items():
-            setattr(fx, k, int(v) if k == "saturate" else float(v))
+        _fill(fx, effects or {}, "pf_effects")
         o = m.DesignOpts()
-        lib.pf_design_opts_default(C.byref(o), float(fs))
-        o.order = int(order)
-        o.t_slow = float(t_slow)
-        o.wh = float(wh)
-        self._design = C.create_string_buffer(m.DESIGN_BYTES)
-        st = lib.pf_ctrl_design_make(self._design, C.byref(p), C.byref(fx),
-                                     C.byref(o))
+        lib.pf_design_opts_default(C.byref(o), float(opts["fs"]))
+        _fill(o, opts, "pf_design_opts")
+        self._buf = _alloc(m.DESIGN_BYTES)
+        st = lib.pf_ctrl_design_make(self._buf, C.byref(p), C.byref(fx), C.byref(o))
         if st != 0:
             name, msg = status_message(lib, st)
             raise ModelError(st, name, msg)
-        self.head = m.DesignHead.from_buffer(self._design)
-        n = lib.pf_ctrl_design_delay_len(self._design)
+        self.head = m.DesignHead.from_buffer(self._buf)
+        self.rt = C.c_void_p(C.addressof(self._buf) + m.RT_OFFSET)
+        self.delay_len = int(lib.pf_ctrl_design_delay_len(self._buf))
+
+    @property
+    def ptr(self):
+        return self._buf
+
+    def freqresp(self, omega) -> np.ndarray:
+        """P_c/E of the realised controller at z = exp(j omega/fs)
+        (pf_ctrl_freqresp), omega in rad/s, any shape."""
+        w = np.asarray(omega, dtype=float)
+        out = np.empty(w.shape, dtype=complex)
+        re, im = C.c_double(), C.c_double()
+        for i, x in np.ndenumerate(w):
+            self._lib.pf_ctrl_freqresp(self._buf, float(x), C.byref(re), C.byref(im))
+            out[i] = complex(re.value, im.value)
+        return out
+
+    def state_space(self, with_lag: bool = True):
+        """(A, B, C, D) of the linear runtime (pf_ctrl_state_space), as
+        arrays of shapes (n, n), (n, 1), (1, n), (1, 1)."""
+        nmax = _layout.MAX_STATES
+        a = np.zeros(nmax * nmax)
+        b, c, d = np.zeros(nmax), np.zeros(nmax), np.zeros(1)
+        dp = C.POINTER(C.c_double)
+        n = self._lib.pf_ctrl_state_space(self._buf, int(bool(with_lag)),
+                                          a.ctypes.data_as(dp), b.ctypes.data_as(dp),
+                                          c.ctypes.data_as(dp), d.ctypes.data_as(dp))
+        if not 1 <= n <= nmax:
+            raise LibraryError(f"pf_ctrl_state_space gave {n} states (room for {nmax})")
+        return (a[:n * n].reshape(n, n).copy(), b[:n].reshape(n, 1).copy(),
+                c[:n].reshape(1, n).copy(), d.reshape(1, 1))
+
+
+def arith_id(name: str) -> int:
+    """The library's number of an arithmetic ("double", "float", "q15")."""
+    lib = load()
+    return _enum_id(lib.pf_arith_lookup, lib.pf_arith_name, name, "arithmetic")
+
+
+class Runtime:
+    """A runtime of any arithmetic (pf_runtime) bound to a DesignBuffer, at
+    rest. in_fs and out_fs are the Q15 full scales (required for q15)."""
+
+    def __init__(self, design: DesignBuffer, arith: str = "double", in_fs: float = 0.0,
+                 out_fs: float = 0.0):
+        lib = load()
+        self._lib = lib
+        self.design = design            # the double runtime uses its coefficients
+        self.arith = arith
+        a = arith_id(arith)
+        n = design.delay_len
+        self._dbuf = _alloc(lib.pf_arith_sample_size(a) * n)
+        self._S = _alloc(_layout.RUNTIME_BYTES)
+        st = lib.pf_runtime_init(self._S, design.ptr, a, float(in_fs), float(out_fs),
+                                 self._dbuf if n else None, n)
+        if st != 0:
+            name, msg = status_message(lib, st)
+            raise ModelError(st, name, msg)
+
+    def reset(self) -> None:
+        self._lib.pf_runtime_reset(self._S)
+
+    def run(self, e) -> np.ndarray:
+        """p_c for input e (physical units), continuing from the present
+        state: one library call for the block."""
+        e = np.ascontiguousarray(e, dtype=np.float64)
+        out = np.empty_like(e)
+        dp = C.POINTER(C.c_double)
+        self._lib.pf_runtime_run(self._S, e.ctypes.data_as(dp), out.ctypes.data_as(dp),
+                                 e.size)
+        return out
+
+
+class Controller:
+    """A designed controller (double runtime) that runs whole records."""
+
+    def __init__(self, config: str, params: dict, effects: dict | None, fs: float,
+                 order: int = 0, t_slow: float = 0.0, wh: float = 0.0):
+        self.design = DesignBuffer(config, params, effects,
+                                   {"fs": fs, "order": order, "t_slow": t_slow, "wh": wh})
+        self.head = self.design.head
+        self._lib = lib = self.design._lib
+        n = self.design.delay_len
         self._delay = (C.c_double * max(n, 1))()
-        self._inst = C.create_string_buffer(m.INSTANCE_BYTES)
-        st = lib.pf_ctrl_init_f64(self._inst,
-                                  C.c_void_p(C.addressof(self._design) + m.RT_OFFSET),
-                                  self._delay, n)
+        self._inst = _alloc(_layout.INSTANCE_BYTES)
+        st = lib.pf_ctrl_init_f64(self._inst, self.design.rt, self._delay, n)
         if st != 0:
             name, msg = status_message(lib, st)
             raise ModelError(st, name, msg)
 
     def run(self, e: np.ndarray) -> np.ndarray:
-        """Simulate from rest: one library call for the whole record."""
+        """Simulate from rest: one library call for the whole record (the
+        typed double runtime, pf_ctrl_run_f64: the fits call this often)."""
         e = np.ascontiguousarray(e, dtype=np.float64)
         out = np.empty_like(e)
         self._lib.pf_ctrl_reset_f64(self._inst)
