@@ -137,7 +137,10 @@ def make_record(t, e, pc, source: str = "<data>") -> Record:
         raise DataError(f"{source}: gaps in the record (at {where}{', ...' if len(tb.gaps) > 3 else ''}) "
                         f"leave at most {b - a} samples without a gap (need at least "
                         f"{MIN_SAMPLES})")
-    rec = Record(t[a:b], e[a:b], pc[a:b], tb.fs, source)
+    # Own copies: the caller's arrays stay untouched and not aliased, and
+    # the same record gives the same diagnosis to the last bit however its
+    # arrays were laid out in memory (numpy's sums depend on alignment).
+    rec = Record(np.array(t[a:b]), np.array(e[a:b]), np.array(pc[a:b]), tb.fs, source)
     rec.notes.extend(tb.notes(t.size))
     rec.gaps = tb.gaps
     _levels(rec)
