@@ -20,6 +20,8 @@ import os
 import sys
 from pathlib import Path
 
+from pneufrac._cli import UsageError, parser_class
+
 from . import model
 
 EXIT_USAGE = 2
@@ -34,14 +36,7 @@ MAX_NOISE = 1.0
 MAX_SEED = 2**63 - 1   # numpy's generators take any non-negative integer
 
 
-class UsageError(Exception):
-    pass
-
-
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):
-        print(f"pneufrac-fit: error: {message}", file=sys.stderr)
-        sys.exit(EXIT_USAGE)
+_Parser = parser_class("pneufrac-fit", EXIT_USAGE)
 
 
 EXIT_HELP = (f"Exit status: 0 success; {EXIT_USAGE} bad input or arguments (one line "

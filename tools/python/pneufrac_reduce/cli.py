@@ -28,6 +28,8 @@ import math
 import re
 import sys
 
+from pneufrac._cli import UsageError, parser_class
+
 EXIT_OK, EXIT_IO, EXIT_USAGE, EXIT_LIBRARY, EXIT_CANNOT = 0, 1, 2, 3, 4
 # Most samples of the horizon the rule simulates (the full design runs
 # every one of them): 10 s at 1 MHz.
@@ -39,14 +41,7 @@ EFFECTS = {"lag": ("lag", "tau"), "deadtime": ("dead_time", "t"),
 IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 
 
-class UsageError(Exception):
-    pass
-
-
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):
-        print(f"pneufrac-reduce: error: {message}", file=sys.stderr)
-        sys.exit(EXIT_USAGE)
+_Parser = parser_class("pneufrac-reduce", EXIT_USAGE)
 
 
 def _number(text: str, what: str) -> float:
