@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "pneufrac/pf_controller.h"
+#include "pf_nozzle_shape.h"
 
 /* Smallest accepted 1 + L0 (see derive_loop). */
 #define PF_LOOP_MIN 1e-2
@@ -101,6 +102,13 @@ static pf_status derive_effects(pf_ctrl_coeffs_f64 *c, const pf_effects *fx,
     c->play_r = 0.5 * fx->backlash;
     c->nozzle_xh = fx->nozzle_xh;
     c->nozzle_xh_inv = fx->nozzle_xh > 0.0 ? 1.0 / fx->nozzle_xh : 0.0;
+    if (fx->nozzle_xh > 0.0) {
+        pf_nozzle_shape nz;
+        pf_nozzle_shape_make(&nz, fx->nozzle_xh, fx->nozzle_bias);
+        c->nozzle_u0 = nz.u0;
+        c->nozzle_f0 = nz.f0;
+        c->nozzle_g = nz.g;
+    }
     c->saturate = fx->saturate != 0;
     c->sat_lo = fx->saturate ? fx->sat_lo : 0.0;
     c->sat_hi = fx->saturate ? fx->sat_hi : 0.0;
@@ -182,6 +190,9 @@ void pf_ctrl_coeffs_f32_make(pf_ctrl_coeffs_f32 *cf, const pf_ctrl_coeffs_f64 *c
     cf->play_r = (float)c->play_r;
     cf->nozzle_xh = (float)c->nozzle_xh;
     cf->nozzle_xh_inv = (float)c->nozzle_xh_inv;
+    cf->nozzle_u0 = (float)c->nozzle_u0;
+    cf->nozzle_f0 = (float)c->nozzle_f0;
+    cf->nozzle_g = (float)c->nozzle_g;
     cf->saturate = c->saturate;
     cf->sat_lo = (float)c->sat_lo;
     cf->sat_hi = (float)c->sat_hi;

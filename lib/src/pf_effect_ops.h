@@ -16,12 +16,14 @@ static PF_T PF_FN(play_)(PF_T prev, PF_T x, PF_T r)
     return prev;
 }
 
-/* See pf_nozzle() in pf_effects.h: u0 = 1/sqrt(3), F(u0) = 3/4,
- * |F'(u0)| = 3 sqrt(3)/8; xh_inv = 1/xh is precomputed. */
-static PF_T PF_FN(nozzle_)(PF_T x, PF_T xh, PF_T xh_inv)
+/* See pf_nozzle_biased() in pf_effects.h, with F(u) = 1/(1+u^2): u0 the
+ * gap at the operating point, f0 = F(u0), g = x_1/2/|F'(u0)| and xh_inv =
+ * 1/x_1/2 precomputed (pf_nozzle_shape_make). The gap cannot close below
+ * 0, where p_b reaches supply. */
+static PF_T PF_FN(nozzle_)(PF_T x, PF_T xh_inv, PF_T u0, PF_T f0, PF_T g)
 {
-    PF_T u = (PF_T)0.57735026918962576 + x * xh_inv;
+    PF_T u = u0 + x * xh_inv;
     if (u < 0)
         u = 0;
-    return xh * ((PF_T)0.75 - 1 / (1 + u * u)) * (PF_T)1.5396007178390020;
+    return g * (f0 - 1 / (1 + u * u));
 }

@@ -9,6 +9,7 @@
 #define PF_T double
 #define PF_SFX f64
 #include "pf_effect_ops.h"
+#include "pf_nozzle_shape.h"
 
 pf_status pf_effects_validate(const pf_effects *fx)
 {
@@ -29,6 +30,8 @@ pf_status pf_effects_validate(const pf_effects *fx)
         st = pf_param_check(PF_P_DEAD_TIME, fx->dead_time);
     if (st == PF_OK)
         st = pf_param_check(PF_P_LAG, fx->lag);
+    if (st == PF_OK)
+        st = pf_param_check(PF_P_NOZZLE_BIAS, fx->nozzle_bias);
     return st;
 }
 
@@ -47,5 +50,12 @@ double pf_play(double prev, double x, double r)
 
 double pf_nozzle(double x, double xh)
 {
-    return nozzle_f64(x, xh, 1.0 / xh);
+    return pf_nozzle_biased(x, xh, 0.0);
+}
+
+double pf_nozzle_biased(double x, double xh, double bias)
+{
+    pf_nozzle_shape n;
+    pf_nozzle_shape_make(&n, xh, bias);
+    return nozzle_f64(x, 1.0 / xh, n.u0, n.f0, n.g);
 }

@@ -78,6 +78,7 @@ static const member effects_members[] = {
     D(pf_effects, PF_P_SAT_HI, sat_hi),
     D(pf_effects, PF_P_DEAD_TIME, dead_time),
     D(pf_effects, PF_P_LAG, lag),
+    D(pf_effects, PF_P_NOZZLE_BIAS, nozzle_bias),
 };
 
 static const member opts_members[] = {

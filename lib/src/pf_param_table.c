@@ -132,6 +132,14 @@ static const pf_param_spec table[PF_P_COUNT] = {
     [PF_P_LAG] = {"lag", "s",
                   "output line extra first-order lag time constant; 0 = off",
                   0.0, EFFECT_MAX, 0, 0},
+    /* The bias is the gap u0 = gap/x_1/2 at the operating point, less the
+     * inflection 1/sqrt(3): at -0.5 the slope |F'(u0)| is still a quarter
+     * of its peak; at 10 the nozzle works far out on the flat tail. */
+    [PF_P_NOZZLE_BIAS] = {"nozzle_bias", "",
+                          "nozzle bias point: the gap at the operating point above "
+                          "the curve's inflection, in units of x_1/2; 0 = at the "
+                          "inflection",
+                          -0.5, 10.0, 0, 0},
 };
 
 const pf_param_spec *pf_param_info(pf_param_id id)

@@ -1,79 +1,115 @@
 # SPDX-License-Identifier: MIT
-"""Hidden-effect cases shared by the tests and the detection-limit script."""
+"""Hidden-effect records for the tests, and the acceptance rules.
+
+The plant is pneufrac_fit.generate with settings the fit does not use: the
+library run at 10x the data rate (the fit: 2 kHz) with Oustaloup order 5
+(the fit: 8), its parameters perturbed around the paper's values
+(generate.perturbed_params), so that neither the discretisation nor a
+group held at the paper's value hands the fit the truth."""
 from __future__ import annotations
 
-import math
+import os
 
 import numpy as np
 
-from pneufrac_fit import data, diagnose, generate
+from pneufrac_fit import data, diagnose, excite, generate
 
 FS = 1000.0
-HOLD = tuple(float(x) for x in __import__("os").environ.get("PF_HOLD", "0.06,0.4").split(","))
 N = 5000          # 5 s bump test at 1 kHz
-NOISE = float(__import__("os").environ.get("PF_TEST_NOISE", "0.005"))
+NOISE = float(os.environ.get("PF_TEST_NOISE", "0.005"))
+PLANT = {"oversample": 10, "order": 5}
+
+# Acceptance tolerances (cases.check): a parameter is recovered when it is
+# within REL_TOL of the truth (dead time: DEAD_TOL samples; saturation
+# limits: SAT_TOL of the output's span).
+REL_TOL = 0.25
+DEAD_TOL = 2.0
+SAT_TOL = 0.05
+# the parameter that sizes each effect with a relative tolerance
+PARAM_KEY = {"lag": "lag", "backlash": "deadband", "nozzle": "nozzle_xh"}
 
 
-def make(config: str, effect: str, seed: int, n: int = N, size: float | None = None,
-         noise: float = NOISE, scale: float = 1.0):
-    """A record with one hidden effect drawn at random (seeded). scale
-    shrinks the effect toward 'off' for the detection-limit test."""
+def sizes(effect: str, rng, e, config, params, fs=FS, size=None) -> dict:
+    """A hidden effect of a size a careful engineer could detect at 0.5 %
+    noise (generate.draw_effect)."""
+    return generate.draw_effect(effect, config, rng, fs, e, size, params)
+
+
+def make(config: str, effects, seed: int, n: int = N, fs: float = FS, noise: float = NOISE,
+         size=None, input_kind: str = "steps", size_fs: float | None = None, **kw):
+    """A record with the named effects hidden (sizes drawn, seeded). Sizes
+    counted in samples (dead time, lag) are samples at size_fs (default
+    fs): a 10 kHz record can hide the same physical effect as a 1 kHz one."""
     rng = np.random.default_rng(seed)
     params = generate.perturbed_params(config, rng)
-    e = generate.bump_input(n, FS, rng, hold=HOLD)
-    ep = generate.draw_effect(effect, config, rng, FS, e, size, params)
-    ep = shrink(effect, ep, scale, config, e, params)
-    ds = generate.generate(config, effect, ep, n=n, fs=FS, noise=noise, seed=seed + 7, e=e,
-                           params=params)
-    return ds
+    e = excite.make(input_kind, n, fs, rng, rest=kw.pop("rest", 0.1))
+    names = [effects] if isinstance(effects, str) else list(effects)
+    fx = {x: sizes(x, rng, e, config, params,
+                   fs if x == "saturation" else (size_fs or fs), size)
+          for x in names if x != "none"}
+    opts = dict(PLANT)
+    opts.update(kw)
+    return generate.generate(config, effects=fx, n=n, fs=fs, noise=noise, seed=seed + 7, e=e,
+                             params=params, **opts)
 
 
-def shrink(effect, ep, scale, config, e, params=None):
-    if scale == 1.0:
-        return ep
-    out = dict(ep)
-    if effect in ("dead_time", "lag", "backlash"):
-        k = next(iter(ep))
-        out[k] = ep[k] * scale
-    elif effect == "nozzle":
-        out["nozzle_xh"] = ep["nozzle_xh"] / scale
-    elif effect == "saturation":
-        y = generate.linear_output(config, e, FS, params=params)
-        out["sat_hi"] = float(np.max(y)) + (ep["sat_hi"] - float(np.max(y))) * scale
-        out["sat_lo"] = float(np.min(y)) + (ep["sat_lo"] - float(np.min(y))) * scale
-    return out
-
-
-def run(ds, jobs: int = 1):
+def run(ds, jobs: int = 2, **kw):
     rec = data.make_record(ds.t, ds.e, ds.pc, "synthetic")
-    return diagnose.diagnose(rec, ds.config, jobs=jobs, progress=False,
-                             oversample=int(__import__("os").environ.get("PF_OS", "2")))
+    return diagnose.diagnose(rec, ds.config, jobs=jobs, progress=False, **kw)
+
+
+def in_ci(d, key, truth) -> bool:
+    """The truth inside the reported 95 % interval, which must itself be
+    informative (within a factor 2 either way of the estimate)."""
+    name = {"nozzle_xh": "nozzle_k"}.get(key, key)
+    lo, hi = d.extended.ci.get(name, (None, None))
+    if lo is None or hi is None:
+        return False
+    if name == "nozzle_k":
+        lo, hi = (1 / hi if hi > 0 else np.inf), (1 / lo if lo > 0 else np.inf)
+    est = d.effect_params[key]
+    return lo <= truth <= hi and hi <= 2 * est and lo >= est / 2
 
 
 def check(ds, d) -> list[str]:
-    """Failures against the issue's acceptance rules (empty: pass)."""
+    """Failures against the issue's acceptance rules (empty: pass): the
+    right causes; each parameter within its tolerance (or inside the
+    reported, informative 95 % interval); the validation NRMSE at least
+    halfway from the baseline's to the noise floor."""
     bad = []
-    truth = ds.effect
-    if d.cause != truth:
-        bad.append(f"cause {d.cause}, expected {truth}")
-        return bad
-    p, t = d.extended.effect_params, ds.effect_params
-    if truth == "dead_time":
-        if abs(p["dead_time_samples"] - t["dead_time"] * ds.fs) > 2:
-            bad.append(f"dead time {p['dead_time_samples']} samples, true {t['dead_time'] * ds.fs:.2f}")
-    elif truth in ("lag", "backlash", "nozzle"):
-        key = {"lag": "lag", "backlash": "deadband", "nozzle": "nozzle_xh"}[truth]
-        if not abs(p[key] / t[key] - 1) <= 0.25:
-            bad.append(f"{key} {p[key]:.4g}, true {t[key]:.4g}")
-    elif truth == "saturation":
-        span = float(np.ptp(generate.linear_output(ds.config, ds.e, ds.fs, params=ds.params)))
-        for k in ("sat_lo", "sat_hi"):
-            if not abs(p[k] - t[k]) <= 0.05 * span:
-                bad.append(f"{k} {p[k]:.4g}, true {t[k]:.4g} (span {span:.4g})")
-    if truth != "none":
-        before, after = d.baseline.nrmse_val, d.extended.nrmse_val
-        floor = ds.noise_floor
-        if not after <= 0.5 * (before + floor):
-            bad.append(f"validation NRMSE {before:.4f} -> {after:.4f}, floor {floor:.4f}: "
-                       "not halfway to the floor")
+    truth = set(ds.effects)
+    if set(d.causes) != truth:
+        return [f"causes {d.causes or ['none']}, expected {sorted(truth) or ['none']}"]
+    p = d.effect_params
+    for eff, t in ds.effects.items():
+        if eff == "dead_time":
+            got, want = p["dead_time_samples"], t["dead_time"] * ds.fs
+            if abs(got - want) > DEAD_TOL:
+                bad.append(f"dead time {got:g} samples, true {want:.2f}")
+        elif eff in PARAM_KEY:
+            key = PARAM_KEY[eff]
+            if not (abs(p[key] / t[key] - 1) <= REL_TOL or in_ci(d, key, t[key])):
+                bad.append(f"{key} {p[key]:.4g}, true {t[key]:.4g}")
+        elif eff == "saturation":
+            span = float(np.ptp(ds.clean))
+            for k in ("sat_lo", "sat_hi"):
+                if not abs(p[k] - t[k]) <= SAT_TOL * span:
+                    bad.append(f"{k} {p[k]:.4g}, true {t[k]:.4g} (span {span:.4g})")
+    if truth:
+        bad += not_halfway(d, ds.noise_floor)
     return bad
+
+
+def not_halfway(d, floor: float) -> list[str]:
+    """The issue's criterion: the validation NRMSE after the extended fit at
+    most halfway from the baseline's to the noise floor."""
+    before, after = d.baseline.nrmse_val, d.extended.nrmse_val
+    if after <= 0.5 * (before + floor):
+        return []
+    return [f"validation NRMSE {before:.4f} -> {after:.4f}, floor {floor:.4f}: "
+            "not halfway to the floor"]
+
+
+def explain(ds, d) -> str:
+    return (f"{ds.config}/{'+'.join(ds.effects) or 'none'} hidden {ds.effects}; causes "
+            f"{d.causes}; " + " ".join(d.why))

@@ -37,8 +37,14 @@ def _run(capsys, argv):
 def _case(tmp_path, name):
     t, e, pc = _good()
     header = "t,e,pc"
-    if name == "non-uniform":
-        t = t.copy(); t[500:] += 0.0004
+    if name == "non-uniform":           # the second half at 1.3x the period
+        t = t.copy(); t[500:] = t[500] + 1.3 * (t[500:] - t[500])
+    elif name == "short-step":          # a stamp a tenth of a period after the last
+        t = t.copy(); t[300] = t[299] + 0.0001
+    elif name == "gaps-everywhere":     # a gap every 150 samples: no stretch of 200
+        t = t.copy()
+        for k in range(150, t.size, 150):
+            t[k:] += 0.01
     elif name == "non-monotonic":
         t = t.copy(); t[300], t[301] = t[301], t[300]
     elif name == "repeated-time":
@@ -66,6 +72,8 @@ def _case(tmp_path, name):
 
 CASES = {
     "non-uniform": "non-uniform sampling",
+    "short-step": "under half the typical step",
+    "gaps-everywhere": "gaps in the record",
     "non-monotonic": "not strictly increasing",
     "repeated-time": "not strictly increasing",
     "nan": "NaN",
@@ -143,6 +151,13 @@ GEN = ["generate", "--config", "p", "--n", "300"]
     (["--n", "5"], "--n 5"),
     (["--oversample", "0"], "--oversample 0"),
     (["-o", "/nonexistent-dir/x.csv"], "-o /nonexistent-dir/x.csv: cannot write"),
+    (["--rest", "-1"], "--rest -1"),
+    (["--drift", "nan"], "--drift nan"),
+    (["--adc-bits", "2"], "--adc-bits 2"),
+    (["--order", "9"], "--order 9"),
+    (["--effect", "lag:tau=0.01", "--effect", "lag:tau=0.02"], "lag given twice"),
+    (["--effect", "nozzle:xh=1,bias=x"], "'x' is not a number"),
+    (["--effect", "nozzle:xh=1,gap=1"], "nozzle takes xh=...[,bias=...]"),
 ])
 def test_bad_generate(tmp_path, capsys, extra, msg):
     rc, err = _run(capsys, GEN + extra)
@@ -253,3 +268,40 @@ def test_broken_pipe_is_quiet():
     pr.stderr.close()
     assert first.startswith(b"#")
     assert rc == 0 and err == "", err
+
+
+@pytest.mark.parametrize("cmd", ["generate", "diagnose"])
+@pytest.mark.parametrize("seed,msg", [("-1", "-1 is outside"), ("1.5", "not an integer"),
+                                      ("abc", "not an integer"),
+                                      (str(2**64), "is outside")])
+def test_bad_seed(tmp_path, capsys, monkeypatch, cmd, seed, msg):
+    """Issue 12, F5: --seed -1 ended in a traceback from numpy."""
+    _no_fit(monkeypatch)
+    if cmd == "generate":
+        argv = GEN + ["--seed", seed]
+    else:
+        t, e, pc = _good()
+        argv = ["diagnose", _write(tmp_path / "ok.csv", t, e, pc), "--config", "p",
+                "--seed", seed]
+    with pytest.raises(SystemExit) as ex:
+        cli.main(argv)
+    err = capsys.readouterr().err
+    assert ex.value.code == 2
+    _one_line(2, err, "argument --seed:")
+    assert msg in err, err
+
+
+def test_largest_seed_is_accepted(capsys):
+    rc = cli.main(GEN + ["--seed", str(cli.MAX_SEED)])
+    out = capsys.readouterr().out
+    assert rc == 0 and out.startswith("#")
+
+
+def test_generate_two_effects_and_options(capsys):
+    rc = cli.main(["generate", "--config", "dd", "--n", "400", "--effect", "lag:tau=0.01",
+                   "--effect", "nozzle:xh=2,bias=0.5", "--input", "sweep", "--rest", "0",
+                   "--noise-kind", "ar1", "--adc-bits", "12", "--drift", "0.02"])
+    out = capsys.readouterr().out
+    assert rc == 0
+    assert "effect=lag+nozzle" in out.splitlines()[0]
+    assert len(out.splitlines()) == 400 + 3

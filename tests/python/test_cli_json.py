@@ -30,9 +30,9 @@ def test_generate_and_diagnose(tmp_path):
                                  "--out", str(out)],
                        check=True, env=env, capture_output=True, text=True)
     j = json.loads(r.stdout)
-    assert "candidate" in r.stderr            # progress on stderr
-    for k in ("cause", "effect_params", "baseline", "extended", "gain", "candidates",
-              "evidence"):
+    assert "round 1" in r.stderr              # progress on stderr
+    for k in ("cause", "causes", "effect_params", "baseline", "extended", "gain",
+              "candidates", "rounds", "evidence", "noise", "guards"):
         assert k in j
     for m in ("baseline", "extended"):
         for k in ("params", "nrmse_fit", "nrmse_val", "bic"):
@@ -40,8 +40,15 @@ def test_generate_and_diagnose(tmp_path):
     assert set(j["gain"]) >= {"nrmse_val_before", "nrmse_val_after", "delta_bic"}
     assert {c["name"] for c in j["candidates"]} == {
         "dead_time", "lag", "saturation", "backlash", "nozzle"}
-    assert all(set(c) >= {"name", "nrmse_val", "bic", "params"} for c in j["candidates"])
+    assert all(set(c) >= {"name", "nrmse_val", "nrmse_val_without", "delta_bic", "params",
+                          "passes_guards", "why_not"} for c in j["candidates"])
     assert j["cause"] == "backlash"
+    assert [c["name"] for c in j["causes"]] == ["backlash"]
+    c = j["causes"][0]
+    assert abs(c["params"]["deadband"] / 0.06 - 1) < 0.25
+    lo, hi = c["ci95"]["deadband"]
+    assert lo < c["params"]["deadband"] < hi
+    assert c["gain"]["nrmse_val_with"] < c["gain"]["nrmse_val_without"]
     assert abs(j["effect_params"]["deadband"] / 0.06 - 1) < 0.25
     assert all(isinstance(s, str) for s in j["evidence"])
     for f in ("report.md", "diagnosis.json", "overview.png", "residuals-baseline.png",

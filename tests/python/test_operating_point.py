@@ -5,7 +5,7 @@ on e, data.change_points), and the verdict must not depend on it."""
 import numpy as np
 import pytest
 
-from pneufrac_fit import data, diagnose, fit, generate, lib, model
+from pneufrac_fit import baseline, data, diagnose, fit, generate, lib, model
 
 E0, PC0, E_NOISE = 0.5, 9.0, 1e-4
 
@@ -44,7 +44,7 @@ def test_noise_estimate_uses_the_same_changes():
 def test_operating_point_found_with_noisy_input():
     _, rec = _record("none", {})
     assert abs(rec.e0 - E0) < 1e-4 and abs(rec.pc0 - PC0) < 0.01, rec.notes
-    assert any("operating point from the first 100" in s for s in rec.notes)
+    assert any("operating point from the first 100 samples" in s for s in rec.notes), rec.notes
 
 
 def test_explicit_operating_point():
@@ -64,7 +64,7 @@ def test_verdict_at_operating_point_with_noisy_input(effect, ep):
     assert d.cause == effect, " ".join(d.why)
     assert d.baseline.nrmse_val < (0.2 if effect != "none" else 2 * ds.noise_floor)
     if effect == "lag":
-        assert abs(d.extended.effect_params["lag"] / 0.012 - 1) < 0.25
+        assert abs(d.effect_params["lag"] / 0.012 - 1) < 0.25
 
 
 def test_pid_w_is_what_is_simulated():
@@ -72,16 +72,16 @@ def test_pid_w_is_what_is_simulated():
     is clamped between the fit and the library."""
     setup = model.Setup("pid", 1000.0, 3.0)
     pb = fit.Problem(np.zeros(10), np.zeros(10), setup, {},
-                     list(model.CONFIG_GROUPS["pid"]))
-    sp = fit.specs(pb, "none")
+                     list(model.CONFIG_GROUPS["pid"]), nfit=10)
+    sp = fit.specs(pb, ())
     assert dict((n, tr) for n, tr, _, _ in sp)["w"] == "wnu"
     rng = np.random.default_rng(0)
-    lo, hi = fit._bounds(sp)
+    lo, hi = fit.bounds(sp)
     for _ in range(50):
-        v = fit._from_theta(sp, rng.uniform(lo, hi), pb)
+        v = fit.from_theta(sp, rng.uniform(lo, hi), pb)
         assert v["nu"] <= v["w"] <= 1.0
-        th = fit._to_theta(sp, v, pb)
-        assert abs(fit._from_theta(sp, th, pb)["w"] - v["w"]) < 1e-12
+        th = fit.to_theta(sp, v, pb)
+        assert abs(fit.from_theta(sp, th, pb)["w"] - v["w"]) < 1e-12
     g = dict(model.nominal_groups("pid"), nu=0.9, w=0.8)
     p = model.physical_from_groups("pid", g)
     assert p["w"] == 0.8                        # not raised to nu behind the fit's back
@@ -89,5 +89,18 @@ def test_pid_w_is_what_is_simulated():
         lib.Controller("pid", p, {}, 1000.0)
     # w held: nu is bounded by it
     pb2 = fit.Problem(np.zeros(10), np.zeros(10), setup, {"w": 0.7},
-                      [g for g in model.CONFIG_GROUPS["pid"] if g != "w"])
-    assert dict((n, h) for n, _, _, h in fit.specs(pb2, "none"))["nu"] == 0.7
+                      [g for g in model.CONFIG_GROUPS["pid"] if g != "w"], nfit=10)
+    assert dict((n, h) for n, _, _, h in fit.specs(pb2, ()))["nu"] == 0.7
+
+
+def test_pid_group_held_keeps_nu_below_w():
+    """A group held by the identifiability test keeps nu <= w: nu held at
+    its bound of 1 and then w at the paper's 0.94 crashed the library (an
+    independent pid record, indepsim lag-steps seed 3)."""
+    g = dict(model.nominal_groups("pid"), nu=1.0)
+    w = baseline.keep_order("pid", "w", 0.94, g)
+    assert w == 1.0
+    lib.Controller("pid", model.physical_from_groups("pid", dict(g, w=w)), {}, 1000.0)
+    assert baseline.keep_order("pid", "nu", 0.9, dict(g, w=0.8)) == 0.8
+    assert baseline.keep_order("pid", "nu", 0.5, dict(g, w=0.8)) == 0.5
+    assert baseline.keep_order("dd", "nu", 0.9, dict(g, w=0.8)) == 0.9

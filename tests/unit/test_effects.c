@@ -142,6 +142,54 @@ static void test_nozzle_curve(void **state)
     END_SOFT();
 }
 
+/* The biased curve against the header's formula with u0 = 1/sqrt(3) + bias. */
+static double nozzle_biased_ref(double x, double xh, double bias)
+{
+    const double u0 = 1.0 / sqrt(3.0) + bias;
+    double u = u0 + x / xh;
+    double F0 = 1.0 / (1.0 + u0 * u0);
+    double dF0 = 2.0 * u0 / ((1.0 + u0 * u0) * (1.0 + u0 * u0));
+    if (u < 0.0)
+        u = 0.0;
+    return xh * (F0 - 1.0 / (1.0 + u * u)) / dF0;
+}
+
+static void test_nozzle_biased_curve(void **state)
+{
+    const double biases[] = {-0.5, -0.3, 0.0, 0.4, 2.0, 10.0};
+    const double xhs[] = {0.5, 3.0};
+    size_t i, j;
+    (void)state;
+    for (i = 0; i < sizeof biases / sizeof biases[0]; i++)
+        for (j = 0; j < sizeof xhs / sizeof xhs[0]; j++) {
+            const double b = biases[i], xh = xhs[j], h = 1e-6 * xh, a = 0.3 * xh;
+            double x, last = -INFINITY, slope, asym;
+            EXPECT(fabs(pf_nozzle_biased(0.0, xh, b)) <= 1e-13 * xh, "h(0) (bias %g)", b);
+            slope = (pf_nozzle_biased(h, xh, b) - pf_nozzle_biased(-h, xh, b)) / (2 * h);
+            EXPECT(fabs(slope - 1.0) < 1e-6, "slope at the bias point %.12g (bias %g)", slope, b);
+            for (x = -10.0 * xh; x <= 10.0 * xh; x += 0.001 * xh) {
+                double y = pf_nozzle_biased(x, xh, b), want = nozzle_biased_ref(x, xh, b);
+                EXPECT(y >= last, "not monotone at x=%g (bias %g)", x, b);
+                EXPECT(fabs(y - want) <= 1e-11 * fmax(xh, fabs(want)),
+                       "nozzle_biased(%g, %g, %g) = %.15g, formula %.15g", x, xh, b, y, want);
+                last = y;
+            }
+            /* off the inflection the curve is not odd: beyond it (bias > 0)
+             * the gain falls for x > 0 and rises for x < 0, before it the
+             * other way round; at it the even part starts at fourth order */
+            asym = pf_nozzle_biased(a, xh, b) + pf_nozzle_biased(-a, xh, b);
+            if (b > 0)
+                EXPECT(asym < -1e-3 * a, "bias %g: h(a) + h(-a) = %g, want < 0", b, asym);
+            else if (b < 0)
+                EXPECT(asym > 1e-3 * a, "bias %g: h(a) + h(-a) = %g, want > 0", b, asym);
+            else
+                EXPECT(fabs(asym) <= 0.05 * a, "inflection: h(a) + h(-a) = %g", asym);
+        }
+    /* bias 0 is pf_nozzle */
+    EXPECT(pf_nozzle_biased(0.37, 1.3, 0.0) == pf_nozzle(0.37, 1.3), "bias 0 != pf_nozzle");
+    END_SOFT();
+}
+
 /* ------------------------------------------------------------------ */
 /* pf_effects_validate                                                  */
 /* ------------------------------------------------------------------ */
@@ -652,7 +700,7 @@ static void check_play_relation(const pf_ctrl_design *d, const trace *t, double 
         const pf_ctrl_signals_f64 *s = &t->sig[k];
         double want;
         xb = r > 0 ? pf_play(xb, s->x, r) : s->x;
-        want = k1 * (xh > 0 ? pf_nozzle(xb, xh) : xb);
+        want = k1 * (xh > 0 ? pf_nozzle_biased(xb, xh, d->fx.nozzle_bias) : xb);
         EXPECT(fabs(s->pb - want) <= 1e-12 * k1 * (fabs(xb) + r) + 1e-300,
                "%s: k=%zu p_b=%.17g, k1*h(play(x))=%.17g", what, k, s->pb, want);
         /* continue from what the library holds, so one miss is reported once */
@@ -783,6 +831,14 @@ static void test_nozzle_in_loop(void **state)
     EXPECT(dlarge >= 0.05, "large signals follow the linear nozzle (diff %g)", dlarge);
     check_play_relation(&g_d, &g_b, 0.0, fx.nozzle_xh, "nozzle large");
     check_lever(&g_d, &g_b, "nozzle large");
+
+    /* biased away from the inflection: the loop holds p_b = k1 h_biased(x) */
+    fx.nozzle_bias = 0.8;
+    design_dd(&g_d, &fx);
+    run(&g_d, g_e, NS, &g_b);
+    check_play_relation(&g_d, &g_b, 0.0, fx.nozzle_xh, "nozzle biased");
+    check_lever(&g_d, &g_b, "nozzle biased");
+    EXPECT(max_rel_diff(g_b.out, g_a.out) >= 0.05, "the biased nozzle follows the linear one");
     END_SOFT();
 }
 
@@ -834,6 +890,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_play_operator, setup_soft),
         cmocka_unit_test_setup(test_nozzle_curve, setup_soft),
+        cmocka_unit_test_setup(test_nozzle_biased_curve, setup_soft),
         cmocka_unit_test_setup(test_effects_validate, setup_soft),
         cmocka_unit_test_setup(test_dead_time_shift, setup_soft),
         cmocka_unit_test_setup(test_dead_time_too_long, setup_soft),

@@ -88,7 +88,7 @@ static void test_members(void **state)
         F(pf_effects, backlash, PF_FIELD_DOUBLE), F(pf_effects, nozzle_xh, PF_FIELD_DOUBLE),
         F(pf_effects, saturate, PF_FIELD_INT),    F(pf_effects, sat_lo, PF_FIELD_DOUBLE),
         F(pf_effects, sat_hi, PF_FIELD_DOUBLE),   F(pf_effects, dead_time, PF_FIELD_DOUBLE),
-        F(pf_effects, lag, PF_FIELD_DOUBLE),
+        F(pf_effects, lag, PF_FIELD_DOUBLE),      F(pf_effects, nozzle_bias, PF_FIELD_DOUBLE),
     };
     static const want_field opts[] = {
         F(pf_design_opts, fs, PF_FIELD_DOUBLE),     F(pf_design_opts, wb, PF_FIELD_DOUBLE),

@@ -996,19 +996,21 @@ static const struct {
 };
 
 /* Good parameters and options, bad effects: backlash, nozzle_xh, saturate,
- * sat_lo, sat_hi, dead_time, lag. */
+ * sat_lo, sat_hi, dead_time, lag, nozzle_bias. */
 static const struct {
     const char *what;
     pf_effects fx;
     pf_param_id want, alt;
 } k_bad_fx[] = {
-    {"backlash < 0", {-1.0, 0, 0, 0, 0, 0, 0}, PF_P_BACKLASH, PF_P_COUNT},
-    {"lag NaN", {0, 0, 0, 0, 0, 0, NAN}, PF_P_LAG, PF_P_COUNT},
-    {"nozzle_xh = 2e9", {0, 2e9, 0, 0, 0, 0, 0}, PF_P_NOZZLE_XH, PF_P_COUNT},
-    {"sat_lo == sat_hi", {0, 0, 1, 1.0, 1.0, 0, 0}, PF_P_SAT_LO, PF_P_SAT_HI},
-    {"dead_time = 3601 s", {0, 0, 0, 0, 0, 3601.0, 0}, PF_P_DEAD_TIME, PF_P_COUNT},
+    {"backlash < 0", {-1.0, 0, 0, 0, 0, 0, 0, 0}, PF_P_BACKLASH, PF_P_COUNT},
+    {"lag NaN", {0, 0, 0, 0, 0, 0, NAN, 0}, PF_P_LAG, PF_P_COUNT},
+    {"nozzle_xh = 2e9", {0, 2e9, 0, 0, 0, 0, 0, 0}, PF_P_NOZZLE_XH, PF_P_COUNT},
+    {"sat_lo == sat_hi", {0, 0, 1, 1.0, 1.0, 0, 0, 0}, PF_P_SAT_LO, PF_P_SAT_HI},
+    {"dead_time = 3601 s", {0, 0, 0, 0, 0, 3601.0, 0, 0}, PF_P_DEAD_TIME, PF_P_COUNT},
+    {"nozzle_bias = -0.6", {0, 1.0, 0, 0, 0, 0, 0, -0.6}, PF_P_NOZZLE_BIAS, PF_P_COUNT},
+    {"nozzle_bias = 11", {0, 1.0, 0, 0, 0, 0, 0, 11.0}, PF_P_NOZZLE_BIAS, PF_P_COUNT},
     /* valid for pf_effects_validate; the design caps it at 4194304 samples */
-    {"dead_time = 300 s (6e6 samples)", {0, 0, 0, 0, 0, 300.0, 0}, PF_P_DEAD_TIME, PF_P_COUNT},
+    {"dead_time = 300 s (6e6 samples)", {0, 0, 0, 0, 0, 300.0, 0, 0}, PF_P_DEAD_TIME, PF_P_COUNT},
 };
 
 static void test_design_make_atomic(void **state)

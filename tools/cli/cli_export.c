@@ -173,6 +173,7 @@ int cli_export_c_f32(FILE *f, const char *name, const char *comment,
     F(ce); F(cy); F(k1); F(k2); F(kA); F(k2_inv); F(pmin); F(relay_den_inv); F(relay_d0);
     F(relay_w); F(relay_sz); F(v_a); F(v_den_inv); F(w_a); F(w_den_inv);
     F(alpha_z); F(alpha_y); F(loop_inv); F(slope_inv); F(play_r); F(nozzle_xh); F(nozzle_xh_inv);
+    F(nozzle_u0); F(nozzle_f0); F(nozzle_g);
     fprintf(f, "  .saturate = %u,\n", (unsigned)c->saturate);
     F(sat_lo); F(sat_hi); F(lag_lam);
 #undef F

@@ -64,6 +64,8 @@ typedef struct pf_ctrl_coeffs_f64 {
     double slope_inv;             /**< 1/(1 + min(0, L0)): brackets the loop root */
     double play_r, nozzle_xh;     /**< backlash half-width; nozzle x_1/2 */
     double nozzle_xh_inv;         /**< 1/x_1/2 */
+    double nozzle_u0, nozzle_f0;  /**< nozzle's gap at the bias point, F there */
+    double nozzle_g;              /**< x_1/2/|F'(u0)|: unit slope at the bias */
     uint8_t saturate;
     double sat_lo, sat_hi;
     double lag_lam;               /**< 1 - exp(-1/(fs*lag)); 0 = off */
@@ -78,7 +80,7 @@ typedef struct pf_ctrl_coeffs_f32 {
     float relay_den_inv, relay_d0, relay_w, relay_sz;
     float v_a, v_den_inv, w_a, w_den_inv;
     float alpha_z, alpha_y, loop_inv, slope_inv;
-    float play_r, nozzle_xh, nozzle_xh_inv;
+    float play_r, nozzle_xh, nozzle_xh_inv, nozzle_u0, nozzle_f0, nozzle_g;
     uint8_t saturate;
     float sat_lo, sat_hi, lag_lam;
     uint32_t delay_len;

@@ -30,6 +30,9 @@ typedef struct pf_effects {
     double sat_lo, sat_hi; /**< supply limits on p_c, sat_lo < sat_hi */
     double dead_time; /**< output line transport delay, s, >= 0 */
     double lag;       /**< output line extra lag time constant, s, >= 0 */
+    double nozzle_bias; /**< nozzle's operating point: the gap u0 = gap/x_1/2
+                           there is 1/sqrt(3) + nozzle_bias, in [-0.5, 10];
+                           0 = the curve's inflection (see pf_nozzle) */
 } pf_effects;
 
 /** Check effect parameters: each within its range (pf_param_info; sat_lo
@@ -52,6 +55,13 @@ double pf_play(double prev, double x, double r);
  *  a nozzle is biased for gain). The gap u cannot close below 0, where p_b
  *  reaches supply. Monotone non-decreasing; p_b = k1*h(x). */
 double pf_nozzle(double x, double xh);
+
+/** The nozzle characteristic biased at the gap u0 = 1/sqrt(3) + @p bias (in
+ *  units of x_1/2), the equilibrium's own: h(x) = xh*(F(u0) -
+ *  F(u0 + x/xh))/|F'(u0)|, unit slope at x = 0. Away from the inflection
+ *  the curve is no longer odd: the gain rises on one side and falls on the
+ *  other. @p bias in [-0.5, 10]; bias 0 is pf_nozzle(). */
+double pf_nozzle_biased(double x, double xh, double bias);
 
 #ifdef __cplusplus
 }

@@ -2,7 +2,7 @@
 """pneufrac-fit: diagnose measured data against the paper's model.
 
     pneufrac-fit diagnose DATA.csv --config {p,dd,id,pid} [--fix NAME=VALUE ...]
-                 [--e0 E --pc0 P] [--out DIR] [--json]
+                 [--columns t=NAME,e=NAME,pc=NAME] [--e0 E --pc0 P] [--out DIR] [--json]
     pneufrac-fit generate --config CFG [--effect NAME:K=V[,K=V]] [--n N] [--fs HZ]
                  [--noise F] [--seed S] [--set NAME=VALUE ...] [-o FILE.csv]
     pneufrac-fit fleet DIR|GLOB --config CFG [--scheduler ADDRESS] [--workers N]
@@ -33,6 +33,7 @@ MIN_FS = 2.0 / MIN_HOLD
 MAX_FS = 1e6
 MAX_N = 10_000_000
 MAX_NOISE = 1.0
+MAX_SEED = 2**63 - 1   # numpy's generators take any non-negative integer
 
 
 _Parser = parser_class("pneufrac-fit", EXIT_USAGE)
@@ -40,6 +41,18 @@ _Parser = parser_class("pneufrac-fit", EXIT_USAGE)
 
 EXIT_HELP = (f"Exit status: 0 success; {EXIT_USAGE} bad input or arguments (one line "
              f"on stderr); {EXIT_LIBRARY} the shared library is missing or does not match.")
+
+
+def _seed(text: str) -> int:
+    """A seed for numpy's generators: a non-negative integer (a negative one
+    used to end in a traceback from numpy)."""
+    try:
+        v = int(text, 10)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not an integer") from None
+    if not 0 <= v <= MAX_SEED:
+        raise argparse.ArgumentTypeError(f"{v} is outside [0, {MAX_SEED}]")
+    return v
 
 
 def _parser():
@@ -50,6 +63,9 @@ def _parser():
     d = sub.add_parser("diagnose", help="fit, show what is wrong, name the cause, extend",
                        epilog=EXIT_HELP)
     d.add_argument("data", help="CSV with header t,e,pc (# comments allowed)")
+    d.add_argument("--columns", default=None, metavar="t=NAME,e=NAME,pc=NAME",
+                   help="header names of the time, input and output columns "
+                        "(case-insensitive; default t,e,pc)")
     d.add_argument("--config", required=True, choices=["p", "dd", "id", "pid"])
     d.add_argument("--fix", action="append", default=[], metavar="NAME=VALUE",
                    help="hold a group at a value (K, L, tau, rho, beta, q, RC, nu, w, "
@@ -58,22 +74,25 @@ def _parser():
     d.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     d.add_argument("--e0", type=float, default=None,
                    help="operating point of the input (with --pc0; default: the "
-                        "record's opening rest stretch)")
+                        "record's opening rest stretch, or estimated in the fit)")
     d.add_argument("--pc0", type=float, default=None,
                    help="operating point of the output (with --e0)")
     d.add_argument("--jobs", type=int, default=None,
                    help=f"worker processes, 1..{MAX_JOBS} (default 2)")
-    d.add_argument("--oversample", type=int, default=2,
-                   help="simulate at this multiple of the data rate (default 2)")
+    d.add_argument("--oversample", type=int, default=None,
+                   help="simulate at this multiple of the data rate (default: the "
+                        "smallest that reaches 2 kHz)")
     d.add_argument("--order", type=int, default=8, help="Oustaloup order N (default 8)")
-    d.add_argument("--seed", type=int, default=0, help="seed of the fresh starts")
+    d.add_argument("--seed", type=_seed, default=0,
+                   help="seed of the fresh starts (a non-negative integer)")
     d.add_argument("--quiet", action="store_true", help="no progress on stderr")
     g = sub.add_parser("generate", help="synthetic bump test with a hidden effect",
                        epilog=EXIT_HELP)
     g.add_argument("--config", required=True, choices=["p", "dd", "id", "pid"])
-    g.add_argument("--effect", default="none",
-                   help="none | deadtime:t=S | lag:tau=S | backlash:width=W | "
-                        "nozzle:xh=X | saturation:lo=L,hi=H (W, X in input units)")
+    g.add_argument("--effect", action="append", default=[],
+                   help="repeatable: none | deadtime:t=S | lag:tau=S | backlash:width=W | "
+                        "nozzle:xh=X[,bias=B] | saturation:lo=L,hi=H (W, X in input units; "
+                        "B the nozzle's bias point above the inflection, units of x_1/2)")
     g.add_argument("--n", type=int, default=6000, help="samples (default 6000)")
     g.add_argument("--fs", type=float, default=1000.0,
                    help=f"output rate, Hz, {MIN_FS:.4g}..{MAX_FS:g} (default 1000)")
@@ -81,9 +100,22 @@ def _parser():
                    help="noise sd as a fraction of the output span, 0..1 (default 0.002)")
     g.add_argument("--oversample", type=int, default=4,
                    help="internal rate multiple (default 4)")
-    g.add_argument("--seed", type=int, default=1)
+    g.add_argument("--seed", type=_seed, default=1,
+                   help="seed of the input and the noise (a non-negative integer)")
     g.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="paper parameter of the simulated plant (e.g. tau=0.002)")
+    g.add_argument("--input", default="steps", choices=["steps", "prbs", "ramps", "sweep"],
+                   help="excitation (default steps)")
+    g.add_argument("--rest", type=float, default=0.1,
+                   help="seconds at rest before the excitation, 0..10 (default 0.1)")
+    g.add_argument("--noise-kind", default="white", choices=["white", "ar1", "pink"],
+                   help="colour of the sensor noise (default white)")
+    g.add_argument("--drift", type=float, default=0.0,
+                   help="slow drift, peak-to-peak fraction of the output span, 0..1")
+    g.add_argument("--adc-bits", type=int, default=0,
+                   help="quantise e and pc with an ADC of this many bits, 4..24 (0: off)")
+    g.add_argument("--order", type=int, default=0,
+                   help="the plant's Oustaloup order, 1..8 (0: the library's default)")
     g.add_argument("-o", "--output", help="CSV file (default stdout)")
     from . import fleet_cli
     fleet_cli.add_arguments(sub.add_parser("fleet", help=fleet_cli.HELP, epilog=EXIT_HELP,
@@ -141,9 +173,11 @@ def parse_effect(text: str, fs: float) -> tuple[str, dict]:
     kv = dict(_kv(x, "--effect") for x in rest.split(",") if x) if rest else {}
     need = {"none": [], "dead_time": ["t"], "lag": ["tau"], "backlash": ["width"],
             "nozzle": ["xh"], "saturation": ["lo", "hi"]}[eff]
-    if sorted(kv) != sorted(need):
+    optional = ["bias"] if eff == "nozzle" else []
+    if not set(need) <= set(kv) <= set(need) | set(optional):
         raise UsageError(f"--effect {text}: {name} takes "
-                         + (",".join(f"{k}=..." for k in need) or "no values"))
+                         + (",".join(f"{k}=..." for k in need) or "no values")
+                         + "".join(f"[,{k}=...]" for k in optional))
     if eff == "dead_time":
         return eff, {"dead_time": kv["t"]}
     if eff == "lag":
@@ -151,7 +185,7 @@ def parse_effect(text: str, fs: float) -> tuple[str, dict]:
     if eff == "backlash":
         return eff, {"deadband": kv["width"]}
     if eff == "nozzle":
-        return eff, {"nozzle_xh": kv["xh"]}
+        return eff, {"nozzle_xh": kv["xh"], "nozzle_bias": kv.get("bias", 0.0)}
     if eff == "saturation":
         if not kv["lo"] < kv["hi"]:
             raise UsageError("--effect saturation: lo must be below hi")
@@ -175,7 +209,7 @@ def _out_dir(path: str) -> Path:
 def cmd_diagnose(a) -> int:
     from . import data, diagnose, output
     fixes = parse_fixes(a.fix, a.config)
-    if a.oversample < 1 or a.oversample > 16:
+    if a.oversample is not None and not 1 <= a.oversample <= 16:
         raise UsageError("--oversample must be in [1, 16]")
     if not 1 <= a.order <= 8:
         raise UsageError("--order must be in [1, 8]")
@@ -186,7 +220,8 @@ def cmd_diagnose(a) -> int:
         if v is not None and not math.isfinite(v):
             raise UsageError(f"{name} must be finite")
     jobs = None if a.jobs is None else min(max(a.jobs, 1), MAX_JOBS)
-    rec = data.read_csv(a.data)
+    cols = data.parse_columns(a.columns) if a.columns is not None else None
+    rec = data.read_csv(a.data, cols)
     if a.e0 is not None:
         data.set_operating_point(rec, a.e0, a.pc0)
     out = _out_dir(a.out) if a.out else None      # before the (long) fit
@@ -203,7 +238,7 @@ def cmd_diagnose(a) -> int:
     if a.json:
         print(output.to_json(d))
     elif out is None:
-        print(f"cause: {d.cause}")
+        print("causes: " + (", ".join(d.causes) if d.causes else "none"))
         for s in d.why:
             print(f"  {s}")
     return 0
@@ -222,6 +257,14 @@ def _check_generate(a) -> None:
     if not 1 <= a.oversample <= 64:
         raise UsageError(f"--oversample {a.oversample}: must be in [1, 64]")
     lib_fs = model.lib.param_range("fs")    # the library's sample-rate range
+    if not 0.0 <= a.rest <= 10.0:
+        raise UsageError(f"--rest {a.rest:g}: must be in [0, 10] s")
+    if not 0.0 <= a.drift <= 1.0:
+        raise UsageError(f"--drift {a.drift:g}: must be in [0, 1]")
+    if a.adc_bits and not 4 <= a.adc_bits <= 24:
+        raise UsageError(f"--adc-bits {a.adc_bits}: must be 0 or in [4, 24]")
+    if not 0 <= a.order <= 8:
+        raise UsageError(f"--order {a.order}: must be in [0, 8]")
     if a.fs * a.oversample not in lib_fs:
         raise UsageError(f"--fs x --oversample = {a.fs * a.oversample:g} Hz: the plant is "
                          f"simulated at that rate, at most {lib_fs.hi:g} Hz")
@@ -230,14 +273,22 @@ def _check_generate(a) -> None:
 def cmd_generate(a) -> int:
     from . import data, generate
     _check_generate(a)
-    eff, ep = parse_effect(a.effect, a.fs)
+    effects = {}
+    for text in a.effect or ["none"]:
+        eff, ep = parse_effect(text, a.fs)
+        if eff in effects:
+            raise UsageError(f"--effect {text}: {eff} given twice")
+        if eff != "none":
+            effects[eff] = ep
     params = dict(_kv(s, "--set") for s in a.set)
     unknown = [k for k in params if k not in model.lib.default_params(a.config)]
     if unknown:
         raise UsageError(f"--set {unknown[0]}: not a paper parameter")
     try:
-        ds = generate.generate(a.config, eff, ep, n=a.n, fs=a.fs, noise=a.noise,
-                               oversample=a.oversample, seed=a.seed, params=params)
+        ds = generate.generate(a.config, effects=effects, n=a.n, fs=a.fs, noise=a.noise,
+                               oversample=a.oversample, seed=a.seed, params=params,
+                               input_kind=a.input, rest=a.rest, noise_kind=a.noise_kind,
+                               drift=a.drift, adc_bits=a.adc_bits, order=a.order)
     except model.lib.ModelError as exc:
         raise UsageError(str(exc)) from None
     if a.output:

@@ -1,5 +1,8 @@
 # SPDX-License-Identifier: MIT
-"""Measured records: CSV t,e,pc with # comments; strict checks."""
+"""Measured records: CSV with a header naming t, e and pc (other names
+through --columns), # comments; strict checks. Time stamps may jitter and
+the record may have gaps (timebase); ADC steps, noise and the opening rest
+stretch are read off the signals (signals)."""
 from __future__ import annotations
 
 import io
@@ -8,6 +11,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+
+from . import signals, timebase
 
 MIN_SAMPLES = 200
 
@@ -23,16 +28,44 @@ class Record:
     pc: np.ndarray
     fs: float
     source: str = ""
-    e0: float = 0.0          # operating point (first rest stretch)
-    pc0: float = 0.0
+    e0: float | None = None  # operating point (opening rest, or given); None: fitted
+    pc0: float | None = None
     notes: list = field(default_factory=list)
+    gaps: list = field(default_factory=list)
+    rest: int = 0            # samples of the opening rest stretch
+    op_given: bool = False   # --e0/--pc0
+    q_e: float = 0.0         # ADC steps (0: not quantised)
+    q_pc: float = 0.0
+    sig_e: float = 0.0       # sample-to-sample noise sd (signals.noise_sd)
+    sig_pc: float = 0.0
 
     @property
     def n(self) -> int:
         return self.e.size
 
 
-def read_csv(path: str | Path) -> Record:
+DEFAULT_COLUMNS = {"t": "t", "e": "e", "pc": "pc"}
+
+
+def parse_columns(text: str) -> dict:
+    """--columns t=time,e=error,pc=output: the header names of the record's
+    t, e and pc columns (case-insensitive); any not given keep their name."""
+    out = dict(DEFAULT_COLUMNS)
+    for item in (x.strip() for x in text.split(",")):
+        if not item:
+            continue
+        k, sep, v = item.partition("=")
+        k, v = k.strip().lower(), v.strip()
+        if not sep or k not in out or not v:
+            raise DataError(f"--columns {text}: expected t=NAME,e=NAME,pc=NAME "
+                            f"(got '{item}')")
+        out[k] = v
+    if len({v.lower() for v in out.values()}) != 3:
+        raise DataError(f"--columns {text}: t, e and pc must be three different columns")
+    return out
+
+
+def read_csv(path: str | Path, columns: dict | None = None) -> Record:
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8", errors="strict")
@@ -40,29 +73,32 @@ def read_csv(path: str | Path) -> Record:
         raise DataError(f"{path}: no such file") from None
     except (OSError, UnicodeDecodeError) as exc:
         raise DataError(f"{path}: cannot read: {exc}") from None
-    return parse_csv(text, str(path))
+    return parse_csv(text, str(path), columns)
 
 
-def parse_csv(text: str, source: str = "<csv>") -> Record:
+def parse_csv(text: str, source: str = "<csv>", columns: dict | None = None) -> Record:
+    names = dict(columns or DEFAULT_COLUMNS)
+    want = [names[k] for k in ("t", "e", "pc")]
     lines = [(i + 1, ln.strip()) for i, ln in enumerate(io.StringIO(text))]
     lines = [(i, ln) for i, ln in lines if ln and not ln.startswith("#")]
     if not lines:
-        raise DataError(f"{source}: empty file (expected a header t,e,pc)")
+        raise DataError(f"{source}: empty file (expected a header naming {','.join(want)})")
     hline, header = lines[0]
     cols = [c.strip().lower() for c in header.split(",")]
-    missing = [c for c in ("t", "e", "pc") if c not in cols]
+    missing = [c for c in want if c.lower() not in cols]
     if missing:
         raise DataError(
             f"{source}:{hline}: missing column(s) {', '.join(missing)}; the header "
-            f"must name t,e,pc (found: {header})")
-    idx = [cols.index(c) for c in ("t", "e", "pc")]
+            f"must name {','.join(want)} (found: {header}; other names: --columns "
+            "t=NAME,e=NAME,pc=NAME)")
+    idx = [cols.index(c.lower()) for c in want]
     rows = []
     for ln, s in lines[1:]:
         parts = [x.strip() for x in s.split(",")]
         if len(parts) != len(cols):
             raise DataError(f"{source}:{ln}: expected {len(cols)} fields, found {len(parts)}")
         vals = []
-        for j, name in zip(idx, ("t", "e", "pc")):
+        for j, name in zip(idx, want):
             try:
                 v = float(parts[j])
             except ValueError:
@@ -91,72 +127,69 @@ def make_record(t, e, pc, source: str = "<data>") -> Record:
                             f"(t index {bad[0]}); {bad.size} bad value(s)")
     if t.size < MIN_SAMPLES:
         raise DataError(f"{source}: too few samples: {t.size} (need at least {MIN_SAMPLES})")
-    dt = np.diff(t)
-    if np.any(dt <= 0):
-        k = int(np.flatnonzero(dt <= 0)[0])
-        raise DataError(f"{source}: t is not strictly increasing at sample {k + 1} "
-                        f"(t = {t[k]:.9g} then {t[k + 1]:.9g})")
-    T = (t[-1] - t[0]) / (t.size - 1)
-    dev = np.abs(dt - T)
-    tol = 1e-3 * T + 1e-9 * max(abs(t[0]), abs(t[-1]))
-    if np.any(dev > tol):
-        k = int(np.argmax(dev))
-        raise DataError(
-            f"{source}: non-uniform sampling: step {k + 1} is {dt[k]:.9g} s, the mean "
-            f"step is {T:.9g} s (uniform sampling is required; resample first)")
-    fs = 1.0 / T
-    rec = Record(t, e, pc, fs, source)
+    try:
+        tb = timebase.analyse(t, source)
+    except timebase.TimebaseError as exc:
+        raise DataError(str(exc)) from None
+    a, b = tb.start, tb.stop
+    if b - a < MIN_SAMPLES:
+        where = ", ".join(f"t = {g.t:.6g} s" for g in tb.gaps[:3])
+        raise DataError(f"{source}: gaps in the record (at {where}{', ...' if len(tb.gaps) > 3 else ''}) "
+                        f"leave at most {b - a} samples without a gap (need at least "
+                        f"{MIN_SAMPLES})")
+    # Own copies: the caller's arrays stay untouched and not aliased, and
+    # the same record gives the same diagnosis to the last bit however its
+    # arrays were laid out in memory (numpy's sums depend on alignment).
+    rec = Record(np.array(t[a:b]), np.array(e[a:b]), np.array(pc[a:b]), tb.fs, source)
+    rec.notes.extend(tb.notes(t.size))
+    rec.gaps = tb.gaps
+    _levels(rec)
     _operating_point(rec)
     _check_excitation(rec)
     return rec
 
 
-# An input change is a step of e larger than STEP_SIGMAS times the noise on
-# e (robust sd, input_noise) and larger than rounding (1e-9 of the span).
-# The operating point, the noise estimate of the diagnosis and the flatness
-# check all use this one definition.
-STEP_SIGMAS = 20.0
+def _levels(rec: Record) -> None:
+    """ADC steps and noise of both signals (signals.quantum, noise_sd)."""
+    rec.q_e = signals.quantum(rec.e)
+    rec.q_pc = signals.quantum(rec.pc)
+    rec.sig_e = signals.noise_sd(rec.e, rec.q_e)
+    rec.sig_pc = signals.noise_sd(rec.pc, rec.q_pc)
+    for name, q, v in (("e", rec.q_e, rec.e), ("pc", rec.q_pc, rec.pc)):
+        if q > 0:
+            bits = math.log2(max(float(np.ptp(v)) / q, 1.0))
+            rec.notes.append(f"{name} is quantised in steps of {q:.4g} ({bits:.1f} bits over "
+                             f"its range: an ADC); its quantisation noise, sd "
+                             f"{q / math.sqrt(12):.3g}, is part of the noise")
 
 
 def input_noise(e: np.ndarray) -> float:
-    """Robust sd of the noise on e from first differences: 1.4826 MAD / sqrt 2.
-    Steps are rare outliers of the differences, so a stepped input without
-    noise gives 0."""
-    d = np.diff(np.asarray(e, float))
-    if d.size == 0:
-        return 0.0
-    return 1.4826 * float(np.median(np.abs(d - np.median(d)))) / math.sqrt(2.0)
+    """Robust sd of the noise on e (signals.noise_sd, with its ADC step)."""
+    return signals.noise_sd(e, signals.quantum(e))
 
 
 def change_points(e: np.ndarray, sigma: float | None = None) -> np.ndarray:
-    """Indices n where the input changes: |e[n] - e[n-1]| beyond STEP_SIGMAS
-    times the noise on e (sigma; estimated by input_noise when None) and
-    beyond rounding."""
-    e = np.asarray(e, float)
-    if e.size < 2:
-        return np.zeros(0, int)
-    if sigma is None:
-        sigma = input_noise(e)
-    span = float(np.max(e) - np.min(e))
-    thr = max(STEP_SIGMAS * sigma, 1e-9 * max(span, 1e-300))
-    return np.flatnonzero(np.abs(np.diff(e)) > thr) + 1
+    """Indices where the input changes (signals.change_points)."""
+    return signals.change_points(e, sigma)
 
 
 def _operating_point(rec: Record) -> None:
-    """The model is incremental from rest: if the record opens with a
-    constant-input stretch (no input change, noise allowed), that stretch
-    is the operating point."""
-    cp = change_points(rec.e)
-    first = int(cp[0]) if cp.size else rec.n
-    if first >= 5:
-        rec.e0 = float(np.mean(rec.e[:first]))
-        rec.pc0 = float(np.mean(rec.pc[:first]))
-        rec.notes.append(f"operating point from the first {first} samples at rest: "
+    """The model is incremental from rest: if the record opens with both
+    input and output at rest, that stretch is the operating point (e0, pc0
+    are its means). Otherwise the diagnosis estimates the operating point
+    as part of the fit (rec.e0 = None)."""
+    k, why = signals.opening_rest(rec.e, rec.pc, rec.sig_e, rec.q_e, rec.sig_pc, rec.q_pc)
+    rec.rest = k
+    if k:
+        rec.e0 = float(np.mean(rec.e[:k]))
+        rec.pc0 = float(np.mean(rec.pc[:k]))
+        rec.notes.append(f"operating point from the first {k} samples at rest: "
                          f"e0 = {rec.e0:.6g}, pc0 = {rec.pc0:.6g}")
     else:
-        rec.notes.append("record does not open at rest: the model starts from "
-                         "rest at e = 0, pc = 0 (give --e0 and --pc0 if the "
-                         "operating point is known)")
+        rec.e0 = None
+        rec.pc0 = None
+        rec.notes.append(f"the record does not open at rest ({why}): the operating point "
+                         "(e0, pc0) is estimated as part of the fit")
 
 
 def set_operating_point(rec: Record, e0: float, pc0: float) -> None:
@@ -164,8 +197,9 @@ def set_operating_point(rec: Record, e0: float, pc0: float) -> None:
     if not (math.isfinite(e0) and math.isfinite(pc0)):
         raise DataError("the operating point e0, pc0 must be finite")
     rec.notes = [n for n in rec.notes if not n.startswith(("operating point from",
-                                                           "record does not open"))]
+                                                           "the record does not open"))]
     rec.e0, rec.pc0 = float(e0), float(pc0)
+    rec.op_given = True
     rec.notes.append(f"operating point given: e0 = {rec.e0:.6g}, pc0 = {rec.pc0:.6g}")
 
 
@@ -177,10 +211,10 @@ def _check_excitation(rec: Record) -> None:
         raise DataError(f"{rec.source}: the input e is flat (constant {e[0]:.6g}): "
                         "it cannot excite the model; a bump test needs input steps")
     # Measurement noise on e is not excitation: compare the span with it.
-    sig = input_noise(e)
-    if span < STEP_SIGMAS * sig:
+    if span < signals.STEP_SIGMAS * rec.sig_e:
         raise DataError(f"{rec.source}: the input e is flat (span {span:.3g} is within "
-                        f"{STEP_SIGMAS:g}x its noise {sig:.3g}): it cannot excite the model")
+                        f"{signals.STEP_SIGMAS:g}x its noise {rec.sig_e:.3g}): it cannot "
+                        "excite the model")
     split = int(0.7 * rec.n)
     if np.ptp(e[:split]) < 0.05 * span or np.ptp(e[split - 1:]) < 0.05 * span:
         raise DataError(f"{rec.source}: the input must move in both the first 70 % (fit) "

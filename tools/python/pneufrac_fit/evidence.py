@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from . import model
+from . import model, noise
 
 Z99 = 2.5758293035489  # two-sided 99 % normal quantile
 MAXLAG = 40
@@ -36,14 +36,20 @@ def steps(e: np.ndarray, min_rel: float = 0.02):
 
 
 def analyse(pb, fr, sd: float) -> dict:
-    y, e = pb.y, pb.e
+    """Residual findings. The cross-correlation with the input's increments
+    uses the residual whitened by its own noise model (noise.fit): noise
+    that is coloured but independent of the input then stays inside the
+    band +-2.576/sqrt(N), whatever its colour."""
+    y, e = pb.y, pb.e_abs
     r = y - fr.sim
     n = r.size
     lags = np.arange(0, MAXLAG + 1)
     acf = _xcorr(r, r, lags)
     de = np.diff(e, prepend=e[0])
     clag = np.arange(-MAXLAG, MAXLAG + 1)
-    ccf = _xcorr(r, de, clag)
+    nm = noise.fit(r[pb.counted])
+    rw = np.concatenate([np.zeros(nm.order), nm.whiten(r)])
+    ccf = _xcorr(rw, de, clag)
     bound = Z99 / math.sqrt(n)
 
     # residual by input level (signed amplitude), settled part of each hold
@@ -91,7 +97,7 @@ def analyse(pb, fr, sd: float) -> dict:
 
     rs = np.sort(r)
     return {
-        "r": r, "acf": acf, "lags": lags, "ccf": ccf, "clags": clag,
+        "r": r, "acf": acf, "lags": lags, "ccf": ccf, "clags": clag, "noise": nm,
         "bound": bound, "amp": amp, "rise": rise, "fall": fall, "early": early,
         "rms": float(np.sqrt(np.mean(r * r))),
         "acf_out": int(np.sum(np.abs(acf[1:]) > bound)),
@@ -110,26 +116,26 @@ def describe(ev: dict, pb, sd: float, floor: float, base) -> list[str]:
     """The baseline's residual evidence, one finding per string."""
     out = []
     fs = pb.setup.fs
-    out.append(f"Baseline validation NRMSE {base.nrmse_val:.4f} against an estimated "
-               f"noise floor of {floor:.4f} (sensor noise sd {sd:.3g}).")
+    out.append(f"Baseline validation NRMSE {base.nrmse_val:.4f}; noise floor {floor:.4f} "
+               f"(sample-to-sample sensor noise sd {sd:.3g}).")
     b = ev["bound"]
-    if ev["acf_out"] > 2:
-        k = int(np.argmax(np.abs(ev["acf"][1:]))) + 1
-        out.append(f"Residual autocorrelation leaves the 99 % band (+-{b:.3f}) at "
-                   f"{ev['acf_out']} of {MAXLAG} lags (largest {ev['acf'][k]:.2f} at lag {k}): "
-                   "the residual is not white, the model misses structure.")
-    else:
-        out.append(f"Residual autocorrelation stays inside the 99 % band (+-{b:.3f}) "
-                   f"at {MAXLAG - ev['acf_out']} of {MAXLAG} lags: close to white.")
+    k = int(np.argmax(np.abs(ev["acf"][1:]))) + 1
+    out.append(f"Residual autocorrelation: {ev['acf_out']} of {MAXLAG} lags outside the "
+               f"white-noise band +-{b:.3f} (largest {ev['acf'][k]:+.2f} at lag {k}); its noise "
+               f"model is {ev['noise'].describe()}. Colour alone is no evidence against the "
+               "model: noise can be coloured; the test below is.")
     k = int(np.argmax(np.abs(ev["ccf"])))
     lag = int(ev["clags"][k])
-    if abs(ev["ccf"][k]) > b:
-        out.append(f"Residual-input cross-correlation (input steps) peaks at lag {lag:+d} "
-                   f"samples ({ev['ccf'][k]:+.2f}, 99 % band +-{b:.3f}): "
-                   + ("the output's answer to a step is wrong right after it."
-                      if 0 <= lag <= 15 else "the response to steps is mis-shaped."))
+    if ev["ccf_out"] > 2 and abs(ev["ccf"][k]) > b:
+        out.append(f"Residual (whitened by its noise model) against the input's increments: "
+                   f"{ev['ccf_out']} of {2 * MAXLAG + 1} lags outside the 99 % band "
+                   f"+-{b:.3f}, largest {ev['ccf'][k]:+.2f} at lag {lag:+d} samples: the "
+                   "residual depends on the input, so the model misses structure"
+                   + (" right after the input changes." if 0 <= lag <= 15 else "."))
     else:
-        out.append("Residual-input cross-correlation stays inside its 99 % band.")
+        out.append("Residual (whitened by its noise model) against the input's increments: "
+                   f"inside the 99 % band at {2 * MAXLAG + 1 - ev['ccf_out']} of "
+                   f"{2 * MAXLAG + 1} lags: no structure the input explains is left.")
     if ev["early"] is not None:
         ls = ev["early"]["lag_samples"]
         out.append(f"Early response after steps: the measured output follows the model "
@@ -161,8 +167,6 @@ def _shape(c, m) -> str:
     """Words for how the level-wise residual bends."""
     if len(c) < 3:
         return "few levels."
-    p = np.polyfit(c, m, 3)
-    lin, cub = p[2], p[0]
     edge = max(abs(m[0]), abs(m[-1]))
     mid = float(np.mean(np.abs(m[1:-1]))) if len(m) > 2 else 0.0
     if edge > 2.5 * mid and m[0] * m[-1] < 0 and m[-1] < 0:
@@ -173,71 +177,83 @@ def _shape(c, m) -> str:
     return "the measured gain changes with the level (a nonlinearity)."
 
 
-def verdict(cause, base, ext, cands, evb, eva, pb, floor) -> list[str]:
-    """Why this cause: the numbers that decided and the evidence they fix."""
+def _fails(t) -> str:
+    return "; ".join(t.reasons) if t.reasons else "passes"
+
+
+def verdict(causes, base, ext, tests, checks, evb, eva, pb, floor) -> list[str]:
+    """Why these causes: the numbers that decided and the evidence they fix."""
+    from . import guards
     out = []
     fs = pb.setup.fs
-    table = sorted(cands, key=lambda c: c.nrmse_val)
-    if cause == "none":
-        best = table[0]
-        out.append(
-            f"No effect is named: the best candidate, {best.effect}, changes the held-out "
-            f"NRMSE from {base.nrmse_val:.4f} to {best.nrmse_val:.4f} "
-            f"({100 * getattr(best, 'val_gain', 0):.1f} % of the mean-square error, need "
-            f"> 5 %) with dBIC {getattr(best, 'dbic', 0):+.1f} (need < -10).")
-        if base.nrmse_val <= 1.5 * floor:
-            out.append(f"The baseline already explains the data down to the noise "
-                       f"(validation NRMSE {base.nrmse_val:.4f}, noise floor {floor:.4f}).")
+    m = pb.setup.oversample
+    if not causes:
+        out.append("No effect is named: none passes every guard against the linear model "
+                   "refitted with the same freedoms.")
+        for t in sorted(tests, key=lambda t: t.model.nrmse_val)[:3]:
+            out.append(f"{t.effect}: held-out NRMSE {t.ref.nrmse_val:.4f} -> "
+                       f"{t.model.nrmse_val:.4f}, dBIC {t.dbic:+.1f}, largest contribution "
+                       f"{t.peak:.2g} noise sd: {_fails(t)}.")
+        if evb["ccf_out"] <= 2:
+            out.append("The baseline's residual does not depend on the input: the linear "
+                       f"model explains the data down to the noise (validation NRMSE "
+                       f"{base.nrmse_val:.4f}, noise floor {floor:.4f}).")
         else:
-            out.append(f"The baseline is above the noise floor ({base.nrmse_val:.4f} vs "
-                       f"{floor:.4f}) but none of the catalogued causes explains the rest.")
+            out.append(f"The baseline's residual still depends on the input (validation "
+                       f"NRMSE {base.nrmse_val:.4f}, noise floor {floor:.4f}), but no "
+                       "catalogued cause explains it materially.")
         return out
-    p = ext.effect_params
-    desc = describe_effect(cause, p, fs)
-    out.append(f"Cause: {cause} at the {model.PLACE[cause]}: {desc}.")
+    by = {t.effect: t for t in checks}
+    p = ext.effect_params(pb.setup.fs_int, m)
+    for c in causes:
+        t = by.get(c)
+        desc = describe_effect(c, p, fs)
+        line = f"Cause: {c} at the {model.PLACE[c]}: {desc}"
+        if t is not None:
+            line += (f"; without it the held-out NRMSE is {t.ref.nrmse_val:.4f} (with it "
+                     f"{t.model.nrmse_val:.4f}), dBIC {t.dbic:+.1f}, largest contribution "
+                     f"{t.peak:.2g} noise sd")
+        out.append(line + ".")
     out.append(f"Held-out NRMSE {base.nrmse_val:.4f} -> {ext.nrmse_val:.4f} "
-               f"(noise floor {floor:.4f}); BIC {ext.bic - base.bic:+.1f}.")
-    others = [c for c in table if c.effect != cause]
+               f"(noise floor {floor:.4f}).")
+    named = set(causes)
+    others = [t for t in sorted(tests, key=lambda t: t.model.nrmse_val) if t.effect not in named]
     if others:
         o = others[0]
-        out.append(f"Runner-up: {o.effect} reaches {o.nrmse_val:.4f} held-out"
-                   + ("" if getattr(o, "passes", False) else " and fails a guard") + ".")
+        out.append(f"Best of the others on the baseline: {o.effect} ({o.model.nrmse_val:.4f} "
+                   f"held-out): {_fails(o) if not o.passes else 'passes alone, but not once the named effects are in'}.")
     k = evb["early"]["lag_samples"] if evb["early"] else 0.0
-    ka = eva["early"]["lag_samples"] if eva["early"] else 0.0
-    if cause == "dead_time":
-        out.append(f"The residual evidence agrees: after steps the output answers "
-                   f"{k:+.1f} samples late against the baseline and {ka:+.1f} after the fix; "
-                   "a pure delay shifts the whole response without changing its shape, "
-                   "which a lag (rounded start) or the relay's own dynamics cannot mimic.")
-    elif cause == "lag":
-        out.append(f"The residual evidence agrees: the output's early response is "
-                   f"rounded, not shifted (best shift {k:+.1f} samples), and the residual "
-                   "correlates with the input steps over the first few samples; a first-"
-                   "order lag on the line explains it, a pure delay does not.")
-    elif cause == "saturation":
-        out.append("The residual evidence agrees: the error sits at the extremes of the "
-                   "input range, where the measured output is flat while the model "
-                   "keeps rising: p_c is clipped.")
-    elif cause == "backlash":
-        mr, _ = _t(evb["rise"])
-        mf, _ = _t(evb["fall"])
-        out.append(f"The residual evidence agrees: the baseline's error depends on the "
-                   f"direction of the last step (rising {mr:+.3g}, falling {mf:+.3g}): "
-                   "the flapper stays put until the input has crossed the dead band.")
-    elif cause == "nozzle":
-        out.append("The residual evidence agrees: the error grows smoothly with the "
-                   "input's amplitude, without flat tops: the nozzle's gain falls away "
-                   "from its operating point.")
-    out.append(f"After the fix: residual autocorrelation outside the 99 % band at "
-               f"{eva['acf_out']} lags (was {evb['acf_out']}), cross-correlation at "
-               f"{eva['ccf_out']} lags (was {evb['ccf_out']}).")
+    for c in causes:
+        if c == "dead_time":
+            out.append(f"Evidence: after steps the output answers {k:+.1f} samples late "
+                       "against the baseline; a pure delay shifts the whole response without "
+                       "changing its shape, which a lag or the relay's dynamics cannot mimic.")
+        elif c == "lag":
+            out.append("Evidence: the output's early response is rounded, not shifted; a "
+                       "first-order lag on the line explains it, a pure delay does not.")
+        elif c == "saturation":
+            out.append("Evidence: the error sits at the extremes of the output range, where "
+                       "the measured output is flat while the model keeps rising: p_c is "
+                       "clipped.")
+        elif c == "backlash":
+            mr, _ = _t(evb["rise"])
+            mf, _ = _t(evb["fall"])
+            out.append(f"Evidence: the baseline's error depends on the direction of the last "
+                       f"step (rising {mr:+.3g}, falling {mf:+.3g}): the flapper stays put "
+                       "until the input has crossed the dead band.")
+        elif c == "nozzle":
+            out.append("Evidence: the error grows smoothly with the input's amplitude, "
+                       "without flat tops: the nozzle's gain changes away from its "
+                       "operating point.")
+    out.append(f"After the fix: the whitened residual leaves the 99 % band against the "
+               f"input at {eva['ccf_out']} lags (was {evb['ccf_out']}).")
     return out
 
 
 def describe_effect(cause: str, p: dict, fs: float) -> str:
     if cause == "dead_time":
         return (f"dead time {p['dead_time'] * 1e3:.4g} ms "
-                f"({p['dead_time_samples']} samples)")
+                f"({p['dead_time_samples']:g} samples)")
     if cause == "lag":
         return f"line lag {p['lag'] * 1e3:.4g} ms ({p['lag'] * fs:.2f} samples)"
     if cause == "saturation":

@@ -9,7 +9,8 @@ given in the units the diagnosis reports:
 
     dead_time  s                      lag        s
     backlash   dead-band full width, input units (the library gets x units)
-    nozzle     x_1/2, input units
+    nozzle     x_1/2, input units; nozzle_bias (gap above the inflection,
+               units of x_1/2; 0 = at the inflection)
     saturation sat_lo, sat_hi, output units
 """
 from __future__ import annotations
@@ -18,28 +19,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import lib, model
+from . import excite, lib, sensor
 
 
 def bump_input(n: int, fs: float, rng: np.random.Generator, amp: float = 1.0,
                hold=(0.06, 0.4), rest: float = 0.1, min_step: float = 0.15) -> np.ndarray:
-    """Random steps of varied amplitude and sign, after a rest at zero.
-
-    Levels are uniform in [-amp, amp]; consecutive levels differ by at least
-    min_step*amp, so both small and large rises and falls occur."""
-    e = np.zeros(n)
-    i = int(round(rest * fs))
-    level = 0.0
-    while i < n:
-        while True:
-            new = rng.uniform(-amp, amp)
-            if abs(new - level) >= min_step * amp:
-                break
-        level = new
-        k = max(1, int(round(rng.uniform(*hold) * fs)))   # fs < 1/hold: 1 sample
-        e[i:i + k] = level
-        i += k
-    return e
+    """Random steps (excite.steps)."""
+    return excite.steps(n, fs, rng, amp, hold, rest, min_step)
 
 
 @dataclass
@@ -54,12 +40,17 @@ class Dataset:
     effect_params: dict
     noise_sd: float
     params: dict = field(default_factory=dict)
+    effects: dict = field(default_factory=dict)     # {name: params} hidden
 
     @property
     def noise_floor(self) -> float:
-        """NRMSE of a perfect model on the validation part (last 30 %)."""
+        """NRMSE on the validation part (last 30 %) of a perfect model whose
+        output offset is fitted on the rest: what every disturbance the
+        sensor added (noise, drift, quantisation) leaves."""
         s = int(0.7 * self.e.size)
-        return self.noise_sd / float(np.std(self.pc[s:]))
+        dist = self.pc - self.clean
+        r = dist[s:] - float(np.mean(dist[:s]))
+        return float(np.sqrt(np.mean(r * r))) / float(np.std(self.pc[s:]))
 
     def comments(self) -> list[str]:
         fx = ", ".join(f"{k}={v:.6g}" for k, v in self.effect_params.items()) or "-"
@@ -70,28 +61,63 @@ class Dataset:
 def generate(config: str = "dd", effect: str = "none", effect_params: dict | None = None,
              *, n: int = 6000, fs: float = 1000.0, noise: float = 0.005,
              oversample: int = 4, seed: int = 0, amp: float = 1.0,
-             params: dict | None = None, e: np.ndarray | None = None) -> Dataset:
+             params: dict | None = None, e: np.ndarray | None = None,
+             effects: dict | None = None, order: int = 0, wh: float = 0.0,
+             noise_kind: str = "white", drift: float = 0.0, adc_bits: int = 0,
+             input_kind: str = "steps", rest: float = 0.1) -> Dataset:
     """One record. noise is the sensor noise sd as a fraction of the clean
-    output's span (max - min)."""
+    output's span (max - min); drift a slow wander of that peak-to-peak
+    fraction; adc_bits quantises e and pc over 110 % of their ranges.
+    effects ({name: params}) hides several effects at once (effect and
+    effect_params: one). order and wh (rad/s) choose the plant's Oustaloup
+    approximation (0: the library's defaults)."""
     rng = np.random.default_rng(seed)
     p = lib.default_params(config)
     p.update(params or {})
-    ev = dict(effect_params or {})
+    fxs = dict(effects or {})
+    if effect != "none":
+        fxs[effect] = dict(effect_params or {})
     if e is None:
-        e = bump_input(n, fs, rng, amp)
-    fx = model.library_effects(effect, ev, fs * oversample)
-    if effect in ("backlash", "nozzle"):
-        ce = p["b"] / (p["a"] + p["b"])  # report units -> x units of *this* plant
-        key = "backlash" if effect == "backlash" else "nozzle_xh"
-        fx[key] = fx[key] / model.CE * ce
-    if effect == "dead_time":
-        fx["dead_time"] = ev["dead_time"]
-    ctl = lib.Controller(config, p, fx, fs * oversample)
+        e = excite.make(input_kind, n, fs, rng, amp, rest)
+    fx = {}
+    for name, ev in fxs.items():
+        fx.update(plant_effects(name, ev, p))
+    ctl = lib.Controller(config, p, fx, fs * oversample, order=order, wh=wh)
     clean = ctl.run(np.repeat(e, oversample))[::oversample]
-    sd = noise * float(np.ptp(clean))
-    pc = clean + sd * rng.standard_normal(clean.size)
+    span = float(np.ptp(clean))
+    sd = noise * span
+    pc = clean + sensor.coloured(clean.size, sd, noise_kind, rng)
+    if drift > 0:
+        pc = pc + sensor.drift(clean.size, fs, drift * span, rng)
+    em = e
+    if adc_bits:
+        pad_y, pad_e = 0.05 * span, 0.05 * float(np.ptp(e))
+        pc = sensor.adc(pc, adc_bits, float(np.min(clean)) - pad_y, float(np.max(clean)) + pad_y)
+        em = sensor.adc(e, adc_bits, float(np.min(e)) - pad_e, float(np.max(e)) + pad_e)
     t = np.arange(e.size) / fs
-    return Dataset(t, e, pc, clean, fs, config, effect, ev, sd, p)
+    name = "+".join(fxs) if fxs else "none"
+    ev = dict(effect_params or {}) if len(fxs) <= 1 else {k: v for d in fxs.values() for k, v in d.items()}
+    if len(fxs) == 1:
+        ev = next(iter(fxs.values()))
+    return Dataset(t, em, pc, clean, fs, config, name, ev, sd, p, fxs)
+
+
+def plant_effects(effect: str, ev: dict, p: dict) -> dict:
+    """Effect sizes in report units to the library's pf_effects for the
+    plant p (backlash and nozzle act on x = ce e - cy y: input units times
+    this plant's ce = b/(a+b))."""
+    ce = p["b"] / (p["a"] + p["b"])
+    if effect == "dead_time":
+        return {"dead_time": ev["dead_time"]}
+    if effect == "lag":
+        return {"lag": ev["lag"]}
+    if effect == "saturation":
+        return {"saturate": 1, "sat_lo": ev["sat_lo"], "sat_hi": ev["sat_hi"]}
+    if effect == "backlash":
+        return {"backlash": ev["deadband"] * ce}
+    if effect == "nozzle":
+        return {"nozzle_xh": ev["nozzle_xh"] * ce, "nozzle_bias": ev.get("nozzle_bias", 0.0)}
+    return {}
 
 
 def linear_output(config: str, e: np.ndarray, fs: float, oversample: int = 4,
@@ -138,7 +164,10 @@ def draw_effect(effect: str, config: str, rng: np.random.Generator, fs: float,
         return {"deadband": (0.01 + 0.04 * u) * span_e}       # 1..5 % of span
     if effect == "nozzle":
         amp = float(np.max(np.abs(e)))
-        return {"nozzle_xh": (1.5 + 2.5 * u) * amp}           # 5..25 % compression
+        # 5..25 % compression at the inflection; biased at the equilibrium
+        # anywhere from before the inflection to well beyond it
+        return {"nozzle_xh": (1.5 + 2.5 * u) * amp,
+                "nozzle_bias": float(rng.uniform(-0.3, 1.0))}
     if effect == "saturation":
         # Limits inside the range that both the fit part (first 70 %) and the
         # validation part reach, so that both see the clipping.

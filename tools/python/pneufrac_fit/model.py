@@ -60,14 +60,21 @@ CONFIG_GROUPS = {
 
 # Effect parameters in the units the report uses.
 EFFECT_PARAMS = {
-    "dead_time": ["dead_time"],          # s (integer number of samples)
+    "dead_time": ["dead_time"],          # s (whole internal samples)
     "lag": ["lag"],                      # s
     "saturation": ["sat_lo", "sat_hi"],  # output units
     "backlash": ["deadband"],            # full width, input units
-    "nozzle": ["nozzle_xh"],             # x_1/2, input units
+    "nozzle": ["nozzle_xh", "nozzle_bias"],  # x_1/2, input units; bias point
     "none": [],
 }
 CAUSES = ["dead_time", "lag", "saturation", "backlash", "nozzle"]
+
+
+def canonical(effects) -> tuple:
+    """A set of effects in the catalogue's order (one name for one model)."""
+    s = set(effects)
+    return tuple(c for c in CAUSES if c in s)
+
 
 PLACE = {
     "dead_time": "output line (transport delay)",
@@ -133,19 +140,34 @@ def physical_from_groups(config: str, g: dict) -> dict:
     return p
 
 
-def library_effects(effect: str, ev: dict, fs: float) -> dict:
-    """Effect parameters (report units) to the library's pf_effects."""
-    if effect == "dead_time":
-        return {"dead_time": round(ev["dead_time"] * fs) / fs}
-    if effect == "lag":
-        return {"lag": ev["lag"]}
-    if effect == "saturation":
-        return {"saturate": 1, "sat_lo": ev["sat_lo"], "sat_hi": ev["sat_hi"]}
-    if effect == "backlash":
-        return {"backlash": ev["deadband"] * CE}
-    if effect == "nozzle":
-        return {"nozzle_xh": ev["nozzle_xh"] * CE}
-    return {}
+def library_effects(effects, ev: dict, fs_int: float) -> dict:
+    """Effect parameters (report units) of a set of effects to the
+    library's pf_effects; fs_int is the simulation rate (dead time is a
+    whole number of its samples, ev["dead"])."""
+    fx = {}
+    for eff in effects:
+        if eff == "dead_time" and ev.get("dead", 0) > 0:
+            fx["dead_time"] = ev["dead"] / fs_int
+        elif eff == "lag":
+            fx["lag"] = ev["lag"]
+        elif eff == "saturation":
+            fx.update(saturate=1, sat_lo=ev["sat_lo"], sat_hi=ev["sat_hi"])
+        elif eff == "backlash" and ev["deadband"] > 0:
+            fx["backlash"] = ev["deadband"] * CE
+        elif eff == "nozzle" and ev.get("nozzle_k", 0) > 0:
+            fx["nozzle_xh"] = CE / ev["nozzle_k"]
+            fx["nozzle_bias"] = ev.get("nozzle_bias", 0.0)
+    return fx
+
+
+# Internal simulation rate: at least F_SIM_MIN (the data rate times the
+# smallest whole factor that reaches it), so that a slow record is not
+# simulated coarser than the 1 kHz x 2 the method was validated at.
+F_SIM_MIN = 2000.0
+
+
+def auto_oversample(fs: float) -> int:
+    return max(1, int(math.ceil(F_SIM_MIN / fs - 1e-9)))
 
 
 @dataclass
@@ -163,16 +185,29 @@ class Setup:
             lo, hi = 0.1 / self.fs, 10.0 * self.duration
         return lo, hi
 
-    def simulate(self, g: dict, e: np.ndarray, effect: str = "none",
-                 ev: dict | None = None) -> np.ndarray:
+    @property
+    def fs_int(self) -> float:
+        """The simulation rate: oversample x the data rate."""
+        return self.fs * self.oversample
+
+    def simulate(self, g: dict, e: np.ndarray, effects=(), ev: dict | None = None,
+                 oversample: int | None = None, internal: bool = False) -> np.ndarray:
+        """The library's output at the data samples for input e (deviation
+        from the operating point), simulated at oversample x the data rate
+        with the input held over each data sample (internal: every sample of
+        the simulation rate)."""
+        m = self.oversample if oversample is None else oversample
         p = physical_from_groups(self.config, g)
-        fx = library_effects(effect, ev or {}, self.fs)
-        m = self.oversample
+        ev = dict(ev or {})
+        if oversample is not None and "dead" in ev:   # the same delay in seconds
+            ev["dead"] = ev["dead"] * m / self.oversample
+        fx = library_effects(effects, ev, self.fs * m)
         ctl = lib.Controller(self.config, p, fx, self.fs * m, order=self.order,
                              t_slow=max(self.duration, 1.0 / self.fs * 100))
         if m == 1:
             return ctl.run(e)
-        return ctl.run(np.repeat(e, m))[::m]
+        out = ctl.run(np.repeat(e, m))
+        return out if internal else out[::m]
 
 
 def fmt_value(name: str, v: float) -> str:

@@ -6,10 +6,8 @@ import json
 import math
 from pathlib import Path
 
-import numpy as np
-
 from . import evidence as ev_mod
-from . import model
+from . import guards, model
 
 
 def _num(v):
@@ -19,30 +17,30 @@ def _num(v):
     return v if math.isfinite(v) else None
 
 
-def effect_params_abs(d, fr) -> dict:
-    """Effect parameters in the record's own units (saturation limits are
-    absolute output values: the fit works on deviations from pc0)."""
-    p = {k: _num(v) if k != "dead_time_samples" else int(v)
-         for k, v in fr.effect_params.items()}
-    if "sat_lo" in p:
-        p["sat_lo"] += d.pc0
-        p["sat_hi"] += d.pc0
-    return p
+def _effect_params(d, fr) -> dict:
+    """Report units; saturation limits absolute."""
+    p = fr.effect_params(d.pb.setup.fs_int, d.oversample)
+    return {k: _num(v) for k, v in p.items()}
 
 
 def _params(d, fr) -> dict:
-    out = {g: _num(v) for g, v in fr.groups.items()}
-    out.update(effect_params_abs(d, fr))
+    out = {g: _num(v) for g, v in fr.groups.items() if g in model.GROUPS}
+    out["e0"] = _num(fr.e0)
+    out["pc0"] = _num(fr.values.get("pc0"))
+    out.update(_effect_params(d, fr))
     return out
 
 
-def _ci(d, fr) -> dict:
+def _ci(fr) -> dict:
+    """95 % intervals in report units (nozzle_k -> nozzle_xh; saturation
+    limits absolute)."""
     out = {}
+    pc0 = fr.values.get("pc0", 0.0)
     for name, (lo, hi) in fr.ci.items():
         if name == "nozzle_k":
             name = "nozzle_xh"
-            lo, hi = (1 / hi if hi and hi > 0 else None), (1 / lo if lo and lo > 0 else None)
-        shift = d.pc0 if name in ("sat_lo", "sat_hi") else 0.0
+            lo, hi = ((1 / hi if hi and hi > 0 else None), (1 / lo if lo and lo > 0 else None))
+        shift = pc0 if name in ("sat_lo", "sat_hi") else 0.0
         out[name] = [None if lo is None else _num(lo + shift),
                      None if hi is None else _num(hi + shift)]
     return out
@@ -50,23 +48,66 @@ def _ci(d, fr) -> dict:
 
 def _model(d, fr) -> dict:
     return {
+        "effects": list(fr.effects),
         "params": _params(d, fr),
-        "ci95": _ci(d, fr),
-        "fitted": [("nozzle_xh" if n == "nozzle_k" else n) for n in fr.free]
-                  + (["dead_time"] if fr.effect == "dead_time" else []),
+        "ci95": _ci(fr),
+        "fitted": [("nozzle_xh" if n == "nozzle_k" else n) for n in fr.names]
+                  + (["K"] if fr.K_solved else []) + (["pc0"] if fr.pc0_solved else [])
+                  + (["dead_time"] if "dead_time" in fr.effects else []),
         "nrmse_fit": _num(fr.nrmse_fit),
         "nrmse_val": _num(fr.nrmse_val),
         "bic": _num(fr.bic),
     }
 
 
+def _test(d, t) -> dict:
+    return {
+        "name": t.effect,
+        "on_top_of": list(t.ref.effects),
+        "nrmse_val": _num(t.model.nrmse_val),
+        "nrmse_val_without": _num(t.ref.nrmse_val),
+        "delta_bic": _num(t.dbic),
+        "likelihood_ratio": _num(t.lr),
+        "peak_contribution_sd": _num(t.peak),
+        "contribution_energy": _num(t.snr),
+        "contribution_over_discretisation": _num(t.approx),
+        "val_gain": _num(t.val_gain),
+        "passes_guards": bool(t.passes),
+        "why_not": list(t.reasons),
+        "params": _effect_params(d, t.model),
+    }
+
+
+def _cause(d, name) -> dict:
+    t = next((t for t in d.checks if t.effect == name), None)
+    p = _effect_params(d, d.extended)
+    keys = model.EFFECT_PARAMS[name] + (["dead_time_samples"] if name == "dead_time" else [])
+    ci = _ci(d.extended)
+    out = {
+        "name": name,
+        "place": model.PLACE[name],
+        "params": {k: p[k] for k in keys if k in p},
+        "ci95": {k: ci[k] for k in ("lag", "deadband", "nozzle_xh", "nozzle_bias", "sat_lo",
+                                    "sat_hi")
+                 if k in ci and k in keys},
+    }
+    if t is not None:
+        out["gain"] = {"nrmse_val_without": _num(t.ref.nrmse_val),
+                       "nrmse_val_with": _num(t.model.nrmse_val),
+                       "delta_bic": _num(t.dbic), "likelihood_ratio": _num(t.lr),
+                       "peak_contribution_sd": _num(t.peak)}
+    return out
+
+
 def to_dict(d) -> dict:
     ext = d.extended
+    nm = d.noise_model
     return {
         "config": d.config,
         "cause": d.cause,
+        "causes": [_cause(d, c) for c in d.causes],
         "place": model.PLACE[d.cause],
-        "effect_params": effect_params_abs(d, ext) if d.cause != "none" else {},
+        "effect_params": _effect_params(d, ext) if d.causes else {},
         "baseline": _model(d, d.baseline),
         "extended": _model(d, ext),
         "gain": {
@@ -74,16 +115,25 @@ def to_dict(d) -> dict:
             "nrmse_val_after": _num(ext.nrmse_val),
             "delta_bic": _num(ext.bic - d.baseline.bic),
         },
-        "candidates": [
-            {"name": c.effect, "nrmse_val": _num(c.nrmse_val), "bic": _num(c.bic),
-             "delta_bic": _num(c.bic - d.baseline.bic), "passes_guards": bool(c.passes),
-             "params": effect_params_abs(d, c)}
-            for c in d.candidates],
+        "candidates": [_test(d, t) for t in d.tests],
+        "rounds": [[_test(d, t) for t in r] for r in d.rounds],
         "evidence": list(d.evidence),
         "verdict": list(d.why),
         "identified": {g: bool(v) for g, v in d.identified.items()},
         "held": dict(d.fixed_reason),
+        "fit_notes": list(d.fit_notes),
+        "noise": {"white_sd": _num(d.noise_sd),
+                  "model": nm.describe() if nm is not None else None,
+                  "ar": [_num(a) for a in nm.a] if nm is not None else [],
+                  "process_sd": _num(math.sqrt(nm.var)) if nm is not None else None,
+                  "floor_val": _num(d.noise_floor_val), "floor_source": d.noise_floor_source},
+        "guards": {"min_delta_bic": guards.MIN_DBIC, "min_val_gain": guards.MIN_VAL_GAIN,
+                   "material_sigmas": guards.MATERIAL_SIGMAS,
+                   "material_energy": guards.MATERIAL_SNR,
+                   "over_discretisation": guards.APPROX_RATIO,
+                   "min_timing_samples": guards.MIN_TIMING},
         "record": {"n": d.n, "n_fit": d.nfit, "fs": d.fs, "e0": d.e0, "pc0": d.pc0,
+                   "oversample": d.oversample,
                    "noise_sd": _num(d.noise_sd), "noise_floor_val": _num(d.noise_floor_val),
                    "notes": list(d.record_notes)},
         "elapsed_s": round(d.elapsed, 2),
@@ -95,6 +145,25 @@ def to_json(d) -> str:
 
 
 # ----------------------------------------------------------------- report
+def _fmt(name, x):
+    if x is None:
+        return "-"
+    if name in model.GROUPS or name in ("lag", "dead_time"):
+        return model.fmt_value(name, x)
+    return f"{x:.4g}"
+
+
+def _round_table(w, d, tests):
+    w("| effect | held-out NRMSE without -> with | ΔBIC | peak / noise sd | energy / noise | "
+      "energy / discretisation | held-out gain | named? |")
+    w("|---|---|---|---|---|---|---|---|")
+    for t in sorted(tests, key=lambda t: t.model.nrmse_val):
+        w(f"| {t.effect} | {t.ref.nrmse_val:.4f} -> {t.model.nrmse_val:.4f} | {t.dbic:+.1f} | "
+          f"{t.peak:.3g} | {t.snr:.3g} | {t.approx:.3g} | {100 * t.val_gain:.1f} % | "
+          + ("passes" if t.passes else "no: " + "; ".join(t.reasons)) + " |")
+    w("")
+
+
 def write_report(d, out: Path) -> Path:
     from . import plots
     out = Path(out)
@@ -104,22 +173,24 @@ def write_report(d, out: Path) -> Path:
     L = []
     w = L.append
     w(f"# pneufrac-fit diagnosis: configuration `{d.config}`\n")
-    w(f"**Verdict: {d.cause}**" + (f" ({model.PLACE[d.cause]})" if d.cause != "none" else "")
-      + "\n")
+    w("**Verdict: " + (", ".join(d.causes) if d.causes else "none") + "**\n")
     for s in d.why:
         w(f"- {s}")
     w("")
     w(f"![overview]({figs['overview']})\n")
     w("## Data\n")
     w(f"- {d.n} samples at {d.fs:g} Hz; fit on the first {d.nfit} "
-      f"({d.nfit / d.fs:.3g} s), validation on the last {d.n - d.nfit}.")
+      f"({d.nfit / d.fs:.3g} s), validation on the last {d.n - d.nfit}; the model is "
+      f"simulated at {d.oversample}x the data rate.")
     for note in d.record_notes:
         w(f"- {note}")
-    w(f"- Estimated sensor noise sd {d.noise_sd:.4g} (output units); noise floor of the "
-      f"validation NRMSE {d.noise_floor_val:.4f}.")
+    nz = j["noise"]
+    w(f"- Noise: sample-to-sample sd {d.noise_sd:.4g} (output units); the final residual's "
+      f"noise model is {nz['model']}; noise floor of the validation NRMSE "
+      f"{d.noise_floor_val:.4f}, from {d.noise_floor_source}.")
     w("- NRMSE = rms(measured - simulated) / sd(measured) on the part named. The model "
       "is simulated from rest over the whole record (output error, not one-step "
-      "prediction).\n")
+      "prediction); its gain K and output offset pc0 are solved by least squares.\n")
     w("## 1. Baseline: the paper's linear fractional model\n")
     w("Only groups of the paper's parameters reach the output (k1 and k2 act as a "
       "product; a, b, A, ks and Ψmin only through K and L):\n")
@@ -129,47 +200,57 @@ def write_report(d, out: Path) -> Path:
         v = d.baseline.groups[g]
         lo, hi = d.baseline.ci.get(g, (None, None))
         ci = (f"[{model.fmt_value(g, lo)}, {model.fmt_value(g, hi)}]"
-              if lo is not None and g in d.baseline.free else "-")
+              if lo is not None and hi is not None else "-")
         status = "identified" if d.identified.get(g) else d.fixed_reason.get(g, "held")
         w(f"| {g} | {model.GROUPS[g][3]} | {model.fmt_value(g, v)} | {ci} | {status} |")
     w("")
+    for s in d.fit_notes:
+        w(f"- {s}")
+    w("")
     w(f"NRMSE fit {d.baseline.nrmse_fit:.4f}, validation {d.baseline.nrmse_val:.4f}; "
-      f"BIC {d.baseline.bic:.1f} (fit part, k = {d.baseline.k}). Intervals are "
-      "s²(JᵀJ)⁻¹ from the output-error Jacobian; with a coloured residual they are "
-      "optimistic.\n")
+      f"BIC {d.baseline.bic:.1f} (fit part, k = {d.baseline.k}). Intervals are the "
+      "sandwich covariance of the output-error estimate under the residual's AR noise "
+      "model, so they hold for coloured noise.\n")
     w("## 2. What the baseline gets wrong\n")
     for s in d.evidence:
         w(f"- {s}")
     w("")
     w(f"![baseline residuals]({figs['before']})\n")
-    w("## 3. The cause\n")
-    w("Each candidate is the baseline plus one effect block, placed where the physics "
-      "puts it, fitted from warm starts (the baseline's values) and fresh starts. "
-      f"A candidate must lower BIC by more than {10:g} and the held-out mean-square error "
-      "by more than 5 %; the lowest held-out NRMSE among those wins.\n")
-    w("| candidate | place | effect parameters | NRMSE val | ΔBIC | passes |")
-    w("|---|---|---|---|---|---|")
-    for c in sorted(d.candidates, key=lambda c: c.nrmse_val):
-        w(f"| {c.effect} | {model.PLACE[c.effect]} | "
-          f"{ev_mod.describe_effect(c.effect, effect_params_abs(d, c), d.fs)} | "
-          f"{c.nrmse_val:.4f} | {c.bic - d.baseline.bic:+.1f} | {'yes' if c.passes else 'no'} |")
-    w("")
+    w("## 3. The causes\n")
+    w("Forward selection: every effect block of the library, at its physical place, is "
+      "fitted on top of the model so far (warm and fresh starts) and tested against the "
+      "same model without it, refitted with the same freedoms. It is named only if "
+      f"its whitened likelihood ratio excludes the no-effect value at 95 %, BIC falls by "
+      f"more than {guards.MIN_DBIC:g}, the held-out error (measured and whitened) falls "
+      f"by more than {100 * guards.MIN_VAL_GAIN:g} %, and its contribution to the output is "
+      f"material: at least {guards.MATERIAL_SIGMAS:g} noise sd somewhere, an energy of "
+      f"{guards.MATERIAL_SNR:g} noise variances, {guards.APPROX_RATIO:g}x the energy of "
+      "the model's own discretisation error, and (timing effects) at least "
+      f"{guards.MIN_TIMING:g} sample long.\n")
+    for i, r in enumerate(d.rounds):
+        on = r[0].ref.effect if r else "none"
+        w(f"### Round {i + 1}: on top of {on}\n")
+        _round_table(w, d, r)
     w(f"![candidates]({figs['candidates']})\n")
     w("## 4. Extended model and the gain\n")
-    if d.cause == "none":
+    if not d.causes:
         w("No effect was added: the baseline stands.\n")
     else:
-        w(f"Effect: {ev_mod.describe_effect(d.cause, j['effect_params'], d.fs)}.\n")
+        for c in j["causes"]:
+            g = c.get("gain", {})
+            w(f"- **{c['name']}** ({c['place']}): "
+              + ev_mod.describe_effect(c["name"], c["params"], d.fs)
+              + (f"; without it the held-out NRMSE is {g['nrmse_val_without']:.4f}, with it "
+                 f"{g['nrmse_val_with']:.4f} (ΔBIC {g['delta_bic']:+.1f})" if g else "") + ".")
+        w("")
         w("| parameter | value | 95 % interval |")
         w("|---|---|---|")
         for name, v in j["extended"]["params"].items():
             if name == "dead_time_samples":
                 continue
             lo, hi = j["extended"]["ci95"].get(name, [None, None])
-            fmt = (lambda x: model.fmt_value(name, x)) if name in model.GROUPS or name in (
-                "lag", "dead_time") else (lambda x: f"{x:.4g}")
-            ci = f"[{fmt(lo)}, {fmt(hi)}]" if lo is not None and hi is not None else "-"
-            w(f"| {name} | {fmt(v) if v is not None else '-'} | {ci} |")
+            ci = f"[{_fmt(name, lo)}, {_fmt(name, hi)}]" if lo is not None and hi is not None else "-"
+            w(f"| {name} | {_fmt(name, v)} | {ci} |")
         w("")
     g = j["gain"]
     w("| | baseline | extended |")

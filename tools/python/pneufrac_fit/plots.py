@@ -32,37 +32,39 @@ def _zoom(d, width: int):
 
 def overview(d) -> Figure:
     t = d.t - d.t[0]
-    y = d.y + d.pc0
-    yb = d.baseline.sim + d.pc0
-    ye = d.extended.sim + d.pc0
+    y = d.y
+    yb = d.baseline.sim
+    ye = d.extended.sim
+    named = ", ".join(d.causes) if d.causes else "none"
     a, b = _zoom(d, int(min(d.n // 4, 1.0 * d.fs)))
     fig, ax = _subplots(3, 1, figsize=(9, 7.5))
     ax[0].plot(t, y, lw=0.6, color="0.5", label="measured")
     ax[0].plot(t, yb, lw=0.8, color="C3", label="baseline")
-    if d.cause != "none":
-        ax[0].plot(t, ye, lw=0.8, color="C0", label=f"extended ({d.cause})")
+    if d.causes:
+        ax[0].plot(t, ye, lw=0.8, color="C0", label=f"extended ({named})")
     ax[0].axvline(t[d.nfit], color="k", ls="--", lw=0.8)
     ax[0].text(t[d.nfit], ax[0].get_ylim()[1], " validation", va="top", fontsize=8)
     ax[0].set_ylabel("p_c")
     ax[0].legend(loc="lower left", fontsize=8, ncol=3)
-    ax[0].set_title(f"config {d.config}: verdict {d.cause}; validation NRMSE "
+    ax[0].set_title(f"config {d.config}: verdict {named}; validation NRMSE "
                     f"{d.baseline.nrmse_val:.4f} -> {d.extended.nrmse_val:.4f} "
                     f"(noise floor {d.noise_floor_val:.4f})", fontsize=10)
     ax[1].plot(t[a:b], y[a:b], ".", ms=2, color="0.5", label="measured")
     ax[1].plot(t[a:b], yb[a:b], lw=1, color="C3", label="baseline")
-    if d.cause != "none":
+    if d.causes:
         ax[1].plot(t[a:b], ye[a:b], lw=1, color="C0", label="extended")
     ax[1].set_ylabel("p_c (zoom)")
     ax2 = ax[1].twinx()
-    ax2.step(t[a:b], d.e[a:b] + d.e0, where="post", color="C2", lw=0.7, alpha=0.6)
+    ax2.step(t[a:b], d.e[a:b], where="post", color="C2", lw=0.7, alpha=0.6)
     ax2.set_ylabel("e", color="C2")
     ax[1].legend(loc="lower left", fontsize=8)
     rb = d.y - d.baseline.sim
     re = d.y - d.extended.sim
     ax[2].plot(t, rb, lw=0.5, color="C3", label="residual, baseline")
-    if d.cause != "none":
+    if d.causes:
         ax[2].plot(t, re, lw=0.5, color="C0", label="residual, extended")
-    s = d.noise_sd
+    # the noise process's sd (its colour included), from the final residual
+    s = float(np.sqrt(d.noise_model.var)) if d.noise_model is not None else d.noise_sd
     ax[2].axhline(2.576 * s, color="k", lw=0.6, ls=":")
     ax[2].axhline(-2.576 * s, color="k", lw=0.6, ls=":", label="±2.58 noise sd")
     ax[2].axvline(t[d.nfit], color="k", ls="--", lw=0.8)
@@ -93,11 +95,11 @@ def residuals(d, ev: dict, fr, title: str) -> Figure:
     a.bar(ev["clags"], ev["ccf"], width=0.8, color="C1")
     a.axhline(ev["bound"], color="r", ls="--", lw=0.8)
     a.axhline(-ev["bound"], color="r", ls="--", lw=0.8)
-    a.set_title("residual–input-step cross-correlation")
+    a.set_title("whitened residual – input-step cross-correlation")
     a.set_xlabel("lag (samples; > 0: residual after the step)")
     a = ax[1, 0]
     if ev["amp"]:
-        c = [x[0] + d.e0 for x in ev["amp"]]
+        c = [x[0] for x in ev["amp"]]
         m = [x[1] for x in ev["amp"]]
         s = [x[2] / np.sqrt(x[3]) * 2.576 for x in ev["amp"]]
         a.errorbar(c, m, yerr=s, fmt="o-", capsize=3)
@@ -124,15 +126,19 @@ def residuals(d, ev: dict, fr, title: str) -> Figure:
 
 
 def candidates(d) -> Figure:
-    cs = sorted(d.candidates, key=lambda c: c.nrmse_val)
-    fig, ax = _subplots(figsize=(7, 3.2))
-    names = ["baseline"] + [c.effect for c in cs]
-    vals = [d.baseline.nrmse_val] + [c.nrmse_val for c in cs]
-    cols = ["0.6"] + ["C0" if c.effect == d.cause else ("C2" if c.passes else "C7") for c in cs]
-    ax.barh(names[::-1], vals[::-1], color=cols[::-1])
+    """Held-out NRMSE of every model tried, round by round."""
+    rows = [("baseline", d.baseline.nrmse_val, "0.6")]
+    for i, r in enumerate(d.rounds):
+        for t in sorted(r, key=lambda t: t.model.nrmse_val):
+            on = "" if i == 0 else f" (on {t.ref.effect})"
+            col = "C0" if t.passes and t.effect in d.causes else ("C2" if t.passes else "C7")
+            rows.append((t.effect + on, t.model.nrmse_val, col))
+    fig, ax = _subplots(figsize=(7.5, 0.9 + 0.28 * len(rows)))
+    names = [r[0] for r in rows][::-1]
+    ax.barh(names, [r[1] for r in rows][::-1], color=[r[2] for r in rows][::-1])
     ax.axvline(d.noise_floor_val, color="k", ls="--", lw=0.8, label="noise floor")
-    ax.set_xlabel("validation NRMSE")
-    ax.set_title(f"candidates (verdict: {d.cause})", fontsize=10)
+    ax.set_xlabel("validation NRMSE (blue: named, green: passes, grey: fails a guard)")
+    ax.set_title("models tried (verdict: " + (", ".join(d.causes) or "none") + ")", fontsize=10)
     ax.legend(fontsize=8)
     return fig
 
@@ -145,8 +151,8 @@ def figures(d) -> dict:
         "before": residuals(d, d.ev_before, d.baseline,
                             "Baseline (paper's linear model): residual evidence"),
         "after": residuals(d, d.ev_after, d.extended,
-                           f"After the fix ({d.cause}): residual evidence" if d.cause != "none"
-                           else "Baseline kept (no cause named): residual evidence"),
+                           f"After the fix ({', '.join(d.causes)}): residual evidence"
+                           if d.causes else "Baseline kept (no cause named): residual evidence"),
         "candidates": candidates(d),
     }
 

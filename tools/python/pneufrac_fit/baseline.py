@@ -1,0 +1,224 @@
+# SPDX-License-Identifier: MIT
+"""The baseline: the paper's linear model fitted from many starts, kept out
+of corners, and pruned to the groups the record determines.
+
+Corner: a fit that ends with a group at a bound of its range (beta at 1,
+tau at a tenth of a sample...). It is restarted with that group moved back
+inside; if no restart finds a better interior optimum the group is held at
+the bound (the data put it there: beta = 1 is an integer-order diaphragm,
+q = 0 a linear spring), which keeps its singular column out of the
+identifiability test of the others.
+
+Pruning: a group whose 95 % interval (sandwich covariance under the
+residual's noise model) is wider than a factor 2 (orders: +-0.15) is not
+identified; the worst is held and the fit repeated: where the fit put it if
+the record shows it but only in combination with others (entangled), at the
+paper's value if moving it changes nothing the record shows.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import fit, model, noise, search
+
+ID_LOG = math.log(2.0)
+ID_LIN = 0.15
+N_FRESH = 24               # fresh starts ranked
+N_FRESH_KEEP = 4           # ... of which explored
+STAGE_ITER = 20            # the baseline is one fit: it gets twice the search
+BOUND_EDGE = 1e-3          # of the transformed range: "at the bound"
+VISIBLE = 10.0             # noise variances of RSS: a change the record shows
+
+
+def _paper_start(pb):
+    nom = model.nominal_groups(pb.setup.config)
+    st = {g: nom[g] for g in pb.free if g in nom}
+    if "e0" in pb.free:
+        st["e0"] = pb.e0_default()
+    return st
+
+
+def _at_bounds(pb, fr) -> list[tuple[str, str, float]]:
+    """(group, 'lower'/'upper', bound) of every free group at a bound."""
+    out = []
+    for (name, tr, lo, hi), th in zip(fit.specs(pb, fr.effects), fr.theta):
+        if name not in model.GROUPS or name in ("K",) or tr == "wnu":
+            continue
+        tlo, thi = (math.log(lo), math.log(hi)) if tr == "log" else (lo, hi)
+        edge = BOUND_EDGE * (thi - tlo)
+        if th - tlo < edge:
+            out.append((name, "lower", lo))
+        elif thi - th < edge:
+            out.append((name, "upper", hi))
+    return out
+
+
+def _moved_inside(name, side, bound, k):
+    """A start k steps (x3 per step for log groups, 0.15 for orders) inside."""
+    tr = model.GROUPS[name][0]
+    sgn = 1 if side == "lower" else -1
+    if tr == "log":
+        return bound * 3.0 ** (sgn * k)
+    return bound + sgn * 0.15 * k
+
+
+def _bound_words(name, side, bound) -> str:
+    if name == "beta" and side == "upper":
+        return "the relay diaphragm acts as an integer-order element (beta = 1)"
+    if name == "q" and side == "lower":
+        return "the feedback spring is linear (q = 0, as in the paper's Example 7)"
+    if name in ("tau", "RC", "RCd") and side == "lower":
+        return f"{name} is faster than the sampling can show ({model.fmt_value(name, bound)})"
+    return f"{name} sits at its {side} bound {model.fmt_value(name, bound)}"
+
+
+def unstick(pb, best, say, notes: list):
+    """Restart groups found at a bound (on the exploration copy). A restart
+    that finds a better interior optimum replaces the fit; a group whose
+    restarts all cost the same (within VISIBLE noise variances) does not
+    matter to this record and is left to the identifiability test; one that
+    the data pull back to the bound is held there."""
+    work = search.explorer(pb) or pb
+    cur = dict(best.values)
+    cur_fit = best
+    cost = fit.start_cost(work, (), cur)
+    changed = False
+    tried = set()
+    budget = search._budget(work, (), search.EXPLORE_ITER)
+    for _ in range(6):
+        edge = [x for x in _at_bounds(pb, cur_fit) if x[0] not in tried]
+        if not edge:
+            break
+        name, side, bound = edge[0]
+        tried.add(name)
+        runs = []
+        for k in (1, 2):
+            st = dict(cur)
+            st[name] = _moved_inside(name, side, bound, k)
+            runs.append(fit.lm_fit(work, (), st, 0, budget, f"unstick {name} {k}"))
+        r = search.best(runs)
+        sig2 = cost / max(work.nfit - work.burn, 1)
+        if r.cost < cost - VISIBLE * sig2 and not any(e[0] == name for e in _at_bounds(work, r)):
+            notes.append(f"The first baseline fit ended with {name} at its {side} bound; a "
+                         f"restart with {name} moved inside found a better optimum "
+                         f"({name} = {model.fmt_value(name, r.groups[name])}).")
+            say(f"baseline: {name} was at its {side} bound; a restart moved it inside")
+            cur, cost, cur_fit, changed = dict(r.values), r.cost, r, True
+            tried.discard(name)
+            continue
+        if abs(r.cost - cost) <= VISIBLE * sig2:
+            continue                      # insensitive: not a corner
+        pb.fixed[name] = bound
+        pb.free.remove(name)
+        pb.at_bound[name] = side
+        notes.append(f"{name} ends at its {side} bound whatever the start "
+                     f"({_bound_words(name, side, bound)}): held there, so that it does not "
+                     "blur the identification of the others.")
+        say(f"baseline: {name} held at its {side} bound")
+        r = fit.lm_fit(work, (), cur, 0, budget, "held at bound")
+        cur, cost, cur_fit, changed = dict(r.values), r.cost, r, True
+    if not changed:
+        return best
+    return search.refine(pb, (), [("unstuck", cur)], iters=2 * search.REFINE_ITER)
+
+
+def _ci_text(name, val, se):
+    tr = fit.transform_of(name)
+    if not math.isfinite(se) or (tr == "log" and 1.96 * se > 50):
+        return "unbounded"
+    if tr == "log":
+        return f"x/ {math.exp(1.96 * se):.3g}"
+    return f"+- {1.96 * se:.3g}"
+
+
+def _id_width(pb, name) -> float:
+    """Half-width of the 95 % interval within which a parameter counts as
+    identified: a factor 2 for positive groups, 0.15 for orders, a tenth of
+    the input's span for the operating point e0."""
+    if name == "e0":
+        return 0.1 * pb.span_e
+    return ID_LOG if fit.transform_of(name) == "log" else ID_LIN
+
+
+def prune(pb, best, say, reasons: dict):
+    """Hold groups the record does not determine, worst first."""
+    nom = model.nominal_groups(pb.setup.config)
+    while True:
+        nm = noise.fit(best.residual(pb)[pb.counted])
+        fit.uncertainty(pb, best)
+        sp = fit.full_specs(pb, best)
+        worst, worst_ratio = None, 1.0
+        for name, tr, _, _ in sp:
+            if (name not in model.GROUPS and name != "e0") or name == "K":
+                continue
+            s = best.se.get(name, math.inf)
+            ratio = 1.96 * s / _id_width(pb, name)
+            if ratio > worst_ratio:
+                worst, worst_ratio = name, ratio
+        if worst is None:
+            return best, nm
+        names = [s[0] for s in sp]
+        i = names.index(worst)
+        col = best.jac[:, i] * _id_width(pb, worst)
+        visible = float(col @ col) > VISIBLE * nm.var
+        val = best.values.get(worst, best.groups.get(worst))
+        # Entangled: the record determines a combination of it and others;
+        # held where the fit put it, the fit stays at its optimum. Without a
+        # visible effect it does not matter where it is held: the paper's
+        # value (or the input's opening level for e0).
+        if visible:
+            held = val
+        else:
+            held = pb.e0_default() if worst == "e0" else nom[worst]
+        held = keep_order(pb.setup.config, worst, held, best.groups)
+        pb.fixed[worst] = held
+        pb.free.remove(worst)
+        why = "entangled with other groups" if visible else "no visible effect on this record"
+        if visible:
+            pb.entangled.append(worst)
+        fmt = (lambda x: f"{x:.4g}") if worst == "e0" else (lambda x: model.fmt_value(worst, x))
+        where = ("held at its fitted value " if visible else
+                 "held at the input's opening level " if worst == "e0" else
+                 "held at the paper's value ") + fmt(held)
+        reasons[worst] = (
+            f"not identified ({why}; 95 % interval {_ci_text(worst, val, best.se[worst])}): "
+            + where + ("; freed again in the extended fits" if visible else ""))
+        say(f"baseline: {worst} not identified ({why}); held")
+        st = dict(best.values)
+        st[worst] = held
+        best = search.refine(pb, (), [("pruned", st)])
+
+
+def keep_order(config: str, name: str, value: float, groups: dict) -> float:
+    """A value to hold `name` at that the library accepts beside the other
+    groups: pid needs nu <= w (nu held at its bound of 1, say, leaves the
+    paper's w = 0.94 no room below it)."""
+    if config != "pid" or name not in ("nu", "w"):
+        return value
+    other = groups.get("w" if name == "nu" else "nu")
+    if other is None:
+        return value
+    return min(value, other) if name == "nu" else max(value, other)
+
+
+def starts(pb, rng, label=""):
+    """The paper's values and the best fresh starts of the linear model."""
+    fresh = search.rank_fresh(pb, (), fit.random_starts(pb, rng, N_FRESH), N_FRESH_KEEP)
+    return [("paper", _paper_start(pb))] + [(f"fresh{i}", s) for i, s in enumerate(fresh)]
+
+
+def fit_baseline(pb, rng, say):
+    """(fit, identified, reasons, notes, noise model) of the linear model."""
+    say(f"baseline: {len(pb.free)} parameters free ({', '.join(pb.free)}), multi-start")
+    notes: list[str] = []
+    best = search.explore_refine(pb, (), starts(pb, rng), refine_iter=2 * search.REFINE_ITER,
+                                 stage_iter=STAGE_ITER)
+    reasons = {g: "fixed by --fix" for g in pb.user_fixed}
+    best = unstick(pb, best, say, notes)
+    for g, side in pb.at_bound.items():
+        reasons[g] = f"held at its {side} bound ({_bound_words(g, side, pb.fixed[g])})"
+    best, nm = prune(pb, best, say, reasons)
+    identified = {g: g in pb.free for g in model.CONFIG_GROUPS[pb.setup.config]}
+    return best, identified, reasons, notes, nm

@@ -1,0 +1,243 @@
+# SPDX-License-Identifier: MIT
+"""Extended models: a fitted model plus one more effect block of the
+library, at its physical place, fitted from warm starts (the model's own
+values, a few effect sizes) and fresh starts (random shapes), so that a
+model stuck in a degenerate corner cannot trap the extension.
+
+Dead time is a whole number of samples of the simulation rate: it is
+profiled. It sits at the end of the output line, so the model's output
+with a delay of d samples is its output without one, shifted by d: one
+simulation scans every delay (K and pc0 re-solved for each), then the
+groups are refitted at the best few."""
+from __future__ import annotations
+
+import copy
+import math
+
+import numpy as np
+
+from . import fit, model, search
+
+N_FRESH = 12
+N_FRESH_KEEP = 1
+DEAD_MAX = 200             # data samples scanned at most
+
+
+def effect_inits(pb, effect: str) -> list[dict]:
+    fs = pb.setup.fs
+    if effect == "lag":
+        return [{"lag": 2.0 / fs}, {"lag": 15.0 / fs}]
+    if effect == "saturation":
+        m = 0.02 * (pb.y_hi - pb.y_lo)
+        return [{"sat_lo": pb.y_lo - m, "sat_hi": pb.y_hi + m},
+                {"sat_lo": pb.y_lo + 5 * m, "sat_hi": pb.y_hi - 5 * m}]
+    if effect == "backlash":
+        return [{"deadband": 0.01 * pb.span_e}, {"deadband": 0.04 * pb.span_e}]
+    if effect == "nozzle":   # at the inflection, and on either side of it
+        return [{"nozzle_k": 0.3 / pb.amp_e, "nozzle_bias": 0.0},
+                {"nozzle_k": 0.3 / pb.amp_e, "nozzle_bias": 0.6},
+                {"nozzle_k": 0.3 / pb.amp_e, "nozzle_bias": -0.3}]
+    return [{}]
+
+
+def _sat_start(pb, base, st: dict) -> dict:
+    """Saturation's limits are on the simulated deviation, before the
+    offset: move the starts by the base's offset, and give K (searched,
+    not solved, with saturation) the base's value."""
+    st = dict(st)
+    c = base.values.get("pc0", 0.0) - (pb.y[:10].mean() if pb.pc0 is None else pb.pc0)
+    if "sat_lo" in st:
+        st["sat_lo"] -= c
+        st["sat_hi"] -= c
+    st.setdefault("K", base.values["K"])
+    return st
+
+
+def with_freed(pb, groups: list):
+    """The problem with some held groups freed again (at their held values)."""
+    q = copy.copy(pb)
+    q.fixed = {k: v for k, v in pb.fixed.items() if k not in groups}
+    q.free = list(pb.free) + [g for g in groups if g not in pb.free]
+    return q
+
+
+def _paper_shape(pb, full: dict) -> dict:
+    """full with every free group but K at the paper's value."""
+    nom = model.nominal_groups(pb.setup.config)
+    out = dict(full)
+    out.update({g: nom[g] for g in pb.free if g in nom and g != "K"})
+    return out
+
+
+def _starts(pb, effects, new: str, base, rng, hint: dict | None = None):
+    """Warm starts (the model so far with each effect size; in a later
+    round the size this effect took in the round before, hint, or the
+    first size), the paper's values and the best fresh start: the model so
+    far may sit in a basin that the new effect needs to get out of."""
+    full = {**base.groups, **base.values}    # held groups that pb frees included
+    inits = effect_inits(pb, new)
+    if base.effects:        # a later round: one warm start
+        inits = [hint] if hint else inits[:1]
+    warm = []
+    for i, ei in enumerate(inits):
+        st = dict(full)
+        st.update(ei)
+        if "saturation" in effects:
+            st = _sat_start(pb, base, st)
+        warm.append((f"warm{i}", st))
+    paper = _paper_shape(pb, full)
+    paper.update(inits[0])
+    if "saturation" in effects:
+        paper = _sat_start(pb, base, paper)
+    warm.append(("paper", paper))
+    fresh = []
+    for j, g in enumerate(fit.random_starts(pb, rng, N_FRESH)):
+        st = dict(full)
+        g.pop("K", None)                 # solved, or (saturation) the base's
+        st.update(g)
+        st.update(inits[j % len(inits)])
+        if "saturation" in effects:
+            st = _sat_start(pb, base, st)
+        fresh.append(st)
+    kept = search.rank_fresh(pb, effects, fresh, N_FRESH_KEEP, base.dead)
+    return warm + [(f"fresh{i}", s) for i, s in enumerate(kept)]
+
+
+def scan_dead(pb, effects, vals: dict, dmax: int) -> list[tuple[float, int]]:
+    """(cost, d) for every delay d = 0..dmax samples of the simulation rate,
+    sorted, from one simulation: with d = q m + p (m the oversampling), the
+    delayed output at the data samples is the p-th phase of the internal
+    output shifted by q data samples, and the whitening filter (FIR)
+    commutes with the shift, so every cost follows from sliding sums and
+    one dot product per delay (K and pc0 re-solved for each)."""
+    from scipy.signal import lfilter
+    m = pb.setup.oversample
+    g = fit._groups(pb, vals)
+    sK = fit.solves_K(pb, effects)
+    if sK:
+        g["K"] = 1.0
+    ev = dict(vals)
+    ev["dead"] = 0
+    n = pb.nfit
+    raw = pb.setup.simulate(g, pb.e_abs[:n] - g["e0"],
+                            tuple(x for x in effects if x != "dead_time"), ev, internal=True)
+    A = pb.nm.a if pb.nm is not None else np.array([1.0])
+    o = A.size - 1
+    lo, hi = pb.counted.start + o, pb.counted.stop
+    y = pb.y[:n] - (pb.pc0 if pb.pc0 is not None else 0.0)
+    wy = lfilter(A, [1.0], y)[lo:hi]
+    w1 = lfilter(A, [1.0], np.ones(n))[lo:hi] if pb.pc0 is None else None
+    yy = float(wy @ wy)
+    b1 = float(w1 @ w1) if w1 is not None else 0.0
+    y1 = float(wy @ w1) if w1 is not None else 0.0
+    qmax = dmax // m + 1
+    out = []
+    for p in range(m):
+        u = raw[::m] if p == 0 else np.concatenate([[0.0], raw[m - p::m]])[:n]
+        fw = np.concatenate([np.zeros(qmax), lfilter(A, [1.0], u)])
+        c2 = np.concatenate([[0.0], np.cumsum(fw * fw)])
+        c1 = np.concatenate([[0.0], np.cumsum(fw)])
+        for q in range(qmax + 1):
+            d = q * m + p
+            if d > dmax:
+                break
+            a0, a1 = lo - q + qmax, hi - q + qmax
+            ws = fw[a0:a1]
+            ss = c2[a1] - c2[a0]
+            sy = float(ws @ wy)
+            s1 = (c1[a1] - c1[a0]) * (w1[-1] if w1 is not None else 0.0)
+            if sK:
+                if w1 is None:
+                    if not ss > 0:
+                        continue
+                    K = sy / ss
+                    rss = yy - K * sy
+                else:
+                    det = ss * b1 - s1 * s1
+                    if not det > 1e-12 * max(ss * b1, 1e-300):
+                        continue
+                    K = (sy * b1 - y1 * s1) / det
+                    c = (ss * y1 - s1 * sy) / det
+                    rss = yy - K * sy - c * y1
+                if not K > 0:
+                    continue
+            else:
+                rss = yy - 2 * sy + ss
+                if w1 is not None:
+                    rss -= (y1 - s1) ** 2 / b1
+            out.append((max(float(rss), 0.0), d))
+    out.sort()
+    return out
+
+
+def _dead_candidates(pb, effects, base) -> list[int]:
+    m = pb.setup.oversample
+    dmax = int(min(DEAD_MAX, pb.nfit // 20)) * m
+    scan = scan_dead(pb, effects, {**base.groups, **base.values}, dmax)
+    top = [d for _, d in scan[:3] if d >= 1]
+    # The data's own answer: the relay passes 1/rho of a step at once, so
+    # the output's increments correlate with the input's at the delay.
+    n = pb.nfit
+    dy = np.diff(pb.y[:n])
+    de = np.diff(pb.e_abs[:n])
+    cc = [abs(float(dy[k:] @ de[:de.size - k])) for k in range(0, dmax // m + 1)]
+    d_cc = int(np.argmax(cc)) * m
+    cand = set(top)
+    if d_cc >= 1:
+        cand.add(d_cc)
+    return sorted(cand) or [m]
+
+
+def fit_extended(pb, base, new: str, rng, hint: dict | None = None):
+    """base's effects plus `new`, from warm and fresh starts, explored and
+    refined (search.explore_refine); dead time profiled first. hint: the
+    new effect's parameters fitted in an earlier round."""
+    effects = model.canonical(base.effects + (new,))
+    if new == "dead_time":
+        ds = _dead_candidates(pb, effects, base)
+        if hint and hint.get("dead"):
+            ds = sorted(set(ds) | {int(hint["dead"])})
+        full = {**base.groups, **base.values}
+        w = search.explorer(pb) or pb
+        budget = search._budget(w, effects, search.STAGE_ITER)
+        # each delay from the model so far and, when that is the linear
+        # baseline (possibly in a corner that mimics the delay), from the
+        # paper's values too
+        shapes = [("", full)] + ([("paper ", _paper_shape(pb, full))] if not base.effects else [])
+        # the copy's delays on either side of each candidate (its samples
+        # are coarser), explored from each shape by successive halving
+        r = w.setup.fs_int / pb.setup.fs_int
+        dws = sorted({max(1, f(d * r)) for d in ds for f in (math.floor, math.ceil)})
+        tried = [(fit.lm_fit(w, effects, st, dw, budget, f"{lab}d={dw}"), dw)
+                 for dw in dws for lab, st in shapes]
+        if not base.effects:          # and one fresh start at the best delay
+            e, dw = min(tried, key=lambda x: x[0].cost)
+            for lab, st in _starts(pb, effects, new, base, rng)[-1:]:
+                tried.append((fit.lm_fit(w, effects, st, dw, budget, lab), dw))
+        while len(tried) > 1:
+            tried.sort(key=lambda x: x[0].cost)
+            tried = [(fit.lm_fit(w, effects, e.values, dw, budget, e.start), dw)
+                     for e, dw in tried[:(len(tried) + 1) // 2]]
+        e, dw = tried[0]
+        d = max(1, int(round(dw / r)))
+        b = search.refine(pb, effects, [(e.start, e.values)], dead=d)
+        fits = [b]
+        # The shape moves with the delay (a baseline mimics part of a delay
+        # with its own dynamics): scan the delay again with the refined
+        # shape, refit where it points, until it stays put.
+        dmax = int(min(DEAD_MAX, pb.nfit // 20)) * pb.setup.oversample
+        for _ in range(8):
+            scan = scan_dead(pb, effects, {**b.groups, **b.values}, dmax)
+            d_new = next((dd for _, dd in scan if dd >= 1), b.dead)
+            if d_new == b.dead:
+                break
+            b = search.refine(pb, effects, [(f"d={d_new}", dict(b.values))], dead=d_new)
+            fits.append(b)
+        b = search.best(fits)
+        for dd in (b.dead - 1, b.dead + 1):
+            if dd >= 1 and all(f.dead != dd for f in fits):
+                fits.append(search.refine(pb, effects, [(f"d={dd}", dict(b.values))],
+                                          dead=dd, iters=search.REFINE_ITER // 2))
+        return search.best(fits)
+    return search.explore_refine(pb, effects, _starts(pb, effects, new, base, rng, hint),
+                                 dead=base.dead)

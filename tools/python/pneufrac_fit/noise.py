@@ -1,0 +1,130 @@
+# SPDX-License-Identifier: MIT
+"""A noise model for the residual: what is left after the model is not
+white when the sensor noise is coloured (AR, 1/f, drift). An AR model
+
+    A(q) v = eps,   A(q) = 1 + a1 q^-1 + ... + ap q^-p,  eps white,
+
+fitted to a residual (Yule-Walker, Levinson-Durbin), order chosen by BIC, gives
+  - a whitening filter A(q) for likelihood-ratio comparisons of models
+    (the same filter for both models compared);
+  - the covariance of an output-error estimate under that noise (the
+    sandwich (J'J)^-1 J' S J (J'J)^-1 with S the AR model's covariance),
+    so that intervals hold under coloured noise;
+  - the noise process's variance (not only its white part).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.signal import lfilter
+
+P_MAX = 24            # highest AR order tried
+MAX_ROOT = 0.999      # roots pulled inside this radius (a unit root is drift)
+
+
+@dataclass
+class NoiseModel:
+    a: np.ndarray         # [1, a1, ..., ap]
+    sigma2: float         # innovation variance
+    var: float            # variance of the residual it was fitted to
+    n: int
+
+    @property
+    def order(self) -> int:
+        return self.a.size - 1
+
+    def whiten(self, x: np.ndarray) -> np.ndarray:
+        """A(q) x, the first p samples (no full history) dropped. x may be a
+        matrix (columns filtered)."""
+        y = lfilter(self.a, [1.0], x, axis=0)
+        return y[self.order:]
+
+    def colour_factor(self) -> float:
+        """Process variance over innovation variance: sum of squares of the
+        impulse response of 1/A (1 for white noise)."""
+        h = lfilter([1.0], self.a, np.r_[1.0, np.zeros(4095)])
+        return float(h @ h)
+
+    def describe(self) -> str:
+        if self.order == 0:
+            return "white (no AR term earns its place by BIC)"
+        rho1 = _acf1(self.a)
+        return (f"AR({self.order}), lag-1 correlation {rho1:+.2f}, process variance "
+                f"{self.colour_factor():.3g}x the innovation variance")
+
+
+def _acf1(a: np.ndarray) -> float:
+    h = lfilter([1.0], a, np.r_[1.0, np.zeros(4095)])
+    return float(h[1:] @ h[:-1] / (h @ h))
+
+
+def _stabilise(a: np.ndarray) -> np.ndarray:
+    """Pull the roots of A inside MAX_ROOT by scaling a_k by lam^k: the
+    filter 1/A stays stable, and a random walk becomes a slow AR(1)."""
+    if a.size <= 1:
+        return a
+    r = float(np.max(np.abs(np.roots(a))))
+    if r <= MAX_ROOT:
+        return a
+    lam = MAX_ROOT / r
+    return a * lam ** np.arange(a.size)
+
+
+def fit(r: np.ndarray, p_max: int = P_MAX) -> NoiseModel:
+    """AR model of a residual, order 0..p_max by BIC: the autocorrelation
+    (Yule-Walker) equations solved for every order at once by the Levinson-
+    Durbin recursion, the autocorrelation from one FFT."""
+    r = np.asarray(r, float)
+    r = r - float(np.mean(r)) if r.size else r
+    n = r.size
+    p_max = int(min(p_max, max(0, n // 20)))
+    var = float(r @ r) / max(n, 1)
+    if p_max == 0 or not var > 0:
+        return NoiseModel(np.array([1.0]), var, var, n)
+    nf = 1 << int(np.ceil(np.log2(2 * n)))
+    f = np.fft.rfft(r, nf)
+    acov = np.fft.irfft(f * np.conj(f), nf)[:p_max + 1] / n
+    a = np.array([1.0])
+    err = acov[0]
+    best = (n * math.log(max(err, 1e-300)), a, err)
+    for p in range(1, p_max + 1):
+        k = -float(acov[1:p + 1][::-1] @ a) / err if err > 0 else 0.0
+        a = np.r_[a, 0.0] + k * np.r_[0.0, a[::-1]]
+        err *= (1.0 - k * k)
+        if not err > 0:
+            break
+        bic = n * math.log(err) + p * math.log(n)
+        if bic < best[0]:
+            best = (bic, a.copy(), err)
+    a = _stabilise(best[1])
+    e = lfilter(a, [1.0], r)[a.size - 1:]
+    s2 = float(e @ e) / max(e.size, 1)
+    return NoiseModel(a, s2, var, n)
+
+
+def white(var: float, n: int) -> NoiseModel:
+    return NoiseModel(np.array([1.0]), var, var, n)
+
+
+def sandwich(J: np.ndarray, nm: NoiseModel) -> np.ndarray:
+    """Covariance of the least-squares estimate whose residual Jacobian is
+    J, when the noise is the AR process nm: (J'J)^+ J' S J (J'J)^+, with
+    S = sigma2 H H' and H the lower-triangular Toeplitz matrix of 1/A. H'J
+    is 1/A run backwards in time over each column. Directions J does not
+    determine get infinite variance."""
+    U, S, Vt = np.linalg.svd(J, full_matrices=False)
+    p = J.shape[1]
+    tol = S.max() * 1e-9 if S.size and S.max() > 0 else 1.0
+    keep = S > tol
+    Jp = (Vt[keep].T / S[keep] ** 2) @ Vt[keep]          # (J'J)^+
+    G = lfilter([1.0], nm.a, J[::-1], axis=0)[::-1]      # H' J
+    M = nm.sigma2 * (G.T @ G)
+    cov = Jp @ M @ Jp
+    null = ~keep
+    if null.any():
+        bad = np.any(np.abs(Vt[null]) > 1e-3, axis=0)
+        cov[bad, :] = np.inf
+        cov[:, bad] = np.inf
+    return cov

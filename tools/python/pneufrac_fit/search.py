@@ -1,0 +1,113 @@
+# SPDX-License-Identifier: MIT
+"""How the fits search: many starts explored on a small copy of the record,
+the best one refined on the whole fit part.
+
+Every simulation costs in proportion to the record's length, but the shape
+of an optimum is fixed long before the end of a long record. Starts are
+ranked and explored on the exploration copy: the fit part block-averaged
+down to about F_EXPLORE (a 10 kHz record to 1 kHz; the groups are
+continuous-time, so they carry over) and cut to its first N_EXPLORE
+samples. Only the best is refined on the whole fit part, from the copy's
+optimum, a few iterations. Dead time, in samples of the simulation rate,
+is converted between the two."""
+from __future__ import annotations
+
+import copy
+import math
+
+import numpy as np
+
+from . import fit, model
+
+N_EXPLORE = 6000           # samples of the exploration copy
+F_EXPLORE = 1000.0         # Hz: records faster than this are block-averaged for it
+STAGE_ITER = 10            # Jacobians per start and stage of the exploration
+EXPLORE_ITER = 30          # Jacobians of a single exploring fit
+REFINE_ITER = 10           # Jacobians per refining fit
+
+
+def best(fits):
+    return min(fits, key=lambda r: r.cost)
+
+
+def _budget(pb, effects, iters: int) -> int:
+    return iters * (len(fit.specs(pb, effects)) + 2)
+
+
+def explorer(pb):
+    """The exploration copy of pb, or None when pb is small enough."""
+    D = max(1, int(pb.setup.fs // F_EXPLORE))
+    if D == 1 and pb.nfit <= 1.3 * N_EXPLORE:
+        return None
+    take = int(min(pb.nfit // D, N_EXPLORE))
+    n = take * D
+    q = copy.copy(pb)
+    q.e_abs = pb.e_abs[:n].reshape(take, D).mean(axis=1)
+    q.y = pb.y[:n].reshape(take, D).mean(axis=1)
+    fs = pb.setup.fs / D
+    m = model.auto_oversample(fs)
+    q.setup = model.Setup(pb.setup.config, fs, take / fs, pb.setup.order, m)
+    q.nfit = take
+    q.burn = min(pb.burn // D, take // 2)
+    q.nm = None if D > 1 else pb.nm     # a noise model is of one sampling rate
+    return q
+
+
+def dead_to(pb_from, pb_to, dead: int) -> int:
+    """A dead time in samples of pb_from's simulation rate, in pb_to's."""
+    if not dead:
+        return 0
+    return max(1, int(round(dead * pb_to.setup.fs_int / pb_from.setup.fs_int)))
+
+
+def rank_fresh(pb, effects, starts: list, n_keep: int, dead: int = 0) -> list:
+    """The n_keep best fresh starts by their cost on the exploration copy."""
+    w = explorer(pb) or pb
+    d = dead_to(pb, w, dead)
+    scored = sorted(((fit.start_cost(w, effects, st, d), i) for i, st in enumerate(starts)))
+    return [starts[i] for c, i in scored[:n_keep] if math.isfinite(c)]
+
+
+def _halving(w, effects, starts, dead, label_iters=None):
+    """Successive halving: every start gets STAGE_ITER iterations, the
+    better half continues for another STAGE_ITER, and so on down to one,
+    which runs a last stage. Most of the effort goes to the starts that
+    lead somewhere."""
+    label_iters = label_iters or STAGE_ITER
+    runs = [fit.lm_fit(w, effects, st, dead, _budget(w, effects, label_iters), lab)
+            for lab, st in starts]
+    while True:
+        runs.sort(key=lambda r: r.cost)
+        runs = runs[:max(1, (len(runs) + 1) // 2)]
+        runs = [fit.lm_fit(w, effects, r.values, dead, _budget(w, effects, label_iters),
+                           r.start) for r in runs]
+        if len(runs) == 1:
+            return runs[0]
+
+
+def explore_refine(pb, effects, starts: list, dead: int = 0,
+                   refine_iter: int = REFINE_ITER, stage_iter: int = STAGE_ITER):
+    """Starts explored on the exploration copy by successive halving, the
+    best refined on the whole fit part. Returns the best fit, evaluated."""
+    effects = model.canonical(effects)
+    w = explorer(pb)
+    if w is None:
+        b = _halving(pb, effects, starts, dead, stage_iter)
+    else:
+        e = _halving(w, effects, starts, dead_to(pb, w, dead), stage_iter)
+        b = fit.lm_fit(pb, effects, e.values, dead, _budget(pb, effects, refine_iter), e.start)
+    fit.evaluate(pb, b)
+    return b
+
+
+def refine(pb, effects, starts: list, dead: int = 0, iters: int = REFINE_ITER):
+    """LM on the whole fit part from the best of (label, start) by its cost;
+    evaluated."""
+    effects = model.canonical(effects)
+    if len(starts) > 1:
+        costs = [fit.start_cost(pb, effects, st, dead) for _, st in starts]
+        starts = [starts[int(np.argmin(costs))]]
+    lab, st = starts[0]
+    b = fit.lm_fit(pb, effects, st, dead, _budget(pb, effects, iters), lab)
+    fit.evaluate(pb, b)
+    return b
