@@ -6,6 +6,7 @@ program's name, and the usage exit status, never a traceback."""
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 
 
@@ -25,3 +26,15 @@ def parser_class(program: str, status: int) -> type[argparse.ArgumentParser]:
             sys.exit(status)
 
     return _Parser
+
+
+def finite_number(text: str, what: str) -> float:
+    """@p text as a finite float; otherwise a UsageError that names @p what
+    (the option, or the option and its whole argument)."""
+    try:
+        x = float(text)
+    except ValueError:
+        raise UsageError(f"{what}: '{text}' is not a number") from None
+    if not math.isfinite(x):
+        raise UsageError(f"{what}: '{text}' is not finite")
+    return x

@@ -20,7 +20,7 @@ import os
 import sys
 from pathlib import Path
 
-from pneufrac._cli import UsageError, parser_class
+from pneufrac._cli import UsageError, finite_number, parser_class
 
 from . import model
 
@@ -127,13 +127,7 @@ def _kv(text: str, what: str) -> tuple[str, float]:
     if "=" not in text:
         raise UsageError(f"{what} '{text}': expected NAME=VALUE")
     k, v = text.split("=", 1)
-    try:
-        x = float(v)
-    except ValueError:
-        raise UsageError(f"{what} '{text}': '{v}' is not a number") from None
-    if not math.isfinite(x):
-        raise UsageError(f"{what} '{text}': value must be finite")
-    return k.strip(), x
+    return k.strip(), finite_number(v, f"{what} '{text}'")
 
 
 def parse_fixes(items, config) -> dict:

@@ -24,11 +24,10 @@ scales cannot hold it).
 from __future__ import annotations
 
 import argparse
-import math
 import re
 import sys
 
-from pneufrac._cli import UsageError, parser_class
+from pneufrac._cli import UsageError, finite_number, parser_class
 
 EXIT_OK, EXIT_IO, EXIT_USAGE, EXIT_LIBRARY, EXIT_CANNOT = 0, 1, 2, 3, 4
 # Most samples of the horizon the rule simulates (the full design runs
@@ -44,21 +43,11 @@ IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 _Parser = parser_class("pneufrac-reduce", EXIT_USAGE)
 
 
-def _number(text: str, what: str) -> float:
-    try:
-        x = float(text)
-    except ValueError:
-        raise UsageError(f"{what}: '{text}' is not a number") from None
-    if not math.isfinite(x):
-        raise UsageError(f"{what}: '{text}' is not finite")
-    return x
-
-
 def _pair(text: str, what: str) -> tuple[float, float]:
     a, sep, b = text.partition(":")
     if not sep:
         raise UsageError(f"{what} '{text}': expected LOW:HIGH")
-    return _number(a, what), _number(b, what)
+    return finite_number(a, what), finite_number(b, what)
 
 
 def _parser() -> _Parser:
@@ -97,7 +86,7 @@ def _parser() -> _Parser:
 
 def _request(a, lib) -> dict:
     """The validated request, every value a number."""
-    r = {"config": a.config, "fs": _number(a.fs, "--fs")}
+    r = {"config": a.config, "fs": finite_number(a.fs, "--fs")}
     if not 0 < r["fs"] <= 1e7:
         raise UsageError("--fs must be in (0, 1e7] Hz")
     params = {}
@@ -114,7 +103,7 @@ def _request(a, lib) -> dict:
             raise UsageError(f"--set {k}: configuration {a.config} does not use it")
         if k in params:
             raise UsageError(f"--set {k} given more than once")
-        params[k] = _number(v, f"--set {k}")
+        params[k] = finite_number(v, f"--set {k}")
     effects = {}
     for item in a.effect:
         name, _, rest = item.partition(":")
@@ -122,8 +111,8 @@ def _request(a, lib) -> dict:
             k = dict(x.partition("=")[::2] for x in rest.split(",") if x)
             if sorted(k) != ["hi", "lo"]:
                 raise UsageError(f"--effect {item}: saturation takes lo=...,hi=...")
-            effects.update(saturate=1, sat_lo=_number(k["lo"], "--effect saturation lo"),
-                           sat_hi=_number(k["hi"], "--effect saturation hi"))
+            effects.update(saturate=1, sat_lo=finite_number(k["lo"], "--effect saturation lo"),
+                           sat_hi=finite_number(k["hi"], "--effect saturation hi"))
             continue
         if name not in EFFECTS:
             raise UsageError(f"--effect {item}: unknown effect '{name}' (lag, deadtime, "
@@ -134,10 +123,10 @@ def _request(a, lib) -> dict:
             raise UsageError(f"--effect {item}: {name} takes {key}=...")
         if field in effects:
             raise UsageError(f"--effect {name} given more than once")
-        effects[field] = _number(v, f"--effect {name}")
+        effects[field] = finite_number(v, f"--effect {name}")
     opts = {"input_model": 0 if a.input_model == "hold" else 1}
     if a.order is not None:
-        n = _number(a.order, "--order")
+        n = finite_number(a.order, "--order")
         if n != int(n) or not 1 <= n <= 99:
             raise UsageError("--order must be a whole number >= 1")
         opts["order"] = int(n)
@@ -146,8 +135,8 @@ def _request(a, lib) -> dict:
         if not 0 < opts["wb"] < opts["wh"]:
             raise UsageError(f"--band: need 0 < WB < WH, got '{a.band}'")
     if a.t_slow is not None:
-        opts["t_slow"] = _number(a.t_slow, "--t-slow")
-    tol = _number(a.tol, "--tol")
+        opts["t_slow"] = finite_number(a.t_slow, "--t-slow")
+    tol = finite_number(a.tol, "--tol")
     if not 0 < tol < 1:
         raise UsageError("--tol must be in (0, 1): a fraction of the peak")
     t0, t1 = _pair(a.horizon, "--horizon")
@@ -159,7 +148,7 @@ def _request(a, lib) -> dict:
     limit = lib.load().pf_bank_max_order()
     max_order = limit
     if a.max_order is not None:
-        m = _number(a.max_order, "--max-order")
+        m = finite_number(a.max_order, "--max-order")
         if m != int(m) or not 1 <= m <= limit:
             raise UsageError(f"--max-order must be a whole number in 1..{limit}")
         max_order = int(m)
@@ -170,7 +159,7 @@ def _request(a, lib) -> dict:
         if (a.in_fs is None) != (a.out_fs is None) or (a.format == "c" and a.in_fs is None):
             raise UsageError("--arith q15 needs --in-fs and --out-fs")
         if a.in_fs is not None:
-            scales = (_number(a.in_fs, "--in-fs"), _number(a.out_fs, "--out-fs"))
+            scales = (finite_number(a.in_fs, "--in-fs"), finite_number(a.out_fs, "--out-fs"))
             if not (scales[0] > 0 and scales[1] > 0):
                 raise UsageError("--in-fs and --out-fs must be > 0")
     elif a.in_fs is not None or a.out_fs is not None:
