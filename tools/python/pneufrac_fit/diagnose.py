@@ -122,7 +122,9 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
     fit_notes[:0] = notes_nm
     say(f"baseline: NRMSE fit {base.nrmse_fit:.4f}, validation {base.nrmse_val:.4f}, "
         f"noise {nm0.describe()}")
-    final, pbf, rounds, checks = selection.forward(pb, base, seed * 1000 + 17, jobs, say)
+    ambiguous = []
+    final, pbf, rounds, checks = selection.forward(pb, base, seed * 1000 + 17, jobs, say,
+                                                   ambiguous)
     base = _best_baseline(pb, base, rounds, fit_notes)
     causes = _ordered(final, checks)
     sd = noise_estimate(pb.y, pb.e_abs)
@@ -133,7 +135,8 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
     eva = ev_mod.analyse(pbf, final, sd)
     evidence = ev_mod.describe(evb, pb, sd, floor, base)
     tests = rounds[0] if rounds else []
-    why = ev_mod.verdict(causes, base, final, tests, checks, evb, eva, pbf, floor)
+    why = ev_mod.verdict(causes, base, final, tests, checks, evb, eva, pbf, floor,
+                         ambiguous)
     say("causes: " + (", ".join(causes) if causes else "none"))
     d = Diagnosis(config, rec.fs, rec.n, pb.nfit, base, final, causes, tests, rounds, checks,
                   identified, reasons, evidence, why, evb, eva, sd, nmf, floor, src,

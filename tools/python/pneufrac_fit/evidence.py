@@ -181,15 +181,19 @@ def _fails(t) -> str:
     return "; ".join(t.reasons) if t.reasons else "passes"
 
 
-def verdict(causes, base, ext, tests, checks, evb, eva, pb, floor) -> list[str]:
-    """Why these causes: the numbers that decided and the evidence they fix."""
+def verdict(causes, base, ext, tests, checks, evb, eva, pb, floor,
+            ambiguous=()) -> list[str]:
+    """Why these causes: the numbers that decided and the evidence they fix.
+    `ambiguous`: sentences on effects left unnamed because the record cannot
+    tell them apart (selection.forward), said first."""
     from . import guards
-    out = []
+    out = list(ambiguous)
     fs = pb.setup.fs
     m = pb.setup.oversample
     if not causes:
-        out.append("No effect is named: none passes every guard against the linear model "
-                   "refitted with the same freedoms.")
+        if not ambiguous:
+            out.append("No effect is named: none passes every guard against the linear "
+                       "model refitted with the same freedoms.")
         for t in sorted(tests, key=lambda t: t.model.nrmse_val)[:3]:
             out.append(f"{t.effect}: held-out NRMSE {t.ref.nrmse_val:.4f} -> "
                        f"{t.model.nrmse_val:.4f}, dBIC {t.dbic:+.1f}, largest contribution "

@@ -196,3 +196,27 @@ def test(pb, effect: str, fr, ref, pb_ref=None) -> Test:
                          f"(need > {100 * MIN_VAL_GAIN:g} %)")
     t.passes = not t.reasons
     return t
+
+
+def indistinguishable(a: Test, b: Test) -> bool:
+    """Whether the record cannot tell two passing candidates apart, a the
+    one with the lower held-out NRMSE. It tells them apart when a wins every
+    comparison the guards make, the same way round: on the fit part by BIC
+    (residuals whitened by a's noise model for both, over the samples both
+    count, each model's own parameter count) lower by more than MIN_DBIC, and
+    on the held-out part in the error as measured and whitened. When b is as
+    good on the fit part, or better on either held-out measure, the evidence
+    is missing or conflicts: the two explain the record equally well within
+    the noise."""
+    n = a.pb.nfit
+    ra, rb = a.model.residual(a.pb), b.model.residual(b.pb)
+    nm = a.nm
+    k = max(a.pb.burn, b.pb.burn)
+    fa, fb = nm.whiten(ra[k:n]), nm.whiten(rb[k:n])
+    m = fa.size
+    dbic = (m * math.log(max(float(fa @ fa), 1e-300) / max(float(fb @ fb), 1e-300))
+            + (a.model.k - b.model.k) * math.log(max(m, 1)))
+    va, vb = nm.whiten(ra[n:]), nm.whiten(rb[n:])
+    pa, pb_ = ra[n:] - np.mean(ra[n:]), rb[n:] - np.mean(rb[n:])
+    return not (dbic < -MIN_DBIC and float(va @ va) < float(vb @ vb)
+                and float(pa @ pa) < float(pb_ @ pb_))

@@ -162,10 +162,13 @@ def _say(say, t):
         + f" ({t.elapsed:.1f} s)")
 
 
-def forward(pb, base, seed, jobs, say):
-    """(final model, its problem, rounds of tests, backward tests)."""
+def forward(pb, base, seed, jobs, say, notes=None):
+    """(final model, its problem, rounds of tests, backward tests). Sentences
+    on effects left unnamed because the record cannot tell them apart go to
+    `notes`."""
     current, cur_pb = base, pb
     rounds = []
+    rivals, before = [], None
     while True:
         remaining = [c for c in model.CAUSES if c not in current.effects]
         if not remaining:
@@ -174,17 +177,45 @@ def forward(pb, base, seed, jobs, say):
         tests = run_round(cur_pb, current, remaining, seed + 7 * len(rounds), jobs, say,
                           rounds[-1] if rounds else None)
         rounds.append(tests)
+        lost = [t for t in tests if t.effect in rivals and not t.passes]
+        if lost:
+            current, cur_pb = _ambiguous(rounds[-2], current, lost, before, say, notes)
+            break
         ok = [t for t in tests if t.passes]
         if not ok:
             break
         win = min(ok, key=lambda t: t.model.nrmse_val)
-        say(f"round {len(rounds)}: {win.effect} added")
+        rivals = [t.effect for t in ok if t is not win and guards.indistinguishable(win, t)]
+        before = (current, cur_pb)
+        say(f"round {len(rounds)}: {win.effect} added"
+            + (f" (held-out error no better than {', '.join(rivals)}'s: each is tested on "
+               "top of it next)" if rivals else ""))
         current, cur_pb = win.model, win.pb
     if len(current.effects) >= 2:
         current, cur_pb, checks = backward(cur_pb, current, say)
     else:   # a single effect was tested with everything else it could meet
         checks = [t for r in rounds for t in r if t.passes and t.model is current]
     return current, cur_pb, rounds, checks
+
+
+def _ambiguous(tests, added, lost, before, say, notes):
+    """The effect just added predicted the held-out part no better than a
+    rival that adds nothing on top of it: both explain the same feature of
+    the record, and the record does not say which is there. Naming either
+    could send someone to take a healthy part apart, so neither is named:
+    the model goes back to the one before."""
+    win = next(t for t in tests if t.model is added)
+    names = ", ".join(t.effect for t in lost)
+    line = (f"{win.effect} and {names} explain the same feature of the record equally well "
+            f"(held-out NRMSE {win.model.nrmse_val:.4f} against "
+            + ", ".join(f"{t.effect}'s {r.model.nrmse_val:.4f}"
+                        for t in lost for r in tests if r.effect == t.effect)
+            + f"; {names} adds nothing on top of {win.effect}): the record cannot tell them "
+            "apart, so neither is named.")
+    say("ambiguous: " + line)
+    if notes is not None:
+        notes.append(line)
+    return before
 
 
 def backward(pb, fr, say):
