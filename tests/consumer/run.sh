@@ -49,6 +49,10 @@ if [[ -n $BUILD ]]; then
     [[ -e "$W/full/$f" ]] || fail "the installed prefix lacks $f"
   done
   "$W/full/bin/pneufrac" --version >/dev/null || fail "installed pneufrac does not run"
+  # The unit names this prefix's daemon, not the default prefix's.
+  grep -qx "ExecStart=$W/full/bin/pneufracd --config .*" \
+       "$W/full/lib/systemd/system/pneufracd.service" \
+    || fail "the installed unit does not run $W/full/bin/pneufracd"
 fi
 
 log "1. install a library-only build"

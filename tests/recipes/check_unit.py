@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """Check the systemd unit that `cmake --install` installs
-(docs/pneufracd.service), without a running systemd.
+(docs/pneufracd.service.in, its paths filled in), without a running systemd.
 
     check_unit.py BUILD_DIR
 
