@@ -48,6 +48,7 @@ from blindsim.__main__ import write  # noqa: E402
 from blindsim.catalogue import SCENARIOS  # noqa: E402
 
 SECTION = "## Scoreboard on a third, blind simulator"
+MARKER = "blind"
 VERDICTS = ("right", "partial", "missed", "FALSE EFFECT", "WRONG CAUSE", "failed")
 
 
@@ -147,7 +148,9 @@ def verdict(named: list[str], truth: dict) -> str:
 
 
 def score(name: str, seed: int, records: Path, tool: Path, timeout: float) -> dict:
-    csv, js = write(name, seed, records)
+    csv, js = records / f"{name}-{seed}.csv", records / f"{name}-{seed}.json"
+    if not (csv.exists() and js.exists()):  # records are deterministic: made ones are reused
+        csv, js = write(name, seed, records)
     truth = json.loads(js.read_text())
     pcs = [float(line.split(",")[2]) for line in csv.read_text().splitlines()[2:]]
     pc_span = max(pcs) - min(pcs)
@@ -159,6 +162,7 @@ def score(name: str, seed: int, records: Path, tool: Path, timeout: float) -> di
     if out is None:
         row.update(verdict="failed", named=[], error=err)
         return row
+    (records / f"{name}-{seed}.diagnosis.json").write_text(json.dumps(out, indent=1) + "\n")
     named = named_causes(out)
     before = out["baseline"]["nrmse_val"]
     after = out["extended"]["nrmse_val"]
@@ -216,13 +220,17 @@ def summary(rows: list[dict]) -> list[str]:
 
 
 def write_docs(path: Path, text: str) -> None:
+    """Put `text` between this benchmark's markers in `path`; the file's
+    other sections (other benchmarks write them the same way) are kept."""
+    begin, end = f"<!-- section:{MARKER} -->", f"<!-- end:{MARKER} -->"
     doc = path.read_text()
-    start = doc.find(SECTION)
-    if start >= 0:
-        nxt = doc.find("\n## ", start + len(SECTION))
-        doc = doc[:start] + text + (doc[nxt + 1:] if nxt >= 0 else "")
+    block = f"{begin}\n{text.rstrip()}\n{end}\n"
+    i = doc.find(begin)
+    if i >= 0:
+        j = doc.index(end, i) + len(end) + 1
+        doc = doc[:i] + block + doc[j:]
     else:
-        doc = doc.rstrip("\n") + "\n\n" + text
+        doc = doc.rstrip("\n") + "\n\n" + block
     path.write_text(doc)
 
 
