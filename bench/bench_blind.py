@@ -149,13 +149,15 @@ def verdict(named: list[str], truth: dict) -> str:
 
 def score(name: str, seed: int, records: Path, tool: Path, timeout: float) -> dict:
     csv, js = records / f"{name}-{seed}.csv", records / f"{name}-{seed}.json"
-    if not (csv.exists() and js.exists()):  # records are deterministic: made ones are reused
+    if not js.exists():  # records are deterministic: made ones are reused (the truth is written last)
         csv, js = write(name, seed, records)
     truth = json.loads(js.read_text())
     pcs = [float(line.split(",")[2]) for line in csv.read_text().splitlines()[2:]]
     pc_span = max(pcs) - min(pcs)
     out, err, wall = diagnose(tool, csv, truth, timeout)
     row = {"record": f"{name}-{seed}", "name": name, "seed": seed, "class": truth["class"],
+           "when": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+           "load": os.getloadavg()[0],
            "config": truth["config"], "truth": truth["causes"],
            "effect_rms_over_noise": truth["effect_rms_over_noise"],
            "floor": truth["floor_val"], "wall_s": wall, "remake": truth["remake"]}
@@ -208,7 +210,9 @@ def summary(rows: list[dict]) -> list[str]:
     for r in bad:
         out.append(f"  - {r['verdict']}: {r['record']} (truth: {', '.join(r['truth']) or 'none'}; "
                    f"named: {', '.join(r['named'])}); remake: `{r['remake']}`, then "
-                   f"`.venv/bin/pneufrac-fit diagnose DIR/{r['record']}.csv --config {r['config']}`")
+                   f"`.venv/bin/pneufrac-fit diagnose DIR/{r['record']}.csv --config {r['config']}`; "
+                   f"baseline held-out NRMSE {r['nrmse_before']:.3g} (true floor {r['floor']:.3g}); "
+                   f"the tool: \"{r['tool_line']}\"")
     fx = [r for r in rows if r["truth"] and r["verdict"] != "failed"]
     if fx:
         half = sum(r["halfway"] for r in fx)
@@ -217,6 +221,25 @@ def summary(rows: list[dict]) -> list[str]:
     if walls:
         out.append(f"- wall time per record: median {walls[len(walls) // 2]:.0f} s, max {walls[-1]:.0f} s")
     return out
+
+
+def when_and_load(rows: list[dict], records: Path) -> str:
+    """When the rows were measured (their time stamps, else their diagnosis
+    file's) and the load average each record ended with, where recorded."""
+    stamps = []
+    for r in rows:
+        if "when" in r:
+            stamps.append(datetime.datetime.fromisoformat(r["when"]))
+        elif (records / f"{r['record']}.diagnosis.json").exists():
+            mtime = (records / f"{r['record']}.diagnosis.json").stat().st_mtime
+            stamps.append(datetime.datetime.fromtimestamp(mtime, datetime.timezone.utc))
+    loads = [r["load"] for r in rows if "load" in r]
+    text = (f"Measured {min(stamps):%Y-%m-%d %H:%M} to {max(stamps):%H:%M} UTC" if stamps
+            else "Measured at an unrecorded time")
+    if loads:
+        text += (f"; load average as a record ended {min(loads):.1f} to {max(loads):.1f}"
+                 f" ({len(loads)} of {len(rows)} records logged it)")
+    return text
 
 
 def write_docs(path: Path, text: str) -> None:
@@ -244,6 +267,8 @@ def main(argv=None) -> int:
     ap.add_argument("--timeout", type=float, default=900.0)
     ap.add_argument("--tool", type=Path, default=ROOT / ".venv" / "bin" / "pneufrac-fit")
     ap.add_argument("--docs", action="store_true", help="write the section into docs/analysis-bench.md")
+    ap.add_argument("--cached-only", action="store_true",
+                    help="only tabulate records already in --results (diagnose none)")
     a = ap.parse_args(argv)
     pats = a.scenarios.split(",")
     names = [k for k in SCENARIOS if any(fnmatch.fnmatchcase(k, p) for p in pats)]
@@ -258,8 +283,6 @@ def main(argv=None) -> int:
         for line in results.read_text().splitlines():
             r = json.loads(line)
             done[r["record"]] = r
-    load0 = os.getloadavg()
-    started = datetime.datetime.now(datetime.timezone.utc)
     rows = []
     for seed in seeds:
         for name in names:
@@ -267,18 +290,19 @@ def main(argv=None) -> int:
             if key in done:
                 rows.append(done[key])
                 continue
+            if a.cached_only:
+                continue
             r = score(name, seed, a.records, a.tool, a.timeout)
             with open(results, "a") as f:
                 f.write(json.dumps(r) + "\n")
             rows.append(r)
             print(f"{key}: {r['verdict']} (named {', '.join(r['named']) or 'none'}; "
                   f"truth {', '.join(r['truth']) or 'none'}; {r['wall_s']:.0f} s)", flush=True)
-    load1 = os.getloadavg()
     lines = table(rows)
     summ = summary(rows)
     print("\n".join(lines + [""] + summ))
     if a.docs:
-        cmd = f".venv/bin/python bench/bench_blind.py --scenarios '{a.scenarios}' --seeds {a.seeds} --docs"
+        cmd = f".venv/bin/python bench/bench_blind.py --scenarios '{a.scenarios}' --seeds {a.seeds}"
         text = "\n".join([
             SECTION, "",
             "Records from `bench/blindsim`, a simulator written from the paper's equations",
@@ -289,9 +313,8 @@ def main(argv=None) -> int:
             "scenario and its size class were fixed before any was diagnosed.",
             "",
             f"Command: `{cmd}` (each record `nice pneufrac-fit diagnose --json --jobs 1`,",
-            f"one at a time). Run {started:%Y-%m-%d %H:%M} UTC; load average at the start",
-            f"{load0[0]:.1f}, at the end {load1[0]:.1f} (2 cores, shared): wall times are",
-            "indicative only.",
+            f"one at a time). {when_and_load(rows, a.records)} (2 cores, shared with",
+            "other work): wall times are indicative only.",
             "",
             "Right: the set of named causes equals the truth's. Parameters: dead time in",
             "data samples, lag, dead band and x_1/2 relative, bias absolute, saturation",

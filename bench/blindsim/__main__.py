@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 import fnmatch
 import json
+import os
 import sys
 from pathlib import Path
 
@@ -19,13 +20,18 @@ def write(name: str, seed: int, out: Path) -> tuple[Path, Path]:
     names = truth["columns"]
     out.mkdir(parents=True, exist_ok=True)
     csv = out / f"{name}-{seed}.csv"
-    with open(csv, "w") as f:
+    js = out / f"{name}-{seed}.json"
+    # Written under temporary names and renamed, the truth last: a reader
+    # that finds the JSON finds the whole record.
+    tmp = f".tmp{os.getpid()}"
+    with open(str(csv) + tmp, "w") as f:
         f.write(f"# blindsim {name} seed {seed}\n")
         f.write(",".join(names) + "\n")
         for t, e, pc in zip(cols["t"], cols["e"], cols["pc"]):
             f.write(f"{t:.7f},{e:.9g},{pc:.9g}\n")
-    js = out / f"{name}-{seed}.json"
-    js.write_text(json.dumps(truth, indent=1) + "\n")
+    os.replace(str(csv) + tmp, csv)
+    Path(str(js) + tmp).write_text(json.dumps(truth, indent=1) + "\n")
+    os.replace(str(js) + tmp, js)
     return csv, js
 
 
