@@ -322,7 +322,13 @@ def main(argv=None) -> int:
             "closest to the simulator's compressible one over the displacements visited.",
             "Floor: the true noise rms over the sd of the measured held-out output.",
             "Truth (rms/noise): the rms change the effects make to the sampled output over",
-            "the noise sd.",
+            "the noise sd: the class (`one`, `two`: sized to be obvious; `marginal`: at the",
+            "limit) is by parameter, and a few `obvious` lags and dead times on slow inputs",
+            "change the output by only about one noise sd, so missing those is fair.",
+            "Saturation stops the relay diaphragm: the clipped displacement enters the",
+            "relay's own fractional memory (eq. 11 with z held at its stop), where the",
+            "library clips p_c after the relay and lets the relay run on (docs/analysis.md,",
+            "Known limits); records with saturation carry that structural difference.",
             "", *summ, "", *lines, ""])
         write_docs(ROOT / "docs" / "analysis-bench.md", text)
     return 0

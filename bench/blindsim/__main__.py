@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""python -m blindsim list | make NAME [NAME ...] --seed S --out DIR
+"""python -m blindsim list | make NAME [NAME ...] --seed S [--noise KIND] --out DIR
 
 `make` writes DIR/NAME-S.csv (the record) and DIR/NAME-S.json (its truth).
 """
@@ -13,10 +13,11 @@ import sys
 from pathlib import Path
 
 from .catalogue import SCENARIOS, build
+from .sensors import NOISE_KINDS
 
 
-def write(name: str, seed: int, out: Path) -> tuple[Path, Path]:
-    cols, truth = build(name, seed)
+def write(name: str, seed: int, out: Path, noise: str | None = None) -> tuple[Path, Path]:
+    cols, truth = build(name, seed, noise)
     names = truth["columns"]
     out.mkdir(parents=True, exist_ok=True)
     csv = out / f"{name}-{seed}.csv"
@@ -43,6 +44,8 @@ def main(argv=None) -> int:
     mk.add_argument("names", nargs="+", help="scenario names or shell patterns")
     mk.add_argument("--seed", type=int, default=1)
     mk.add_argument("--out", type=Path, required=True)
+    mk.add_argument("--noise", choices=NOISE_KINDS, default=None,
+                    help="replace the scenario's sensor noise (every other draw unchanged)")
     a = ap.parse_args(argv)
     if a.cmd == "list":
         for k, v in SCENARIOS.items():
@@ -57,7 +60,7 @@ def main(argv=None) -> int:
         print(f"blindsim: no scenario matches {' '.join(a.names)}", file=sys.stderr)
         return 2
     for n in names:
-        csv, _ = write(n, a.seed, a.out)
+        csv, _ = write(n, a.seed, a.out, a.noise)
         print(csv)
     return 0
 

@@ -138,11 +138,14 @@ def groups(config: str, p: dict) -> dict:
     return g
 
 
-def build(name: str, seed: int) -> tuple[dict, dict]:
-    """Return (columns {t, e, pc}, truth) for scenario `name`, seed `seed`."""
+def build(name: str, seed: int, noise: str | None = None) -> tuple[dict, dict]:
+    """Return (columns {t, e, pc}, truth) for scenario `name`, seed `seed`;
+    `noise` replaces the scenario's noise kind (every other draw unchanged)."""
     if name not in SCENARIOS:
         raise KeyError(f"unknown scenario {name}")
-    sp = SCENARIOS[name]
+    if noise is not None and noise not in sensors.NOISE_KINDS:
+        raise ValueError(f"unknown noise {noise}")
+    sp = dict(SCENARIOS[name], **({"noise": noise} if noise else {}))
     rng = np.random.default_rng([seed, zlib.crc32(name.encode())])
     cfg, fs, dur = sp["config"], float(sp["fs"]), float(sp["dur"])
     p = perturbed(cfg, rng)
@@ -241,6 +244,7 @@ def build(name: str, seed: int) -> tuple[dict, dict]:
         "causes": sorted(truth_fx), "effects": truth_fx,
         "effect_rms_over_noise": float(np.sqrt(np.mean((pc_true - pc_lin) ** 2)) / sd_pc),
         "floor_val": floor,
-        "remake": f"PYTHONPATH=bench .venv/bin/python -m blindsim make {name} --seed {seed} --out DIR",
+        "remake": (f"PYTHONPATH=bench .venv/bin/python -m blindsim make {name} --seed {seed}"
+                   + (f" --noise {noise}" if noise else "") + " --out DIR"),
     }
     return {"t": tk, "e": e_meas, "pc": pc_meas}, truth
