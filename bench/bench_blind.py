@@ -283,7 +283,7 @@ def main(argv=None) -> int:
         for line in results.read_text().splitlines():
             r = json.loads(line)
             done[r["record"]] = r
-    rows = []
+    rows, missing = [], []
     for seed in seeds:
         for name in names:
             key = f"{name}-{seed}"
@@ -291,6 +291,7 @@ def main(argv=None) -> int:
                 rows.append(done[key])
                 continue
             if a.cached_only:
+                missing.append(key)
                 continue
             r = score(name, seed, a.records, a.tool, a.timeout)
             with open(results, "a") as f:
@@ -315,6 +316,8 @@ def main(argv=None) -> int:
             f"Command: `{cmd}` (each record `nice pneufrac-fit diagnose --json --jobs 1`,",
             f"one at a time). {when_and_load(rows, a.records)} (2 cores, shared with",
             "other work): wall times are indicative only.",
+            *([f"Not run (time ran out): {len(missing)} of {len(missing) + len(rows)} records: "
+               + ", ".join(missing) + "."] if missing else []),
             "",
             "Right: the set of named causes equals the truth's. Parameters: dead time in",
             "data samples, lag, dead band and x_1/2 relative, bias absolute, saturation",
