@@ -198,25 +198,93 @@ def test(pb, effect: str, fr, ref, pb_ref=None) -> Test:
     return t
 
 
-def indistinguishable(a: Test, b: Test) -> bool:
-    """Whether the record cannot tell two passing candidates apart, a the
-    one with the lower held-out NRMSE. It tells them apart when a wins every
-    comparison the guards make, the same way round: on the fit part by BIC
-    (residuals whitened by a's noise model for both, over the samples both
-    count, each model's own parameter count) lower by more than MIN_DBIC, and
-    on the held-out part in the error as measured and whitened. When b is as
-    good on the fit part, or better on either held-out measure, the evidence
-    is missing or conflicts: the two explain the record equally well within
-    the noise."""
+# Telling two explanations apart. Each sample's log-likelihood difference
+# between two fitted models is correlated in time (an effect's signature
+# lasts as long as the response to an input change), so the variance of its
+# sum is estimated from N_BATCH contiguous batches (batch means: batches much
+# longer than a response are nearly independent, and batches that differ,
+# one holding a step and one not, only make the estimate larger). The sum
+# over N_BATCH batches is then t-distributed with N_BATCH - 1 degrees of
+# freedom. The question is directional (does the round's winner explain
+# the record better than this rival?), so Z_BETTER is the one-sided 95 %
+# point of t(19).
+N_BATCH = 20
+Z_BETTER = 1.729             # t(19), 95 %
+
+
+def batch_t(d: np.ndarray, offset: float = 0.0) -> float:
+    """t statistic of sum(d) - offset > 0, the sum's variance from N_BATCH
+    contiguous batches of d."""
+    if d.size < 2 * N_BATCH:
+        return 0.0
+    edges = np.linspace(0, d.size, N_BATCH + 1).astype(int)
+    s = np.add.reduceat(d, edges[:-1])
+    v = N_BATCH * float(np.var(s, ddof=1))
+    num = float(np.sum(d)) - offset
+    if not v > 0:
+        return math.copysign(math.inf, num) if num else 0.0
+    return num / math.sqrt(v)
+
+
+def better(a: Test, b: Test, nm) -> tuple[float, float]:
+    """(t on the fit part, t on the held-out part) that model a explains the
+    record better than b, residuals whitened by nm.
+
+    Fit part: Vuong's test for non-nested models, with his BIC correction
+    for the parameter counts: each sample's Gaussian log-likelihood
+    difference under each model's own whitened variance, summed, minus
+    (k_a - k_b) ln(m) / 2, over its batch-means sd. Held-out part:
+    Diebold and Mariano's test of equal predictive accuracy on the squared
+    whitened errors, and again on the errors as measured (less their mean:
+    an offset is pc0's business), the smaller counting (as in the guards:
+    an advantage only in the fast, whitened part can be the model's own
+    discretisation)."""
     n = a.pb.nfit
     ra, rb = a.model.residual(a.pb), b.model.residual(b.pb)
-    nm = a.nm
     k = max(a.pb.burn, b.pb.burn)
     fa, fb = nm.whiten(ra[k:n]), nm.whiten(rb[k:n])
     m = fa.size
-    dbic = (m * math.log(max(float(fa @ fa), 1e-300) / max(float(fb @ fb), 1e-300))
-            + (a.model.k - b.model.k) * math.log(max(m, 1)))
+    sa, sb = max(float(fa @ fa) / m, 1e-300), max(float(fb @ fb) / m, 1e-300)
+    d = 0.5 * math.log(sb / sa) + fb * fb / (2 * sb) - fa * fa / (2 * sa)
+    t_fit = batch_t(d, (a.model.k - b.model.k) * math.log(max(m, 2)) / 2)
     va, vb = nm.whiten(ra[n:]), nm.whiten(rb[n:])
     pa, pb_ = ra[n:] - np.mean(ra[n:]), rb[n:] - np.mean(rb[n:])
-    return not (dbic < -MIN_DBIC and float(va @ va) < float(vb @ vb)
-                and float(pa @ pa) < float(pb_ @ pb_))
+    t_val = min(batch_t(vb * vb - va * va), batch_t(pb_ * pb_ - pa * pa))
+    return t_fit, t_val
+
+
+def distinguishable(a: Test, b: Test) -> bool:
+    """Whether the record says that a, not b, is the explanation: a explains
+    it significantly better (Z_BETTER) on the fit part and on the held-out
+    part, under a's noise model and under b's (each is the noise as seen
+    by one of the two stories: the conclusion must not hang on which)."""
+    for nm in {id(x): x for x in (a.nm, b.nm) if x is not None}.values():
+        t_fit, t_val = better(a, b, nm)
+        if not (t_fit > Z_BETTER and t_val > Z_BETTER):
+            return False
+    return True
+
+
+# Lack of fit: a model is inadequate when its residual, whitened by the
+# noise model, still depends on the input. Under an adequate model the
+# whitened residual is independent of the input, and its normalised
+# cross-correlation with the input's increments has sd 1/sqrt(N) at every
+# lag whatever the input's colour; lags of a coloured input are correlated
+# with each other, so the 1 % level over the 2 MAXLAG + 1 lags is held by
+# Bonferroni's bound (conservative for correlated lags).
+LOF_LEVEL = 0.01
+
+
+def inadequate(pb, fr) -> tuple[bool, float]:
+    """(whether fr's residual still depends on the input at the LOF_LEVEL,
+    its largest |cross-correlation| in units of the 1/sqrt(N) sd)."""
+    from scipy.stats import norm
+    from . import evidence
+    r = fr.residual(pb)
+    nm = pb.nm if pb.nm is not None else noise.fit(r[pb.counted])
+    k = pb.counted.start
+    rw = nm.whiten(r[k:])
+    de = np.diff(pb.e_abs, prepend=pb.e_abs[0])[r.size - rw.size:]
+    lags = np.arange(-evidence.MAXLAG, evidence.MAXLAG + 1)
+    z = float(np.max(np.abs(evidence.xcorr(rw, de, lags)))) * math.sqrt(rw.size)
+    return z > norm.isf(LOF_LEVEL / (2 * lags.size)), z
