@@ -148,3 +148,64 @@ def test_rival_that_passes_on_top_keeps_both_in_play(monkeypatch):
 def test_clearly_better_winner_is_kept(monkeypatch):
     final, notes = _forward_with(1.5, {"nozzle": _lag_fails_on_top}, monkeypatch)
     assert final.effect == "nozzle" and notes == []
+
+
+def _pairs_with(monkeypatch, inadequate, passing, scales):
+    """selection.pairs over stub fits: three effects explain part of the
+    residual; the pair fits' residuals are a common noise scaled by
+    scales[pair]; members of the pairs in `passing` pass their guards."""
+    rng = np.random.default_rng(5)
+    noise_ = rng.normal(0.0, 1.0, N_FIT + N_VAL)
+    tests = [_test(e, noise_) for e in ("dead_time", "lag", "saturation")]
+    for t in tests:
+        t.model.groups, t.model.values, t.model.dead = {}, {}, 0
+    monkeypatch.setattr(guards, "inadequate", lambda pb, fr: (inadequate, 9.0))
+    monkeypatch.setattr(selection, "problem_for", lambda pb, eff: pb)
+    monkeypatch.setattr(selection.fit, "uncertainty", lambda pb, fr: None)
+
+    def refine(pb, effects, starts, dead=0, iters=0):
+        key = "+".join(e for e in effects)
+        r = noise_ * scales[key] + rng.normal(0.0, 0.01, noise_.size)
+        return SimpleNamespace(effects=effects, nrmse_val=scales[key], k=10,
+                               residual=lambda _pb, r=r: r)
+
+    def test(pb, effect, fr, ref, so_far=None):
+        key = "+".join(fr.effects)
+        t = _test(effect, fr.residual(pb), passes=key in passing)
+        t.model, t.reasons = fr, [] if t.passes else ["stub: fails"]
+        return t
+
+    monkeypatch.setattr(selection.search, "refine", refine)
+    monkeypatch.setattr(selection, "reference", lambda pb, eff, fr, prior: prior)
+    monkeypatch.setattr(guards, "test", test)
+    current = SimpleNamespace(effects=(), effect="none", dead=0)
+    notes, sets = [], []
+    got = selection.pairs(SimpleNamespace(nfit=N_FIT, burn=0), current, tests,
+                          lambda s: None, notes, sets)
+    return got, notes, sets
+
+
+ALL_EQUAL = {"dead_time+lag": 1.0, "dead_time+saturation": 1.0, "lag+saturation": 1.0}
+
+
+def test_pairs_only_when_the_model_is_inadequate(monkeypatch):
+    got, _, _ = _pairs_with(monkeypatch, False, {"dead_time+saturation"}, ALL_EQUAL)
+    assert got is None
+
+
+def test_a_pair_whose_members_pass_and_that_stands_out_is_added(monkeypatch):
+    scales = {"dead_time+lag": 1.5, "dead_time+saturation": 1.0, "lag+saturation": 1.5}
+    got, notes, _ = _pairs_with(monkeypatch, True, {"dead_time+saturation"}, scales)
+    assert got is not None and got[0].effects == ("dead_time", "saturation") and notes == []
+
+
+def test_a_pair_the_record_cannot_tell_from_another_is_not_added(monkeypatch):
+    got, notes, sets = _pairs_with(monkeypatch, True, {"dead_time+saturation"}, ALL_EQUAL)
+    assert got is None
+    assert sets and sets[0][0] == "dead_time+saturation" and "cannot tell" in notes[0]
+
+
+def test_no_pair_whose_member_fails_is_added(monkeypatch):
+    scales = {"dead_time+lag": 1.5, "dead_time+saturation": 1.0, "lag+saturation": 1.5}
+    got, _, _ = _pairs_with(monkeypatch, True, set(), scales)
+    assert got is None

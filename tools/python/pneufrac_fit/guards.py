@@ -123,8 +123,14 @@ def _interval(pb, fr, effect, contrib_range):
     return (lo, hi), bool(math.isfinite(s) and lo > 0)
 
 
-def test(pb, effect: str, fr, ref, pb_ref=None) -> Test:
-    """Guards for `effect` in model fr against the same-freedom reference."""
+def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
+    """Guards for `effect` in model fr against the same-freedom reference.
+    so_far: the model chosen before this test (the effect is added to it):
+    the held-out part must be predicted better than by it too. Held-out
+    errors compare any two models fairly, whatever their freedoms, and a
+    reference refitted with freed groups can predict worse than the model
+    already chosen: an effect that only beats that reference would make the
+    diagnosis predict worse than before it."""
     pb_ref = pb_ref or pb
     t = Test(effect, fr, ref)
     sl = pb.counted
@@ -151,6 +157,12 @@ def test(pb, effect: str, fr, ref, pb_ref=None) -> Test:
     mp1, mp0 = float(p1 @ p1), float(p0 @ p0)
     gp = 1.0 - mp1 / mp0 if mp0 > 0 else 0.0
     t.val_gain = min(gw, gp)
+    if so_far is not None and so_far is not ref:
+        rs = so_far.residual(pb_ref)[n:]
+        vs, ps = nm.whiten(rs), rs - np.mean(rs)
+        ms, mps = float(vs @ vs), float(ps @ ps)
+        t.val_gain = min(t.val_gain, 1.0 - mse1 / ms if ms > 0 else 0.0,
+                         1.0 - mp1 / mps if mps > 0 else 0.0)
     off = _switched_off(pb, fr, effect)
     d = fr.sim - ref.sim
     sd = math.sqrt(max(nm.var, 1e-300))

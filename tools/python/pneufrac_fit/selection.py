@@ -18,7 +18,7 @@ Three mechanisms, each used everywhere it applies:
 """
 from __future__ import annotations
 
-import os
+import itertools
 import time
 
 import numpy as np
@@ -84,7 +84,7 @@ def try_effect(pb, current, effect: str, seed: int, hint: dict | None = None):
     else:       # no better than the model without it: no reference needed
         ref = current
     fit.uncertainty(pbx, fr)
-    t = guards.test(pbx, effect, fr, ref, pb if ref is current else pbx)
+    t = guards.test(pbx, effect, fr, ref, pb if ref is current else pbx, current)
     if t.passes:
         t = confirm(pbx, effect, fr, t, current, rng)
     t.pb = pbx
@@ -107,7 +107,7 @@ def confirm(pb, effect, fr, t, current, rng):
                                  stage_iter=baseline.STAGE_ITER)
     if ref2.cost >= t.ref.cost:
         return t
-    t2 = guards.test(pb, effect, fr, ref2)
+    t2 = guards.test(pb, effect, fr, ref2, so_far=current)
     t2.pb = pb
     return t2
 
@@ -247,7 +247,6 @@ def pairs(pb, current, tests, say, notes=None, sets=None):
     record tells it from every other such pair (guards.distinguishable);
     otherwise none is. Returns (model, problem, the members' tests) or
     None."""
-    import itertools
     expl = [t for t in tests if explains(t)]
     if len(expl) < 2:
         return None
@@ -271,7 +270,7 @@ def pairs(pb, current, tests, say, notes=None, sets=None):
         members = []
         for x, y in ((a, b), (b, a)):
             ref = reference(pbx, tuple(e for e in effects if e != x.effect), fr, y.model)
-            t = guards.test(pbx, x.effect, fr, ref)
+            t = guards.test(pbx, x.effect, fr, ref, so_far=current)
             t.pb = pbx
             members.append(t)
         ok = all(t.passes for t in members)
@@ -287,9 +286,9 @@ def pairs(pb, current, tests, say, notes=None, sets=None):
     rivals = [m for m, _ in found if m is not win and all(explains(t) for t in m)
               and not guards.distinguishable(win[0], m[0])]
     if rivals:
-        _cannot_tell(["+".join(t.effect for t in m) for m in [win] + rivals],
-                     [m[0] for m in [win] + rivals], "each pair explains part of the residual", say,
-                     notes, sets)
+        both = [win] + rivals
+        _cannot_tell(["+".join(t.effect for t in m) for m in both], [m[0] for m in both],
+                     "each pair explains part of the residual", say, notes, sets)
         return None
     say(f"pairs: {'+'.join(t.effect for t in win)} added")
     return win[0].model, win[0].pb, list(win)
