@@ -2,7 +2,7 @@
 """Two explanations the record cannot tell apart are not named
 (selection.forward with guards.distinguishable): the comparison itself (a
 Vuong test on the fit part and a Diebold-Mariano test held out, their
-variance from batch means), its calibration, the lack-of-fit test that
+long-run variance from Newey-West weights), its calibration, the lack-of-fit test that
 lets pairs be tried, and the forward selection's decision on stub rounds
 (no fits: the rule is about what is done with the guards' verdicts)."""
 from types import SimpleNamespace
@@ -52,7 +52,7 @@ def test_an_advantage_in_one_stretch_is_one_piece_of_evidence():
     """b is far worse, but only in one burst of 30 samples in each part
     (one step the two models answer differently): the sum of the
     likelihood differences is large, but it rests on one stretch, and the
-    batch-means variance says so."""
+    long-run variance says so."""
     ra, _ = _residuals(1.0)
     rb = ra.copy()
     rb[500:530] += 8.0
@@ -76,8 +76,8 @@ def test_extra_parameters_must_pay_for_themselves():
 
 
 @pytest.mark.parametrize("pole", [0.0, 0.9])
-def test_batch_t_holds_its_level_under_correlation(pole):
-    """Under 'no difference' the batch-means t exceeds Z_BETTER (one-sided
+def test_hac_t_holds_its_level_under_correlation(pole):
+    """Under 'no difference' the long-run-variance t exceeds Z_BETTER (one-sided
     95 %) in about 5 % of records, white or strongly correlated (AR(1),
     pole 0.9: a naive iid variance would be 19x too small and the rate
     far above 5 %)."""
@@ -86,7 +86,7 @@ def test_batch_t_holds_its_level_under_correlation(pole):
     reps = 600
     for _ in range(reps):
         d = lfilter([1.0], [1.0, -pole], rng.normal(size=3000))
-        hits += guards.batch_t(d) > guards.Z_BETTER
+        hits += guards.hac_t(d) > guards.Z_BETTER
     assert 0.02 < hits / reps < 0.09
 
 

@@ -133,7 +133,7 @@ def to_dict(d) -> dict:
                    "material_energy": guards.MATERIAL_SNR,
                    "over_discretisation": guards.APPROX_RATIO,
                    "min_timing_samples": guards.MIN_TIMING,
-                   "better_t": guards.Z_BETTER, "better_batches": guards.N_BATCH},
+                   "better_t": guards.Z_BETTER},
         "record": {"n": d.n, "n_fit": d.nfit, "fs": d.fs, "e0": d.e0, "pc0": d.pc0,
                    "oversample": d.oversample,
                    "noise_sd": _num(d.noise_sd), "noise_floor_val": _num(d.noise_floor_val),
