@@ -332,12 +332,18 @@ def sweep(a, names: list[str], seeds: list[int], tool: str, keep: str) -> int:
         for f in cf.as_completed(futs):
             n, s = futs[f]
             r = rows[(n, s)] = f.result()
-            print(f"[bench] {n}-{s}: {verdict(r)} ({r['status']}), "
+            named = "n/a" if r["named"] is None else (", ".join(r["named"]) or "none")
+            print(f"[bench] {n}-{s}: {verdict(r)}: {named} ({r['status']}), "
                   f"{_f(r['time'], '{:.0f} s')}", file=sys.stderr)
     except KeyboardInterrupt:
         ex.shutdown(wait=False, cancel_futures=True)
         procs.kill_all()
-        print("bench_diagnose_indep: interrupted", file=sys.stderr)
+        print("bench_diagnose_indep: interrupted; the records finished so far:", file=sys.stderr)
+        done = [rows[j] for j in sorted(rows, key=lambda j: (names.index(j[0]), j[1]))]
+        if done:
+            print("\n".join(table(done)))
+            print()
+            print("\n".join(summary(done)))
         return 130
     ex.shutdown()
     ordered = [rows[j] for j in sorted(jobs, key=lambda j: (names.index(j[0]), j[1]))]

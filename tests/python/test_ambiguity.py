@@ -1,22 +1,27 @@
 # SPDX-License-Identifier: MIT
-"""Two effects that explain the same feature of a record equally well are
-not named (selection.forward with guards.indistinguishable): the held-out
-comparison itself, and the forward selection's decision on stub rounds (no
-fits: the rule is about what is done with the guards' verdicts)."""
+"""Two explanations the record cannot tell apart are not named
+(selection.forward with guards.distinguishable): the comparison itself (a
+Vuong test on the fit part and a Diebold-Mariano test held out, their
+long-run variance from Newey-West weights), its calibration, the lack-of-fit test that
+lets pairs be tried, and the forward selection's decision on stub rounds
+(no fits: the rule is about what is done with the guards' verdicts)."""
 from types import SimpleNamespace
 
 import numpy as np
+import pytest
+from scipy.signal import lfilter
 
 from pneufrac_fit import guards, noise, selection
 
-N_FIT, N_VAL = 400, 3000
+N_FIT, N_VAL = 2000, 3000
 
 
-def _test(effect, resid, passes=True, nrmse=0.1, k=9):
+def _test(effect, resid, passes=True, nrmse=0.1, k=9, explains=True):
     """A guards.Test stand-in whose model has the given residual."""
     fr = SimpleNamespace(effects=(effect,), effect=effect, nrmse_val=nrmse, k=k,
                          residual=lambda pb, r=resid: r)
-    return SimpleNamespace(effect=effect, model=fr, passes=passes,
+    return SimpleNamespace(effect=effect, model=fr, passes=passes, excludes=explains,
+                           val_gain=0.1 if explains else -0.1,
                            nm=noise.fit(np.zeros(0)), pb=SimpleNamespace(nfit=N_FIT, burn=0))
 
 
@@ -28,28 +33,76 @@ def _residuals(scale_b, seed=1):
 
 def test_equal_errors_are_indistinguishable():
     ra, rb = _residuals(1.0)
-    assert guards.indistinguishable(_test("nozzle", ra), _test("lag", rb))
+    assert not guards.distinguishable(_test("nozzle", ra), _test("lag", rb))
 
 
 def test_clearly_better_everywhere_is_distinguishable():
     ra, rb = _residuals(1.5)       # b's error 2.25x a's in variance, fit and held-out
-    assert not guards.indistinguishable(_test("nozzle", ra), _test("lag", rb))
+    assert guards.distinguishable(_test("nozzle", ra), _test("lag", rb))
+    assert not guards.distinguishable(_test("lag", rb), _test("nozzle", ra))
 
 
 def test_better_on_the_fit_part_only_is_not_enough():
     ra, rb = _residuals(1.0)
-    rb[:N_FIT] *= 1.5              # b worse on the fit part only
-    rb[N_FIT:] = ra[N_FIT:] * 0.999   # and a hair better held-out
-    assert guards.indistinguishable(_test("nozzle", ra), _test("lag", rb))
+    rb[:N_FIT] *= 1.5              # b worse on the fit part only, as good held-out
+    assert not guards.distinguishable(_test("nozzle", ra), _test("lag", rb))
+
+
+def test_an_advantage_in_one_stretch_is_one_piece_of_evidence():
+    """b is far worse, but only in one burst of 30 samples in each part
+    (one step the two models answer differently): the sum of the
+    likelihood differences is large, but it rests on one stretch, and the
+    long-run variance says so."""
+    ra, _ = _residuals(1.0)
+    rb = ra.copy()
+    rb[500:530] += 8.0
+    rb[N_FIT + 500:N_FIT + 530] += 8.0
+    assert not guards.distinguishable(_test("nozzle", ra), _test("lag", rb))
+    rb = ra.copy()                 # the same burst at every 100th sample: many pieces
+    for k in range(0, N_FIT + N_VAL - 30, 100):
+        rb[k:k + 3] += 8.0
+    assert guards.distinguishable(_test("nozzle", ra), _test("lag", rb))
 
 
 def test_extra_parameters_must_pay_for_themselves():
-    ra, rb = _residuals(1.5)
-    # fit part: b's whitened RSS 1.0404x a's, BIC -15.8 for a with equal
-    # parameter counts; one more parameter costs log(400) = 6.0
-    rb[:N_FIT] = ra[:N_FIT] * 1.02
-    assert not guards.indistinguishable(_test("nozzle", ra, k=9), _test("lag", rb, k=9))
-    assert guards.indistinguishable(_test("nozzle", ra, k=10), _test("lag", rb, k=9))
+    ra, rb = _residuals(1.0)
+    rb[N_FIT:] *= 1.5
+    rb[:N_FIT] = ra[:N_FIT] * 1.01     # a hair better on the fit part: 2 sd-ish
+    assert guards.distinguishable(_test("nozzle", ra, k=9), _test("lag", rb, k=9)) == \
+        (guards.better(_test("nozzle", ra), _test("lag", rb), noise.fit(np.zeros(0)))[0]
+         > guards.Z_BETTER)
+    # 40 more parameters cost 40 ln(2000)/2 = 152 log-likelihood units
+    assert not guards.distinguishable(_test("nozzle", ra, k=49), _test("lag", rb, k=9))
+
+
+@pytest.mark.parametrize("pole", [0.0, 0.9])
+def test_hac_t_holds_its_level_under_correlation(pole):
+    """Under 'no difference' the long-run-variance t exceeds Z_BETTER (one-sided
+    95 %) in about 5 % of records, white or strongly correlated (AR(1),
+    pole 0.9: a naive iid variance would be 19x too small and the rate
+    far above 5 %)."""
+    rng = np.random.default_rng(7)
+    hits = 0
+    reps = 600
+    for _ in range(reps):
+        d = lfilter([1.0], [1.0, -pole], rng.normal(size=3000))
+        hits += guards.hac_t(d) > guards.Z_BETTER
+    assert 0.02 < hits / reps < 0.09
+
+
+def _lof_case(resid, e):
+    pb = SimpleNamespace(nm=None, counted=slice(10, e.size), e_abs=e)
+    return guards.inadequate(pb, SimpleNamespace(residual=lambda _pb: resid))
+
+
+def test_lack_of_fit_needs_a_residual_that_depends_on_the_input():
+    rng = np.random.default_rng(3)
+    n = 5000
+    e = np.repeat(rng.choice([-1.0, 1.0], n // 100), 100)    # steps every 0.1 s
+    coloured = lfilter([1.0], [1.0, -0.95], rng.normal(0, 0.01, n))
+    assert not _lof_case(coloured, e)[0]          # coloured noise alone: adequate
+    missed = 0.1 * lfilter([0.1], [1.0, -0.9], np.diff(e, prepend=e[0]))
+    assert _lof_case(coloured + missed, e)[0]     # a response to the input left over
 
 
 def _forward_with(scale_b, on_top, monkeypatch):
@@ -63,6 +116,7 @@ def _forward_with(scale_b, on_top, monkeypatch):
     monkeypatch.setattr(selection, "run_round",
                         lambda pb, cur, eff, seed, jobs, say, prev: rounds[cur.effect])
     monkeypatch.setattr(selection, "backward", lambda pb, fr, say: (fr, pb, []))
+    monkeypatch.setattr(selection, "pairs", lambda *a: None)
     base = SimpleNamespace(effects=(), effect="none")
     notes = []
     final, _, _, _ = selection.forward("pb", base, 0, 1, lambda s: None, notes)
@@ -94,3 +148,64 @@ def test_rival_that_passes_on_top_keeps_both_in_play(monkeypatch):
 def test_clearly_better_winner_is_kept(monkeypatch):
     final, notes = _forward_with(1.5, {"nozzle": _lag_fails_on_top}, monkeypatch)
     assert final.effect == "nozzle" and notes == []
+
+
+def _pairs_with(monkeypatch, inadequate, passing, scales):
+    """selection.pairs over stub fits: three effects explain part of the
+    residual; the pair fits' residuals are a common noise scaled by
+    scales[pair]; members of the pairs in `passing` pass their guards."""
+    rng = np.random.default_rng(5)
+    noise_ = rng.normal(0.0, 1.0, N_FIT + N_VAL)
+    tests = [_test(e, noise_) for e in ("dead_time", "lag", "saturation")]
+    for t in tests:
+        t.model.groups, t.model.values, t.model.dead = {}, {}, 0
+    monkeypatch.setattr(guards, "inadequate", lambda pb, fr: (inadequate, 9.0))
+    monkeypatch.setattr(selection, "problem_for", lambda pb, eff: pb)
+    monkeypatch.setattr(selection.fit, "uncertainty", lambda pb, fr: None)
+
+    def refine(pb, effects, starts, dead=0, iters=0):
+        key = "+".join(e for e in effects)
+        r = noise_ * scales[key] + rng.normal(0.0, 0.01, noise_.size)
+        return SimpleNamespace(effects=effects, nrmse_val=scales[key], k=10,
+                               residual=lambda _pb, r=r: r)
+
+    def test(pb, effect, fr, ref, so_far=None):
+        key = "+".join(fr.effects)
+        t = _test(effect, fr.residual(pb), passes=key in passing)
+        t.model, t.reasons = fr, [] if t.passes else ["stub: fails"]
+        return t
+
+    monkeypatch.setattr(selection.search, "refine", refine)
+    monkeypatch.setattr(selection, "reference", lambda pb, eff, fr, prior: prior)
+    monkeypatch.setattr(guards, "test", test)
+    current = SimpleNamespace(effects=(), effect="none", dead=0)
+    notes, sets = [], []
+    got = selection.pairs(SimpleNamespace(nfit=N_FIT, burn=0), current, tests,
+                          lambda s: None, notes, sets)
+    return got, notes, sets
+
+
+ALL_EQUAL = {"dead_time+lag": 1.0, "dead_time+saturation": 1.0, "lag+saturation": 1.0}
+
+
+def test_pairs_only_when_the_model_is_inadequate(monkeypatch):
+    got, _, _ = _pairs_with(monkeypatch, False, {"dead_time+saturation"}, ALL_EQUAL)
+    assert got is None
+
+
+def test_a_pair_whose_members_pass_and_that_stands_out_is_added(monkeypatch):
+    scales = {"dead_time+lag": 1.5, "dead_time+saturation": 1.0, "lag+saturation": 1.5}
+    got, notes, _ = _pairs_with(monkeypatch, True, {"dead_time+saturation"}, scales)
+    assert got is not None and got[0].effects == ("dead_time", "saturation") and notes == []
+
+
+def test_a_pair_the_record_cannot_tell_from_another_is_not_added(monkeypatch):
+    got, notes, sets = _pairs_with(monkeypatch, True, {"dead_time+saturation"}, ALL_EQUAL)
+    assert got is None
+    assert sets and sets[0][0] == "dead_time+saturation" and "cannot tell" in notes[0]
+
+
+def test_no_pair_whose_member_fails_is_added(monkeypatch):
+    scales = {"dead_time+lag": 1.5, "dead_time+saturation": 1.0, "lag+saturation": 1.5}
+    got, _, _ = _pairs_with(monkeypatch, True, set(), scales)
+    assert got is None

@@ -32,8 +32,9 @@ def test_generate_and_diagnose(tmp_path):
     j = json.loads(r.stdout)
     assert "round 1" in r.stderr              # progress on stderr
     for k in ("cause", "causes", "effect_params", "baseline", "extended", "gain",
-              "candidates", "rounds", "evidence", "noise", "guards"):
+              "candidates", "rounds", "evidence", "noise", "guards", "ambiguous"):
         assert k in j
+    assert j["ambiguous"] == []               # one dead band: nothing to tell apart
     for m in ("baseline", "extended"):
         for k in ("params", "nrmse_fit", "nrmse_val", "bic"):
             assert k in j[m]

@@ -60,6 +60,7 @@ class Diagnosis:
     oversample: int = 1
     elapsed: float = 0.0
     pb: object = None
+    ambiguous: list = field(default_factory=list)   # sets of effects the record cannot tell apart
 
     @property
     def cause(self) -> str:
@@ -122,9 +123,9 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
     fit_notes[:0] = notes_nm
     say(f"baseline: NRMSE fit {base.nrmse_fit:.4f}, validation {base.nrmse_val:.4f}, "
         f"noise {nm0.describe()}")
-    ambiguous = []
+    ambiguous, sets = [], []
     final, pbf, rounds, checks = selection.forward(pb, base, seed * 1000 + 17, jobs, say,
-                                                   ambiguous)
+                                                   ambiguous, sets)
     base = _best_baseline(pb, base, rounds, fit_notes)
     causes = _ordered(final, checks)
     sd = noise_estimate(pb.y, pb.e_abs)
@@ -142,6 +143,7 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
                   identified, reasons, evidence, why, evb, eva, sd, nmf, floor, src,
                   list(rec.notes), fit_notes, pb.e_abs, pb.y, rec.t,
                   float(final.e0), float(final.values["pc0"]), m, pb=pbf)
+    d.ambiguous = sets
     d.elapsed = time.monotonic() - t0
     return d
 

@@ -12,7 +12,7 @@ Z99 = 2.5758293035489  # two-sided 99 % normal quantile
 MAXLAG = 40
 
 
-def _xcorr(a: np.ndarray, b: np.ndarray, lags) -> np.ndarray:
+def xcorr(a: np.ndarray, b: np.ndarray, lags) -> np.ndarray:
     """Normalised cross-correlation r_ab(k) = sum a[n+k] b[n] / (|a||b|)."""
     a = a - a.mean()
     b = b - b.mean()
@@ -44,12 +44,12 @@ def analyse(pb, fr, sd: float) -> dict:
     r = y - fr.sim
     n = r.size
     lags = np.arange(0, MAXLAG + 1)
-    acf = _xcorr(r, r, lags)
+    acf = xcorr(r, r, lags)
     de = np.diff(e, prepend=e[0])
     clag = np.arange(-MAXLAG, MAXLAG + 1)
     nm = noise.fit(r[pb.counted])
     rw = np.concatenate([np.zeros(nm.order), nm.whiten(r)])
-    ccf = _xcorr(rw, de, clag)
+    ccf = xcorr(rw, de, clag)
     bound = Z99 / math.sqrt(n)
 
     # residual by input level (signed amplitude), settled part of each hold

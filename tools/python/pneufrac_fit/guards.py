@@ -123,8 +123,14 @@ def _interval(pb, fr, effect, contrib_range):
     return (lo, hi), bool(math.isfinite(s) and lo > 0)
 
 
-def test(pb, effect: str, fr, ref, pb_ref=None) -> Test:
-    """Guards for `effect` in model fr against the same-freedom reference."""
+def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
+    """Guards for `effect` in model fr against the same-freedom reference.
+    so_far: the model chosen before this test (the effect is added to it):
+    the held-out part must be predicted better than by it too. Held-out
+    errors compare any two models fairly, whatever their freedoms, and a
+    reference refitted with freed groups can predict worse than the model
+    already chosen: an effect that only beats that reference would make the
+    diagnosis predict worse than before it."""
     pb_ref = pb_ref or pb
     t = Test(effect, fr, ref)
     sl = pb.counted
@@ -151,6 +157,12 @@ def test(pb, effect: str, fr, ref, pb_ref=None) -> Test:
     mp1, mp0 = float(p1 @ p1), float(p0 @ p0)
     gp = 1.0 - mp1 / mp0 if mp0 > 0 else 0.0
     t.val_gain = min(gw, gp)
+    if so_far is not None and so_far is not ref:
+        rs = so_far.residual(pb_ref)[n:]
+        vs, ps = nm.whiten(rs), rs - np.mean(rs)
+        ms, mps = float(vs @ vs), float(ps @ ps)
+        t.val_gain = min(t.val_gain, 1.0 - mse1 / ms if ms > 0 else 0.0,
+                         1.0 - mp1 / mps if mps > 0 else 0.0)
     off = _switched_off(pb, fr, effect)
     d = fr.sim - ref.sim
     sd = math.sqrt(max(nm.var, 1e-300))
@@ -198,25 +210,101 @@ def test(pb, effect: str, fr, ref, pb_ref=None) -> Test:
     return t
 
 
-def indistinguishable(a: Test, b: Test) -> bool:
-    """Whether the record cannot tell two passing candidates apart, a the
-    one with the lower held-out NRMSE. It tells them apart when a wins every
-    comparison the guards make, the same way round: on the fit part by BIC
-    (residuals whitened by a's noise model for both, over the samples both
-    count, each model's own parameter count) lower by more than MIN_DBIC, and
-    on the held-out part in the error as measured and whitened. When b is as
-    good on the fit part, or better on either held-out measure, the evidence
-    is missing or conflicts: the two explain the record equally well within
-    the noise."""
+# Telling two explanations apart. Each sample's log-likelihood difference
+# between two fitted models is correlated in time (an effect's signature
+# lasts as long as the response to an input change), so the variance of its
+# sum is the long-run variance: Newey and West's estimator (Bartlett
+# weights), with Andrews' (1991) automatic bandwidth from an AR(1) fitted to
+# the differences themselves, the standard choice for Diebold and Mariano's
+# test. The question is directional (does the round's winner explain the
+# record better than this rival?): Z_BETTER is the one-sided 95 % point of
+# the normal.
+Z_BETTER = 1.6448536269514722
+
+
+def bandwidth(d: np.ndarray) -> int:
+    """Andrews' automatic Bartlett bandwidth, AR(1) plug-in:
+    1.1447 (alpha n)^(1/3), alpha = 4 rho^2 / ((1 - rho)^2 (1 + rho)^2)."""
+    x = d - np.mean(d)
+    xx = float(x @ x)
+    rho = float(x[1:] @ x[:-1]) / xx if xx > 0 else 0.0
+    rho = min(max(rho, -0.99), 0.99)
+    alpha = 4 * rho * rho / ((1 - rho) ** 2 * (1 + rho) ** 2)
+    return int(min(1.1447 * (alpha * d.size) ** (1 / 3), d.size // 4))
+
+
+def hac_t(d: np.ndarray, offset: float = 0.0) -> float:
+    """t statistic of sum(d) - offset > 0, the sum's variance the
+    Newey-West long-run variance of d (bandwidth()) times its length."""
+    if d.size < 8:
+        return 0.0
+    x = d - np.mean(d)
+    v = float(x @ x)
+    L = bandwidth(d)
+    for k in range(1, L + 1):
+        v += 2 * (1 - k / (L + 1)) * float(x[k:] @ x[:-k])
+    num = float(np.sum(d)) - offset
+    if not v > 0:
+        return math.copysign(math.inf, num) if num else 0.0
+    return num / math.sqrt(v)
+
+
+def better(a: Test, b: Test, nm) -> tuple[float, float]:
+    """(t on the fit part, t on the held-out part) that model a explains the
+    record better than b, residuals whitened by nm.
+
+    Fit part: Vuong's test for non-nested models, with his BIC correction
+    for the parameter counts: each sample's Gaussian log-likelihood
+    difference under each model's own whitened variance, summed, minus
+    (k_a - k_b) ln(m) / 2, over its long-run sd (hac_t). Held-out part:
+    Diebold and Mariano's test of equal predictive accuracy on the squared
+    whitened errors, and again on the errors as measured (less their mean:
+    an offset is pc0's business), the smaller counting (as in the guards:
+    an advantage only in the fast, whitened part can be the model's own
+    discretisation)."""
     n = a.pb.nfit
     ra, rb = a.model.residual(a.pb), b.model.residual(b.pb)
-    nm = a.nm
     k = max(a.pb.burn, b.pb.burn)
     fa, fb = nm.whiten(ra[k:n]), nm.whiten(rb[k:n])
     m = fa.size
-    dbic = (m * math.log(max(float(fa @ fa), 1e-300) / max(float(fb @ fb), 1e-300))
-            + (a.model.k - b.model.k) * math.log(max(m, 1)))
+    sa, sb = max(float(fa @ fa) / m, 1e-300), max(float(fb @ fb) / m, 1e-300)
+    d = 0.5 * math.log(sb / sa) + fb * fb / (2 * sb) - fa * fa / (2 * sa)
+    t_fit = hac_t(d, (a.model.k - b.model.k) * math.log(max(m, 2)) / 2)
     va, vb = nm.whiten(ra[n:]), nm.whiten(rb[n:])
     pa, pb_ = ra[n:] - np.mean(ra[n:]), rb[n:] - np.mean(rb[n:])
-    return not (dbic < -MIN_DBIC and float(va @ va) < float(vb @ vb)
-                and float(pa @ pa) < float(pb_ @ pb_))
+    t_val = min(hac_t(vb * vb - va * va), hac_t(pb_ * pb_ - pa * pa))
+    return t_fit, t_val
+
+
+def distinguishable(a: Test, b: Test) -> bool:
+    """Whether the record says that a, not b, is the explanation: a explains
+    it significantly better (Z_BETTER) on the fit part and on the held-out
+    part, both residuals whitened by a's noise model (as in the guards: if a
+    is the explanation, its residual is the noise)."""
+    t_fit, t_val = better(a, b, a.nm)
+    return t_fit > Z_BETTER and t_val > Z_BETTER
+
+
+# Lack of fit: a model is inadequate when its residual, whitened by the
+# noise model, still depends on the input. Under an adequate model the
+# whitened residual is independent of the input, and its normalised
+# cross-correlation with the input's increments has sd 1/sqrt(N) at every
+# lag whatever the input's colour; lags of a coloured input are correlated
+# with each other, so the 1 % level over the 2 MAXLAG + 1 lags is held by
+# Bonferroni's bound (conservative for correlated lags).
+LOF_LEVEL = 0.01
+
+
+def inadequate(pb, fr) -> tuple[bool, float]:
+    """(whether fr's residual still depends on the input at the LOF_LEVEL,
+    its largest |cross-correlation| in units of the 1/sqrt(N) sd)."""
+    from scipy.stats import norm
+    from . import evidence
+    r = fr.residual(pb)
+    nm = pb.nm if pb.nm is not None else noise.fit(r[pb.counted])
+    k = pb.counted.start
+    rw = nm.whiten(r[k:])
+    de = np.diff(pb.e_abs, prepend=pb.e_abs[0])[r.size - rw.size:]
+    lags = np.arange(-evidence.MAXLAG, evidence.MAXLAG + 1)
+    z = float(np.max(np.abs(evidence.xcorr(rw, de, lags)))) * math.sqrt(rw.size)
+    return z > norm.isf(LOF_LEVEL / (2 * lags.size)), z

@@ -1,22 +1,24 @@
 # SPDX-License-Identifier: MIT
-"""Forward selection of effects, then a backward check.
+"""How effects are chosen (docs/analysis.md, "How effects are chosen").
 
-Round 1 tests every catalogued effect on top of the baseline; the passing
-effect with the lowest held-out NRMSE is added. Each later round tests the
-remaining effects on top of the model chosen so far, until none passes.
-Finally every chosen effect is tested again in the presence of all the
-others (the model against the same model without it, same freedoms): one
-that no longer passes is dropped, and the check repeated. So every effect
-named passes the guards with the others in the model.
+Three mechanisms, each used everywhere it applies:
 
-Groups the baseline held because they were entangled with others or sat at
-a bound are freed again in every extended fit (the effect may be what
-entangled them or pushed them there), and in its reference (the same model
-without the effect) too.
+1. One test of an effect (try_effect, guards.test): the model with it
+   against the same model without it, same freedoms (problem_for frees the
+   groups the baseline held; reference and confirm refit the model without
+   it) and same samples (play_start_unknown).
+2. One comparison of two explanations (guards.distinguishable): the
+   round's winner is named only if it explains the record significantly
+   better than every rival explanation of the same residual (rivals_of);
+   a rival that adds nothing on top of it leaves neither named
+   (_ambiguous).
+3. One search order (forward): rounds of single effects; pairs when a round
+   adds nothing and the model is inadequate (pairs); a backward check of
+   every named effect against the final model without it (backward).
 """
 from __future__ import annotations
 
-import os
+import itertools
 import time
 
 import numpy as np
@@ -52,6 +54,20 @@ def play_start_unknown(pb):
     return q
 
 
+def problem_for(pb, new_effects):
+    """The problem on which effects are tested: groups the baseline held
+    because they were entangled with others, or because they sat at a
+    bound, freed again (the missing effect may be what entangled them or
+    pushed them there); with backlash, the samples before the input's first
+    reversal not counted (play_start_unknown)."""
+    ent = [g for g in list(pb.entangled) + list(pb.at_bound)
+           if g not in pb.user_fixed and g in pb.fixed]
+    pbx = candidates.with_freed(pb, ent) if ent else pb
+    if "backlash" in new_effects:
+        pbx = play_start_unknown(pbx)
+    return pbx
+
+
 def try_effect(pb, current, effect: str, seed: int, hint: dict | None = None):
     """Fit current + effect, its reference, and the guards. Groups the
     baseline held because they were entangled with others, or because they
@@ -60,11 +76,7 @@ def try_effect(pb, current, effect: str, seed: int, hint: dict | None = None):
     freedoms."""
     t0 = time.monotonic()
     rng = np.random.default_rng(seed)
-    ent = [g for g in list(pb.entangled) + list(pb.at_bound)
-           if g not in pb.user_fixed and g in pb.fixed]
-    pbx = candidates.with_freed(pb, ent) if ent else pb
-    if effect == "backlash":
-        pbx = play_start_unknown(pbx)
+    pbx = problem_for(pb, (effect,))
     fr = candidates.fit_extended(pbx, current, effect, rng, hint)
     if fr.cost < fit.start_cost(pbx, current.effects, {**current.groups, **current.values},
                                 current.dead) * (1 - 1e-6):
@@ -72,7 +84,7 @@ def try_effect(pb, current, effect: str, seed: int, hint: dict | None = None):
     else:       # no better than the model without it: no reference needed
         ref = current
     fit.uncertainty(pbx, fr)
-    t = guards.test(pbx, effect, fr, ref, pb if ref is current else pbx)
+    t = guards.test(pbx, effect, fr, ref, pb if ref is current else pbx, current)
     if t.passes:
         t = confirm(pbx, effect, fr, t, current, rng)
     t.pb = pbx
@@ -95,7 +107,7 @@ def confirm(pb, effect, fr, t, current, rng):
                                  stage_iter=baseline.STAGE_ITER)
     if ref2.cost >= t.ref.cost:
         return t
-    t2 = guards.test(pb, effect, fr, ref2)
+    t2 = guards.test(pb, effect, fr, ref2, so_far=current)
     t2.pb = pb
     return t2
 
@@ -120,12 +132,19 @@ def _hint(t) -> dict:
     then no better a start than the catalogue's)."""
     if t is None or not t.peak >= guards.MATERIAL_SIGMAS:
         return {}
-    names = {"lag": ["lag"], "saturation": ["sat_lo", "sat_hi"], "backlash": ["deadband"],
-             "nozzle": ["nozzle_k", "nozzle_bias"], "dead_time": []}[t.effect]
-    h = {k: t.model.values[k] for k in names if k in t.model.values}
+    h = _own(t.model, t.effect)
     if t.effect == "dead_time":
         h["dead"] = t.model.dead
     return h
+
+
+# Each effect's own fitted parameters (the search's names).
+OWN = {"lag": ["lag"], "saturation": ["sat_lo", "sat_hi"], "backlash": ["deadband"],
+       "nozzle": ["nozzle_k", "nozzle_bias"], "dead_time": []}
+
+
+def _own(fr, effect) -> dict:
+    return {k: fr.values[k] for k in OWN[effect] if k in fr.values}
 
 
 def run_round(pb, current, effects, seed, jobs, say, previous=None):
@@ -162,13 +181,14 @@ def _say(say, t):
         + f" ({t.elapsed:.1f} s)")
 
 
-def forward(pb, base, seed, jobs, say, notes=None):
+def forward(pb, base, seed, jobs, say, notes=None, sets=None):
     """(final model, its problem, rounds of tests, backward tests). Sentences
     on effects left unnamed because the record cannot tell them apart go to
-    `notes`."""
+    `notes`, and the sets of those effects to `sets`."""
     current, cur_pb = base, pb
     rounds = []
     rivals, before = [], None
+    tested_on = {}          # id(model) -> the round of tests on top of it
     while True:
         remaining = [c for c in model.CAUSES if c not in current.effects]
         if not remaining:
@@ -177,20 +197,28 @@ def forward(pb, base, seed, jobs, say, notes=None):
         tests = run_round(cur_pb, current, remaining, seed + 7 * len(rounds), jobs, say,
                           rounds[-1] if rounds else None)
         rounds.append(tests)
+        tested_on[id(current)] = tests
         lost = [t for t in tests if t.effect in rivals and not t.passes]
         if lost:
-            current, cur_pb = _ambiguous(rounds[-2], current, lost, before, say, notes)
+            current, cur_pb = _ambiguous(rounds[-2], current, lost, before, say, notes,
+                                         sets)
             break
         ok = [t for t in tests if t.passes]
         if not ok:
             break
         win = min(ok, key=lambda t: t.model.nrmse_val)
-        rivals = [t.effect for t in ok if t is not win and guards.indistinguishable(win, t)]
+        rivals = rivals_of(win, tests)
         before = (current, cur_pb)
         say(f"round {len(rounds)}: {win.effect} added"
-            + (f" (held-out error no better than {', '.join(rivals)}'s: each is tested on "
+            + (f" (not significantly better than {', '.join(rivals)}: each is tested on "
                "top of it next)" if rivals else ""))
         current, cur_pb = win.model, win.pb
+    on_top = tested_on.get(id(current))
+    if on_top:
+        got = pairs(cur_pb, current, on_top, say, notes, sets)
+        if got is not None:
+            current, cur_pb, tests = got
+            rounds.append(tests)
     if len(current.effects) >= 2:
         current, cur_pb, checks = backward(cur_pb, current, say)
     else:   # a single effect was tested with everything else it could meet
@@ -198,24 +226,114 @@ def forward(pb, base, seed, jobs, say, notes=None):
     return current, cur_pb, rounds, checks
 
 
-def _ambiguous(tests, added, lost, before, say, notes):
-    """The effect just added predicted the held-out part no better than a
-    rival that adds nothing on top of it: both explain the same feature of
-    the record, and the record does not say which is there. Naming either
-    could send someone to take a healthy part apart, so neither is named:
-    the model goes back to the one before."""
+def explains(t) -> bool:
+    """Whether a tested effect explains part of the residual: significant
+    against its reference on the fit part, and predicting the held-out part
+    better than its reference (one that predicts worse explains nothing)."""
+    return bool(t.excludes and t.val_gain > 0)
+
+
+def pairs(pb, current, tests, say, notes=None, sets=None):
+    """Two effects at once, when forward selection added nothing more but
+    the model is inadequate (guards.inadequate: its whitened residual still
+    depends on the input). One at a time cannot find two effects neither of
+    which passes alone (each is only half the story, and the other half
+    counts against it). Every pair of effects that explain part of the
+    residual on their own (`explains`) is fitted on top of the model, from
+    each member's own fit with the other's parameters added; each member
+    is then tested with every guard against the pair without it (the other
+    member's model refitted with the same freedoms). The pair whose members
+    both pass and that predicts the held-out part best is added, if the
+    record tells it from every other such pair (guards.distinguishable);
+    otherwise none is. Returns (model, problem, the members' tests) or
+    None."""
+    expl = [t for t in tests if explains(t)]
+    if len(expl) < 2:
+        return None
+    bad, z = guards.inadequate(pb, current)
+    if not bad:
+        return None
+    say(f"pairs: {current.effect} is inadequate (its whitened residual correlates with the "
+        f"input at {z:.1f} sd); testing pairs of " + ", ".join(t.effect for t in expl))
+    found = []
+    for a, b in itertools.combinations(expl, 2):
+        t0 = time.monotonic()
+        pbx = problem_for(pb, (a.effect, b.effect))
+        effects = model.canonical(current.effects + (a.effect, b.effect))
+        dead = next((t.model.dead for t in (a, b) if t.effect == "dead_time"), current.dead)
+        starts = []
+        for x, y in ((a, b), (b, a)):
+            st = {**x.model.groups, **x.model.values, **_own(y.model, y.effect)}
+            starts.append((f"{x.effect}+{y.effect}", st))
+        fr = search.refine(pbx, effects, starts, dead=dead, iters=2 * search.REFINE_ITER)
+        fit.uncertainty(pbx, fr)
+        members = []
+        for x, y in ((a, b), (b, a)):
+            ref = reference(pbx, tuple(e for e in effects if e != x.effect), fr, y.model)
+            t = guards.test(pbx, x.effect, fr, ref, so_far=current)
+            t.pb = pbx
+            members.append(t)
+        ok = all(t.passes for t in members)
+        say(f"  + {a.effect}+{b.effect}: val NRMSE {fr.nrmse_val:.4f} -> "
+            + ("both pass" if ok else "; ".join(f"{t.effect} fails: {t.reasons[0]}"
+                                                 for t in members if not t.passes))
+            + f" ({time.monotonic() - t0:.1f} s)")
+        found.append((members, ok))
+    good = [m for m, ok in found if ok]
+    if not good:
+        return None
+    win = min(good, key=lambda m: m[0].model.nrmse_val)
+    rivals = [m for m, _ in found if m is not win and all(explains(t) for t in m)
+              and not guards.distinguishable(win[0], m[0])]
+    if rivals:
+        both = [win] + rivals
+        _cannot_tell(["+".join(t.effect for t in m) for m in both], [m[0] for m in both],
+                     "each pair explains part of the residual", say, notes, sets)
+        return None
+    say(f"pairs: {'+'.join(t.effect for t in win)} added")
+    return win[0].model, win[0].pb, list(win)
+
+
+def rivals_of(win, tests) -> list[str]:
+    """The other explanations of the same residual that the record cannot
+    tell from the round's winner. A rival is every other effect of the round
+    that explains part of the residual, whether or not it passes the other
+    guards: significant against its reference on the fit part, and
+    predicting the held-out part better than its reference (one that
+    predicts worse than no effect explains nothing). The record tells it
+    from the winner when the winner explains the record significantly
+    better on both the fit and the held-out part (guards.distinguishable)."""
+    return [t.effect for t in tests
+            if t is not win and explains(t) and not guards.distinguishable(win, t)]
+
+
+def _ambiguous(tests, added, lost, before, say, notes, sets):
+    """The effect just added did not explain the record significantly better
+    than a rival (rivals_of), and the rival adds nothing on top of it: both
+    explain the same feature of the record, and the record does not say
+    which is there. Naming either could send someone to take a healthy part
+    apart, so neither is named: the model goes back to the one before."""
     win = next(t for t in tests if t.model is added)
-    names = ", ".join(t.effect for t in lost)
-    line = (f"{win.effect} and {names} explain the same feature of the record equally well "
-            f"(held-out NRMSE {win.model.nrmse_val:.4f} against "
-            + ", ".join(f"{t.effect}'s {r.model.nrmse_val:.4f}"
-                        for t in lost for r in tests if r.effect == t.effect)
-            + f"; {names} adds nothing on top of {win.effect}): the record cannot tell them "
-            "apart, so neither is named.")
+    names = [t.effect for t in lost]
+    others = [r for t in lost for r in tests if r.effect == t.effect]
+    _cannot_tell([win.effect] + names, [win] + others,
+                 f"{', '.join(names)} adds nothing on top of {win.effect}", say, notes, sets)
+    return before
+
+
+def _cannot_tell(names, tests, why, say, notes, sets):
+    """Say that the record cannot tell these explanations apart (names[i]
+    is the explanation of tests[i]'s model): in the progress, in the
+    report's notes and in the JSON's `ambiguous` sets."""
+    line = (f"{' or '.join(names)}: the record cannot tell which (held-out NRMSE "
+            + ", ".join(f"{n} {t.model.nrmse_val:.4f}" for n, t in zip(names, tests))
+            + f", not significantly different on both the fit and the held-out part; {why}), "
+            "so none of them is named.")
     say("ambiguous: " + line)
     if notes is not None:
         notes.append(line)
-    return before
+    if sets is not None:
+        sets.append(list(names))
 
 
 def backward(pb, fr, say):
