@@ -23,6 +23,19 @@ N_FRESH_KEEP = 1
 DEAD_MAX = 200             # data samples scanned at most
 
 
+# Relative cost of testing an effect: an effect inside the loop (a play,
+# the nozzle curve, the supply limits) makes the library solve the loop
+# iteratively at every sample, 3-4x the cost of a linear simulation, and
+# the nozzle has two parameters and three starting sizes.
+COST = {"nozzle": 4, "backlash": 3, "saturation": 3, "dead_time": 1, "lag": 1}
+
+
+def by_cost(tasks: list) -> list:
+    """(pb, model, effect, ...) tasks, costliest effect first: scheduled in
+    that order, no long test is left to run alone at the end."""
+    return sorted(tasks, key=lambda t: -COST.get(t[2], 1))
+
+
 def effect_inits(pb, effect: str) -> list[dict]:
     fs = pb.setup.fs
     if effect == "lag":
