@@ -1,10 +1,14 @@
 # SPDX-License-Identifier: MIT
 """The search's machinery: a forked worker makes its own threads for the
-Jacobian."""
+Jacobian, and an effect at its no-effect values (where a lost extended fit
+is refined again from) is the model without it."""
 import multiprocessing as mp
 
+import numpy as np
+import pytest
+
 import cases
-from pneufrac_fit import data, fit, model
+from pneufrac_fit import candidates, data, fit, model
 
 
 def _problem():
@@ -45,3 +49,17 @@ def test_forked_worker_makes_its_own_threads():
     fit.set_threads(1)
     assert not alive and p.exitcode == 0
     assert q.get(timeout=5)[1] == len(fit.specs(_problem(), ()))
+
+
+@pytest.mark.parametrize("effect", ["lag", "saturation", "backlash", "nozzle"])
+def test_no_effect_is_the_model_without_it(effect):
+    pb = _problem()
+    v = {**model.nominal_groups("p"), "e0": pb.e0_default()}
+    plain, K, _ = fit.model_output(pb, (), v, 0, pb.nfit)
+    w = {**v, **candidates.no_effect(pb, effect)}
+    if effect == "saturation":            # K is searched, not solved, with it
+        w["K"] = K
+    with_it, _, _ = fit.model_output(pb, (effect,), w, 0, pb.nfit)
+    span = np.ptp(plain)
+    tol = 2e-3 if effect == "lag" else 1e-9   # the lag's bound is a fiftieth of a sample
+    assert np.max(np.abs(with_it - plain)) <= tol * span
