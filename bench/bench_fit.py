@@ -115,7 +115,8 @@ def run_time(a) -> None:
         l0, c0, t0 = load(), cpu_seconds(), time.monotonic()
         d = diagnose.diagnose(rec, cfg, jobs=2, progress=False)
         wall, cpu = time.monotonic() - t0, cpu_seconds() - c0
-        ok = "yes" if not cases.check(ds, d) else "no"
+        bad = cases.check(ds, d)
+        ok = "yes" if not bad else "no: " + "; ".join(bad)
         rows.append((tag, eff, ", ".join(d.causes) or "none", ok, wall, cpu, l0, load()))
         print(f"[bench_fit] {tag}: {wall:.1f} s wall, {cpu:.1f} s CPU, load {l0}",
               file=sys.stderr)
@@ -138,7 +139,7 @@ def run_time(a) -> None:
 # ---------------------------------------------------------------- profile
 # (label, module file, function) of the parts a diagnosis spends its time in
 PROFILE_PARTS = [
-    ("the library's simulation (C, through ctypes)", "lib.py", "run"),
+    ("the library's simulation (C, through ctypes)", "binding.py", "run"),
     ("baseline: multi-start fit, corners, identifiability", "baseline.py", "fit_baseline"),
     ("forward selection: every candidate, its reference and guards", "selection.py", "forward"),
     ("  candidates' fits (exploration and refinement)", "candidates.py", "fit_extended"),
@@ -177,7 +178,7 @@ def run_profile(a) -> None:
     for label, fname, func in PROFILE_PARTS:
         sec, calls = part(fname, func)
         L.append(f"| {label} | {calls} | {sec:.1f} | {100 * sec / wall:.0f} % |")
-    sec, calls = part("lib.py", "run")
+    sec, calls = part("binding.py", "run")
     L += ["", f"One simulation of the record takes {1000 * sec / max(calls, 1):.1f} ms on "
           "average (the exploration copy's are shorter, the refinements' longer)."]
     section("profile", L)

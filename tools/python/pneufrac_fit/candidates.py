@@ -23,6 +23,19 @@ N_FRESH_KEEP = 1
 DEAD_MAX = 200             # data samples scanned at most
 
 
+# Relative cost of testing an effect: an effect inside the loop (a play,
+# the nozzle curve, the supply limits) makes the library solve the loop
+# iteratively at every sample, 3-4x the cost of a linear simulation, and
+# the nozzle has two parameters and three starting sizes.
+COST = {"nozzle": 4, "backlash": 3, "saturation": 3, "dead_time": 1, "lag": 1}
+
+
+def by_cost(tasks: list) -> list:
+    """(pb, model, effect, ...) tasks, costliest effect first: scheduled in
+    that order, no long test is left to run alone at the end."""
+    return sorted(tasks, key=lambda t: -COST.get(t[2], 1))
+
+
 def effect_inits(pb, effect: str) -> list[dict]:
     fs = pb.setup.fs
     if effect == "lag":
@@ -38,6 +51,22 @@ def effect_inits(pb, effect: str) -> list[dict]:
                 {"nozzle_k": 0.3 / pb.amp_e, "nozzle_bias": 0.6},
                 {"nozzle_k": 0.3 / pb.amp_e, "nozzle_bias": -0.3}]
     return [{}]
+
+
+def no_effect(pb, effect: str) -> dict:
+    """The effect's parameters at (or, for the lag, next to) no effect: the
+    model without it, nested in the model with it. Dead time has none (it
+    is at least one sample)."""
+    if effect == "lag":
+        return {"lag": 0.02 / pb.setup.fs}       # its lower bound (fit._effect_specs)
+    if effect == "saturation":                   # limits beyond anything the output reaches
+        span = pb.y_hi - pb.y_lo
+        return {"sat_lo": pb.y_lo - span, "sat_hi": pb.y_hi + span}
+    if effect == "backlash":
+        return {"deadband": 0.0}
+    if effect == "nozzle":
+        return {"nozzle_k": 0.0, "nozzle_bias": 0.0}
+    return {}
 
 
 def _sat_start(pb, base, st: dict) -> dict:
@@ -239,5 +268,24 @@ def fit_extended(pb, base, new: str, rng, hint: dict | None = None):
                 fits.append(search.refine(pb, effects, [(f"d={dd}", dict(b.values))],
                                           dead=dd, iters=search.REFINE_ITER // 2))
         return search.best(fits)
-    return search.explore_refine(pb, effects, _starts(pb, effects, new, base, rng, hint),
-                                 dead=base.dead)
+    b = search.explore_refine(pb, effects, _starts(pb, effects, new, base, rng, hint),
+                              dead=base.dead)
+    return _not_worse(pb, effects, new, base, b)
+
+
+def _not_worse(pb, effects, new: str, base, b):
+    """The model with the effect nests the model without it: a fit of it
+    that ends worse than that model (the search lost on the way, as under
+    strongly coloured noise, where the whitened criterion punishes a start's
+    effect size hard and leaves the way to a small one flat) is refined
+    again from the model so far with the effect at no effect, and the
+    better of the two kept."""
+    full = {**base.groups, **base.values}
+    if not b.cost > fit.start_cost(pb, base.effects, full, base.dead):
+        return b
+    st = dict(full)
+    st.update(no_effect(pb, new))
+    if "saturation" in effects:
+        st = _sat_start(pb, base, st)
+    alt = search.refine(pb, effects, [("no-effect start", st)], dead=base.dead)
+    return search.best([b, alt])

@@ -21,6 +21,7 @@ the interpreter lock).
 from __future__ import annotations
 
 import math
+import os
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
@@ -35,18 +36,25 @@ BURN = 0.02          # without an opening rest: the first 2 % of the fit part is
 DIFF_STEP = 1e-4     # relative finite-difference step (transformed parameters)
 
 _pool = None
+_pool_pid = 0
 _threads = 1
-_TRACE = bool(__import__("os").environ.get("PNEUFRAC_FIT_TRACE"))
+_TRACE = bool(os.environ.get("PNEUFRAC_FIT_TRACE"))
 
 
 def set_threads(n: int) -> None:
-    """Threads for the Jacobian's columns (one per core is right)."""
-    global _pool, _threads
+    """Threads for the Jacobian's columns (one per core is right). A forked
+    worker process inherits the parent's pool but not its threads: it makes
+    its own."""
+    global _pool, _threads, _pool_pid
     n = max(1, int(n))
+    forked = _pool is not None and _pool_pid != os.getpid()
+    if forked:
+        _pool = None             # the parent's: its threads are not here
     if n != _threads or (_pool is None and n > 1):
         if _pool is not None:
             _pool.shutdown(wait=True)
         _pool = ThreadPoolExecutor(max_workers=n) if n > 1 else None
+        _pool_pid = os.getpid()
         _threads = n
 
 
@@ -437,7 +445,7 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
         import sys
         print(f"[lm] {label:14s} {'+'.join(effects) or 'none':18s} n={pb.nfit} p={th0.size} "
               f"sims={obj.calls} status={status} cost {obj.best[0]:.6g}", file=sys.stderr)
-    else:
+    if not th0.size:             # nothing to search: the start is the answer
         obj.eval(th0)
     c, th = obj.best
     if th is None:

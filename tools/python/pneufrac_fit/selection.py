@@ -159,10 +159,12 @@ def run_round(pb, current, effects, seed, jobs, say, previous=None):
         except ValueError:
             ctx = None
         if ctx is not None:
+            # the costliest tests first, and each worker with the parent's
+            # threads: the last test running alone still uses every core
             threads = fit._threads
             with ctx.Pool(min(jobs, len(tasks)), initializer=fit.set_threads,
-                          initargs=(1,)) as pool:
-                for t in pool.imap_unordered(_run, tasks):
+                          initargs=(threads,)) as pool:
+                for t in pool.imap_unordered(_run, candidates.by_cost(tasks)):
                     _say(say, t)
                     out[t.effect] = t
             fit.set_threads(threads)
