@@ -22,7 +22,7 @@ from pathlib import Path
 
 from pneufrac._cli import UsageError, finite_number, parser_class
 
-from . import model
+from . import model, sensor
 
 EXIT_USAGE = 2
 EXIT_LIBRARY = 3
@@ -108,7 +108,7 @@ def _parser():
                    help="excitation (default steps)")
     g.add_argument("--rest", type=float, default=0.1,
                    help="seconds at rest before the excitation, 0..10 (default 0.1)")
-    g.add_argument("--noise-kind", default="white", choices=["white", "ar1", "pink"],
+    g.add_argument("--noise-kind", default="white", choices=list(sensor.KINDS),
                    help="colour of the sensor noise (default white)")
     g.add_argument("--drift", type=float, default=0.0,
                    help="slow drift, peak-to-peak fraction of the output span, 0..1")

@@ -119,8 +119,10 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
     rng = np.random.default_rng(seed)
     say(f"{rec.n} samples at {rec.fs:g} Hz, config {config}; fit on the first "
         f"{pb.nfit}, validate on the last {rec.n - pb.nfit}; simulated at {m}x")
+    weighted = pb.nm is not None
     base, identified, reasons, fit_notes, nm0 = base_mod.fit_baseline(pb, rng, say)
-    fit_notes[:0] = notes_nm
+    if not (weighted and pb.nm is None):     # else the baseline's note says why it is not
+        fit_notes[:0] = notes_nm
     say(f"baseline: NRMSE fit {base.nrmse_fit:.4f}, validation {base.nrmse_val:.4f}, "
         f"noise {nm0.describe()}")
     ambiguous, sets = [], []

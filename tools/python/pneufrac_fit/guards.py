@@ -41,6 +41,7 @@ MATERIAL_SNR = 100.0         # whitened energy of the contribution, noise varian
 MIN_TIMING = 0.5             # samples
 APPROX_RATIO = 4.0           # contribution energy over the model's discretisation error
 APPROX_FINER = 8
+TIMING_RATIO = 1.0           # contribution energy over the input-timing error's expected energy
 
 
 @dataclass
@@ -56,6 +57,7 @@ class Test:
     peak: float = 0.0            # peak |contribution| / noise sd
     snr: float = 0.0             # whitened energy / innovation variance
     approx: float = math.inf     # energy / energy of the model's discretisation error
+    timing: float = math.inf     # energy / expected energy of the input-timing error
     timing_ok: bool = True
     passes: bool = False
     reasons: list = field(default_factory=list)    # why it fails, in words
@@ -68,7 +70,7 @@ class Test:
     @property
     def material(self) -> bool:
         return (self.peak >= MATERIAL_SIGMAS and self.snr >= MATERIAL_SNR and self.timing_ok
-                and self.approx >= APPROX_RATIO)
+                and self.approx >= APPROX_RATIO and self.timing >= TIMING_RATIO)
 
 
 def _switched_off(pb, fr, effect):
@@ -87,13 +89,32 @@ def approximation_error(pb, fr) -> np.ndarray:
     as simulated, minus the same model simulated APPROX_FINER times finer
     (the error falls about as the step: this is most of it)."""
     m = pb.setup.oversample * APPROX_FINER
+    return fr.sim - (_scaled_sim(pb, fr, fr.effects, fr.dead, m) + fr.values["pc0"])
+
+
+def _scaled_sim(pb, fr, effects, dead, m):
     v = dict(fr.values)
     if fr.K_solved:
         v["K"] = 1.0
-        fine = fr.values["K"] * fit.simulate_raw(pb, fr.effects, v, fr.dead, None, m)
-    else:
-        fine = fit.simulate_raw(pb, fr.effects, v, fr.dead, None, m)
-    return fr.sim - (fine + fr.values["pc0"])
+        return fr.values["K"] * fit.simulate_raw(pb, effects, v, dead, None, m)
+    return fit.simulate_raw(pb, effects, v, dead, None, m)
+
+
+def input_timing_error(pb, fr) -> np.ndarray:
+    """How much the model's output depends on when, within a data sample,
+    the input changed: the sampled input does not say (an input that moves
+    between samples, a converter's own timing), and the model holds each
+    sample over the next period. A change uniformly anywhere in the period
+    is late by half a sample on average, which the fitted dynamics absorb,
+    and scattered about that by sd 1/sqrt(12) sample, which they cannot:
+    the output with the input half a sample late, minus as simulated, scaled
+    to that sd (to first order the error grows in proportion to the shift)."""
+    m = 2 * pb.setup.oversample
+    effects = model.canonical(tuple(fr.effects) + ("dead_time",))
+    # dead time in samples of pb's simulation rate, scaled to m's: half a
+    # data sample is a whole number of samples at twice the rate
+    late = _scaled_sim(pb, fr, effects, fr.dead + 0.5 * pb.setup.oversample, m)
+    return (fr.sim - (late + fr.values["pc0"])) * (2.0 / math.sqrt(12.0))
 
 
 def _interval(pb, fr, effect, contrib_range):
@@ -172,6 +193,8 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
     a = approximation_error(pb_ref, ref)[sl]
     dc = d[sl] - np.mean(d[sl])
     t.approx = float(dc @ dc) / max(float(a @ a), 1e-300)
+    b = input_timing_error(pb_ref, ref)[sl]
+    t.timing = float(dc @ dc) / max(float(b @ b), 1e-300)
     fs = pb.setup.fs
     if effect == "lag":
         t.timing_ok = fr.values["lag"] * fs >= MIN_TIMING
@@ -197,6 +220,9 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
     if t.approx < APPROX_RATIO:
         t.reasons.append(f"its contribution's energy is {t.approx:.3g}x that of the model's own "
                          f"discretisation error (need {APPROX_RATIO:g}x)")
+    if t.timing < TIMING_RATIO:
+        t.reasons.append(f"its contribution's energy is {t.timing:.3g}x what the input's unknown "
+                         f"timing within a sample makes (need {TIMING_RATIO:g}x)")
     if t.snr < MATERIAL_SNR:
         t.reasons.append(f"its contribution's energy is {t.snr:.3g} noise variances "
                          f"(need {MATERIAL_SNR:g})")

@@ -1,13 +1,17 @@
 # SPDX-License-Identifier: MIT
-"""What a sensor adds to a clean signal in synthetic records: white, AR(1)
-or 1/f noise, slow drift, and ADC quantisation."""
+"""What a sensor adds to a clean signal in synthetic records: white, AR(1),
+resonant AR(2) or 1/f noise, slow drift, and ADC quantisation."""
 from __future__ import annotations
 
 import numpy as np
 from scipy.signal import lfilter
 
-KINDS = ("white", "ar1", "pink")
+KINDS = ("white", "ar1", "ar2", "pink")
 AR1_POLE = 0.95
+# A resonant AR(2): a pair of poles at this radius and frequency (cycles
+# per sample), as a sensor line with a mechanical or acoustic resonance
+AR2_RADIUS = 0.99
+AR2_FREQ = 0.01
 
 
 def coloured(n: int, sd: float, kind: str, rng: np.random.Generator) -> np.ndarray:
@@ -17,6 +21,9 @@ def coloured(n: int, sd: float, kind: str, rng: np.random.Generator) -> np.ndarr
         v = w
     elif kind == "ar1":
         v = lfilter([1.0], [1.0, -AR1_POLE], w)
+    elif kind == "ar2":
+        c = 2.0 * AR2_RADIUS * np.cos(2.0 * np.pi * AR2_FREQ)
+        v = lfilter([1.0], [1.0, -c, AR2_RADIUS ** 2], w)
     elif kind == "pink":                     # 1/f power: amplitude ~ f^-1/2
         f = np.fft.rfftfreq(n)
         g = np.zeros_like(f)
