@@ -133,6 +133,7 @@ def to_dict(d) -> dict:
                    "material_energy": guards.MATERIAL_SNR,
                    "over_discretisation": guards.APPROX_RATIO,
                    "min_timing_samples": guards.MIN_TIMING,
+                   "over_input_timing": guards.TIMING_RATIO,
                    "better_t": guards.Z_BETTER},
         "record": {"n": d.n, "n_fit": d.nfit, "fs": d.fs, "e0": d.e0, "pc0": d.pc0,
                    "oversample": d.oversample,
@@ -227,7 +228,8 @@ def write_report(d, out: Path) -> Path:
       f"by more than {100 * guards.MIN_VAL_GAIN:g} %, and its contribution to the output is "
       f"material: at least {guards.MATERIAL_SIGMAS:g} noise sd somewhere, an energy of "
       f"{guards.MATERIAL_SNR:g} noise variances, {guards.APPROX_RATIO:g}x the energy of "
-      "the model's own discretisation error, and (timing effects) at least "
+      f"the model's own discretisation error, {guards.TIMING_RATIO:g}x the energy the "
+      "input's unknown timing within a sample makes, and (timing effects) at least "
       f"{guards.MIN_TIMING:g} sample long.\n")
     for i, r in enumerate(d.rounds):
         on = r[0].ref.effect if r else "none"
