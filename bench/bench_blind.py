@@ -53,13 +53,18 @@ VERDICTS = ("right", "partial", "missed", "FALSE EFFECT", "WRONG CAUSE", "failed
 
 
 def parse_seeds(text: str) -> list[int]:
+    """1, 1-3 or 1,4 as an argparse type: a bad list is a usage error, not a
+    traceback."""
     out = []
-    for part in text.split(","):
-        if "-" in part:
-            lo, hi = part.split("-")
-            out += range(int(lo), int(hi) + 1)
-        else:
-            out.append(int(part))
+    try:
+        for part in text.split(","):
+            lo, _, hi = part.strip().partition("-")
+            a, b = int(lo), int(hi or lo)
+            if not 0 <= a <= b or b - a > 10000:
+                raise ValueError
+            out += range(a, b + 1)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a seed list (1, 1-3, 1,4): {text!r}") from None
     return out
 
 
@@ -260,7 +265,7 @@ def write_docs(path: Path, text: str) -> None:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scenarios", default="*")
-    ap.add_argument("--seeds", default="1")
+    ap.add_argument("--seeds", default="1", type=parse_seeds)
     ap.add_argument("--records", type=Path, default=Path("/tmp/blindsim-records"))
     ap.add_argument("--results", type=Path, default=None,
                     help="JSON lines, appended as results come (default: RECORDS/results.jsonl)")
@@ -272,7 +277,7 @@ def main(argv=None) -> int:
     a = ap.parse_args(argv)
     pats = a.scenarios.split(",")
     names = [k for k in SCENARIOS if any(fnmatch.fnmatchcase(k, p) for p in pats)]
-    seeds = parse_seeds(a.seeds)
+    seeds = a.seeds
     if not names:
         print(f"no scenario matches {a.scenarios}", file=sys.stderr)
         return 2
@@ -303,7 +308,7 @@ def main(argv=None) -> int:
     summ = summary(rows)
     print("\n".join(lines + [""] + summ))
     if a.docs:
-        cmd = f".venv/bin/python bench/bench_blind.py --scenarios '{a.scenarios}' --seeds {a.seeds}"
+        cmd = f".venv/bin/python bench/bench_blind.py --scenarios '{a.scenarios}' --seeds {','.join(map(str, a.seeds))}"
         text = "\n".join([
             SECTION, "",
             "Records from `bench/blindsim`, a simulator written from the paper's equations",
