@@ -76,12 +76,8 @@ class Test:
 def _switched_off(pb, fr, effect):
     """The model's output with one effect off, everything else as fitted."""
     rest = tuple(x for x in fr.effects if x != effect)
-    v = dict(fr.values)
     dead = 0 if effect == "dead_time" else fr.dead
-    if fr.K_solved:
-        v["K"] = 1.0
-        return fr.values["K"] * fit.simulate_raw(pb, rest, v, dead) + fr.values["pc0"]
-    return fit.simulate_raw(pb, rest, v, dead) + fr.values["pc0"]
+    return _scaled_sim(pb, fr, rest, dead) + fr.values["pc0"]
 
 
 def approximation_error(pb, fr) -> np.ndarray:
@@ -92,7 +88,10 @@ def approximation_error(pb, fr) -> np.ndarray:
     return fr.sim - (_scaled_sim(pb, fr, fr.effects, fr.dead, m) + fr.values["pc0"])
 
 
-def _scaled_sim(pb, fr, effects, dead, m):
+def _scaled_sim(pb, fr, effects, dead, m=None):
+    """fr's model with these effects and dead time, at the simulation rate
+    multiple m (None: the problem's own), scaled by fr's K when the fit
+    solved K linearly (the simulation then runs at K = 1)."""
     v = dict(fr.values)
     if fr.K_solved:
         v["K"] = 1.0
