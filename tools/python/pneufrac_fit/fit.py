@@ -349,7 +349,7 @@ def whiten(pb: Problem, x: np.ndarray) -> np.ndarray:
 START_STEP = 3.0
 START_SPAN = 9.0
 START_GONE = 1e-3
-_START_CACHE: dict = {}
+_CONSTANTS: dict = {}     # a problem's whitened constant regressors (see _remember)
 
 
 def start_taus(pb: Problem) -> tuple:
@@ -378,10 +378,9 @@ def _fixed_regressors(pb: Problem, sl: slice):
     orthonormal basis Q and triangular factor R, and the whitened output
     with pc0 (when given) removed. Cached: they are the same for every
     evaluation of a problem."""
-    nm_key = None if pb.nm is None else pb.nm.a.tobytes()
     taus = start_taus(pb)
-    key = (id(pb.y), pb.y.size, sl.start, sl.stop, pb.pc0, nm_key, taus)
-    hit = _START_CACHE.get(key)
+    key = (id(pb.y), pb.y.size, sl.start, sl.stop, pb.pc0, _nm_key(pb), taus)
+    hit = _CONSTANTS.get(key)
     if hit is not None and hit[0] is pb.y:
         return hit[1]
     y = pb.y[sl] - (pb.pc0 if pb.pc0 is not None else 0.0)
@@ -395,9 +394,7 @@ def _fixed_regressors(pb: Problem, sl: slice):
     else:
         Q, R = np.zeros((yw.size, 0)), np.zeros((0, 0))
     out = (Q, R, yw)
-    if len(_START_CACHE) > 64:
-        _START_CACHE.clear()
-    _START_CACHE[key] = (pb.y, out)
+    _remember(key, pb.y, out)
     return out
 
 
@@ -443,6 +440,18 @@ def _project_rest(pb: Problem, s: np.ndarray, solve_K: bool, K: float, sl: slice
         den = float(a @ a)
         return K, (float(a @ b) / den if den > 0 else float(np.mean(y - K * ss)))
     return solve2(whiten(pb, ss), whiten(pb, one), whiten(pb, y))
+
+
+def _nm_key(pb: Problem):
+    return None if pb.nm is None else pb.nm.a.tobytes()
+
+
+def _remember(key, y, value) -> None:
+    """Cache a problem's constant regressors (keyed by its output array,
+    held so that its id is not reused; a few problems at a time)."""
+    if len(_CONSTANTS) > 16:
+        _CONSTANTS.clear()
+    _CONSTANTS[key] = (y, value)
 
 
 def solve2(a: np.ndarray, b: np.ndarray, y: np.ndarray) -> tuple[float, float]:
