@@ -610,8 +610,10 @@ def finish(pb: Problem, effects, sp, th, dead: int, cost: float, label: str = ""
     g = _groups(pb, vals)
     g["K"] = K
     sK = solves_K(pb, effects)
-    k = (len(sp) + (1 if sK else 0) + (1 if pb.pc0 is None else 0)
-         + (1 if "dead_time" in effects else 0) + a.size)
+    # The start's terms are not counted: every model of a record has them,
+    # and where one comparison discounts a longer start (a dead band) fewer
+    # of them reach its samples, which is no simpler model.
+    k = len(sp) + (1 if sK else 0) + (1 if pb.pc0 is None else 0) + (1 if "dead_time" in effects else 0)
     fr = FitResult(effects, g, vals, [s[0] for s in sp], np.asarray(th, float), cost, dead, k,
                    sK, pb.pc0 is None, start=label,
                    free_groups=[x for x in pb.free if x in model.GROUPS or x == "e0"],
