@@ -113,3 +113,12 @@ def not_halfway(d, floor: float) -> list[str]:
 def explain(ds, d) -> str:
     return (f"{ds.config}/{'+'.join(ds.effects) or 'none'} hidden {ds.effects}; causes "
             f"{d.causes}; " + " ".join(d.why))
+
+
+def cut(ds, k: int):
+    """The record from sample k on: what a recorder started k samples into
+    the generator's record sees (the controller mid-motion, its state
+    holding the k samples before)."""
+    import dataclasses
+    return dataclasses.replace(ds, t=ds.t[k:] - ds.t[k], e=ds.e[k:], pc=ds.pc[k:],
+                               clean=ds.clean[k:])

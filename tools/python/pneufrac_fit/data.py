@@ -189,7 +189,8 @@ def _operating_point(rec: Record) -> None:
         rec.e0 = None
         rec.pc0 = None
         rec.notes.append(f"the record does not open at rest ({why}): the operating point "
-                         "(e0, pc0) is estimated as part of the fit")
+                         "(e0, pc0) is estimated as part of the fit, and so is the "
+                         "controller's state at the start (a decaying free response)")
 
 
 def set_operating_point(rec: Record, e0: float, pc0: float) -> None:

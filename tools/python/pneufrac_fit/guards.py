@@ -77,7 +77,7 @@ def _switched_off(pb, fr, effect):
     """The model's output with one effect off, everything else as fitted."""
     rest = tuple(x for x in fr.effects if x != effect)
     dead = 0 if effect == "dead_time" else fr.dead
-    return _scaled_sim(pb, fr, rest, dead) + fr.values["pc0"]
+    return _scaled_sim(pb, fr, rest, dead) + fit.offset(pb, fr)
 
 
 def approximation_error(pb, fr) -> np.ndarray:
@@ -85,7 +85,7 @@ def approximation_error(pb, fr) -> np.ndarray:
     as simulated, minus the same model simulated APPROX_FINER times finer
     (the error falls about as the step: this is most of it)."""
     m = pb.setup.oversample * APPROX_FINER
-    return fr.sim - (_scaled_sim(pb, fr, fr.effects, fr.dead, m) + fr.values["pc0"])
+    return fr.sim - (_scaled_sim(pb, fr, fr.effects, fr.dead, m) + fit.offset(pb, fr))
 
 
 def _scaled_sim(pb, fr, effects, dead, m=None):
@@ -113,7 +113,7 @@ def input_timing_error(pb, fr) -> np.ndarray:
     # dead time in samples of pb's simulation rate, scaled to m's: half a
     # data sample is a whole number of samples at twice the rate
     late = _scaled_sim(pb, fr, effects, fr.dead + 0.5 * pb.setup.oversample, m)
-    return (fr.sim - (late + fr.values["pc0"])) * (2.0 / math.sqrt(12.0))
+    return (fr.sim - (late + fit.offset(pb, fr))) * (2.0 / math.sqrt(12.0))
 
 
 def _interval(pb, fr, effect, contrib_range):
