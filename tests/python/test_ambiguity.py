@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: MIT
 """Two explanations the record cannot tell apart are not named
-(selection.forward with guards.distinguishable): the comparison itself (a
-Vuong test on the fit part and a Diebold-Mariano test held out, their
-long-run variance from Newey-West weights), its calibration, the lack-of-fit test that
+(selection.forward with guards.distinguishable): the comparison itself (one
+log-likelihood-difference test over the whole record, fit part and held-out
+part, its long-run variance from Newey-West weights), its calibration, the lack-of-fit test that
 lets pairs be tried, and the forward selection's decision on stub rounds
 (no fits: the rule is about what is done with the guards' verdicts)."""
 from types import SimpleNamespace
@@ -43,9 +43,33 @@ def test_clearly_better_everywhere_is_distinguishable():
 
 
 def test_better_on_the_fit_part_only_is_not_enough():
-    ra, rb = _residuals(1.0)
-    rb[:N_FIT] *= 1.5              # b worse on the fit part only, as good held-out
+    """An advantage the fit bought on its own samples and loses held-out
+    (overfitting) is no evidence: the whole record's sum cancels it."""
+    ra, _ = _residuals(1.0)
+    rb = ra.copy()
+    rb[:N_FIT] *= 1.1              # b worse on the fit part, a as much worse held-out
+    ra[N_FIT:] *= 1.1 ** (N_FIT / N_VAL)
     assert not guards.distinguishable(_test("nozzle", ra), _test("lag", rb))
+
+
+def _half_t(ra, rb, part):
+    """The t statistic on one part only (the rule before: each part on its own)."""
+    a, b = ra.copy(), rb.copy()
+    if part == "fit":
+        b[N_FIT:] = a[N_FIT:]
+    else:
+        b[:N_FIT] = a[:N_FIT]
+    return guards.better(_test("nozzle", a), _test("lag", b), noise.fit(np.zeros(0)))
+
+
+def test_a_small_advantage_over_the_whole_record_is_evidence():
+    """b's error a little larger everywhere: too little on either part alone,
+    enough over the whole record (the one test pools both parts)."""
+    ra, rb = _residuals(1.0, seed=3)
+    rb = ra + 0.035 * rb
+    assert _half_t(ra, rb, "fit") < guards.Z_DIFFERENT
+    assert _half_t(ra, rb, "val") < guards.Z_DIFFERENT
+    assert guards.distinguishable(_test("nozzle", ra), _test("lag", rb))
 
 
 def test_an_advantage_in_one_stretch_is_one_piece_of_evidence():
@@ -66,19 +90,20 @@ def test_an_advantage_in_one_stretch_is_one_piece_of_evidence():
 
 def test_extra_parameters_must_pay_for_themselves():
     ra, rb = _residuals(1.0)
-    rb[N_FIT:] *= 1.5
-    rb[:N_FIT] = ra[:N_FIT] * 1.01     # a hair better on the fit part: 2 sd-ish
-    assert guards.distinguishable(_test("nozzle", ra, k=9), _test("lag", rb, k=9)) == \
-        (guards.better(_test("nozzle", ra), _test("lag", rb), noise.fit(np.zeros(0)))[0]
-         > guards.Z_BETTER)
+    rb = ra * 1.02                 # a a little better everywhere
+    nm = noise.fit(np.zeros(0))
+    t = guards.better(_test("nozzle", ra, k=9), _test("lag", rb, k=9), nm)
+    assert t > guards.Z_DIFFERENT
     # 40 more parameters cost 40 ln(2000)/2 = 152 log-likelihood units
-    assert not guards.distinguishable(_test("nozzle", ra, k=49), _test("lag", rb, k=9))
+    t49 = guards.better(_test("nozzle", ra, k=49), _test("lag", rb, k=9), nm)
+    assert t49 < t and not guards.distinguishable(_test("nozzle", ra, k=49),
+                                                  _test("lag", rb, k=9))
 
 
 @pytest.mark.parametrize("pole", [0.0, 0.9])
 def test_hac_t_holds_its_level_under_correlation(pole):
-    """Under 'no difference' the long-run-variance t exceeds Z_BETTER (one-sided
-    95 %) in about 5 % of records, white or strongly correlated (AR(1),
+    """Under 'no difference' |t| of the long-run-variance t exceeds
+    Z_DIFFERENT (two-sided 95 %) in about 5 % of records, white or strongly correlated (AR(1),
     pole 0.9: a naive iid variance would be 19x too small and the rate
     far above 5 %)."""
     rng = np.random.default_rng(7)
@@ -86,7 +111,7 @@ def test_hac_t_holds_its_level_under_correlation(pole):
     reps = 600
     for _ in range(reps):
         d = lfilter([1.0], [1.0, -pole], rng.normal(size=3000))
-        hits += guards.hac_t(d) > guards.Z_BETTER
+        hits += abs(guards.hac_t(d)) > guards.Z_DIFFERENT
     assert 0.02 < hits / reps < 0.09
 
 

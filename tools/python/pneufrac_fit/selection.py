@@ -8,8 +8,9 @@ Three mechanisms, each used everywhere it applies:
    groups the baseline held; reference and confirm refit the model without
    it) and same samples (play_start_unknown).
 2. One comparison of two explanations (guards.distinguishable): the
-   round's winner is named only if it explains the record significantly
-   better than every rival explanation of the same residual (rivals_of);
+   round's winner is named only if it explains the whole record
+   significantly better than every rival explanation of the same residual
+   (rivals_of);
    a rival that adds nothing on top of it leaves neither named
    (_ambiguous).
 3. One search order (forward): rounds of single effects; pairs when a round
@@ -303,8 +304,8 @@ def rivals_of(win, tests) -> list[str]:
     guards: significant against its reference on the fit part, and
     predicting the held-out part better than its reference (one that
     predicts worse than no effect explains nothing). The record tells it
-    from the winner when the winner explains the record significantly
-    better on both the fit and the held-out part (guards.distinguishable)."""
+    from the winner when the winner explains the whole record
+    significantly better (guards.distinguishable)."""
     return [t.effect for t in tests
             if t is not win and explains(t) and not guards.distinguishable(win, t)]
 
@@ -329,7 +330,7 @@ def _cannot_tell(names, tests, why, say, notes, sets):
     report's notes and in the JSON's `ambiguous` sets."""
     line = (f"{' or '.join(names)}: the record cannot tell which (held-out NRMSE "
             + ", ".join(f"{n} {t.model.nrmse_val:.4f}" for n, t in zip(names, tests))
-            + f", not significantly different on both the fit and the held-out part; {why}), "
+            + f", not significantly different over the record; {why}), "
             "so none of them is named.")
     say("ambiguous: " + line)
     if notes is not None:
