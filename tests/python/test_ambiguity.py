@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from scipy.signal import lfilter
 
-from pneufrac_fit import guards, noise, selection
+from pneufrac_fit import guards, model, noise, selection
 
 N_FIT, N_VAL = 2000, 3000
 
@@ -175,7 +175,7 @@ def test_clearly_better_winner_is_kept(monkeypatch):
     assert final.effect == "nozzle" and notes == []
 
 
-def _pairs_with(monkeypatch, inadequate, passing, scales):
+def _pairs_with(monkeypatch, inadequate, passing, scales, worse_alone=()):
     """selection.pairs over stub fits: three effects explain part of the
     residual; the pair fits' residuals are a common noise scaled by
     scales[pair]; members of the pairs in `passing` pass their guards."""
@@ -184,14 +184,18 @@ def _pairs_with(monkeypatch, inadequate, passing, scales):
     tests = [_test(e, noise_) for e in ("dead_time", "lag", "saturation")]
     for t in tests:
         t.model.groups, t.model.values, t.model.dead = {}, {}, 0
+        t.peak = 0.0
+        if t.effect in worse_alone:      # significant, but predicts worse alone
+            t.val_gain = -0.1
     monkeypatch.setattr(guards, "inadequate", lambda pb, fr: (inadequate, 9.0))
     monkeypatch.setattr(selection, "problem_for", lambda pb, eff: pb)
     monkeypatch.setattr(selection.fit, "uncertainty", lambda pb, fr: None)
 
-    def refine(pb, effects, starts, dead=0, iters=0):
-        key = "+".join(e for e in effects)
+    def extended(pb, base, new, rng_, hint=None):
+        effects = model.canonical(base.effects + (new,))
+        key = "+".join(effects)
         r = noise_ * scales[key] + rng.normal(0.0, 0.01, noise_.size)
-        return SimpleNamespace(effects=effects, nrmse_val=scales[key], k=10,
+        return SimpleNamespace(effects=effects, nrmse_val=scales[key], k=10, cost=scales[key],
                                residual=lambda _pb, r=r: r)
 
     def test(pb, effect, fr, ref, so_far=None):
@@ -200,7 +204,7 @@ def _pairs_with(monkeypatch, inadequate, passing, scales):
         t.model, t.reasons = fr, [] if t.passes else ["stub: fails"]
         return t
 
-    monkeypatch.setattr(selection.search, "refine", refine)
+    monkeypatch.setattr(selection.candidates, "fit_extended", extended)
     monkeypatch.setattr(selection, "reference", lambda pb, eff, fr, prior: prior)
     monkeypatch.setattr(guards, "test", test)
     current = SimpleNamespace(effects=(), effect="none", dead=0)
@@ -234,3 +238,13 @@ def test_no_pair_whose_member_fails_is_added(monkeypatch):
     scales = {"dead_time+lag": 1.5, "dead_time+saturation": 1.0, "lag+saturation": 1.5}
     got, _, _ = _pairs_with(monkeypatch, True, set(), scales)
     assert got is None
+
+
+def test_a_member_that_predicts_worse_alone_is_still_paired(monkeypatch):
+    """Fitted alone, half of a pair imitates the other half and can predict
+    the held-out part worse; significant on the fit part, it is still a
+    member to try (its guards in the pair include the held-out one)."""
+    scales = {"dead_time+lag": 1.5, "dead_time+saturation": 1.0, "lag+saturation": 1.5}
+    got, notes, _ = _pairs_with(monkeypatch, True, {"dead_time+saturation"}, scales,
+                                worse_alone=("dead_time",))
+    assert got is not None and got[0].effects == ("dead_time", "saturation") and notes == []

@@ -218,7 +218,7 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None):
         current, cur_pb = win.model, win.pb
     on_top = tested_on.get(id(current))
     if on_top:
-        got = pairs(cur_pb, current, on_top, say, notes, sets)
+        got = pairs(cur_pb, current, on_top, say, notes, sets, seed + 7 * len(rounds))
         if got is not None:
             current, cur_pb, tests = got
             rounds.append(tests)
@@ -236,21 +236,33 @@ def explains(t) -> bool:
     return bool(t.excludes and t.val_gain > 0)
 
 
-def pairs(pb, current, tests, say, notes=None, sets=None):
+def half_story(t) -> bool:
+    """Whether a tested effect may be one member of a pair: significant
+    against its reference on the fit part. Not also predicting the
+    held-out part better (`explains`): fitted alone, a member also bends
+    its own and the freed groups' parameters to imitate the missing other
+    member, and that imitation is what can predict worse held-out; the
+    pair's members meet every guard, the held-out one included, when the
+    pair is tested."""
+    return bool(t.excludes)
+
+
+def pairs(pb, current, tests, say, notes=None, sets=None, seed=0):
     """Two effects at once, when forward selection added nothing more but
     the model is inadequate (guards.inadequate: its whitened residual still
     depends on the input). One at a time cannot find two effects neither of
     which passes alone (each is only half the story, and the other half
-    counts against it). Every pair of effects that explain part of the
-    residual on their own (`explains`) is fitted on top of the model, from
-    each member's own fit with the other's parameters added; each member
+    counts against it). Every pair of effects that are significant on
+    their own (`half_story`) is fitted on top of the model, as each
+    member's model extended by the other (candidates.fit_extended, the
+    better of the two orders); each member
     is then tested with every guard against the pair without it (the other
     member's model refitted with the same freedoms). The pair whose members
     both pass and that predicts the held-out part best is added, if the
     record tells it from every other such pair (guards.distinguishable);
     otherwise none is. Returns (model, problem, the members' tests) or
     None."""
-    expl = [t for t in tests if explains(t)]
+    expl = [t for t in tests if half_story(t)]
     if len(expl) < 2:
         return None
     bad, z = guards.inadequate(pb, current)
@@ -259,16 +271,19 @@ def pairs(pb, current, tests, say, notes=None, sets=None):
     say(f"pairs: {current.effect} is inadequate (its whitened residual correlates with the "
         f"input at {z:.1f} sd); testing pairs of " + ", ".join(t.effect for t in expl))
     found = []
+    rng = np.random.default_rng(seed)
     for a, b in itertools.combinations(expl, 2):
         t0 = time.monotonic()
         pbx = problem_for(pb, (a.effect, b.effect))
         effects = model.canonical(current.effects + (a.effect, b.effect))
-        dead = next((t.model.dead for t in (a, b) if t.effect == "dead_time"), current.dead)
-        starts = []
-        for x, y in ((a, b), (b, a)):
-            st = {**x.model.groups, **x.model.values, **_own(y.model, y.effect)}
-            starts.append((f"{x.effect}+{y.effect}", st))
-        fr = search.refine(pbx, effects, starts, dead=dead, iters=2 * search.REFINE_ITER)
+        # each member's model extended by the other, as a round extends the
+        # model so far (warm and fresh starts, the other's own fitted size,
+        # a dead time profiled): a local refinement from the two members'
+        # parameters merged does not move a fitted delay, and from a
+        # member that was imitating the other it stays where the
+        # imitation put it
+        fr = search.best([candidates.fit_extended(pbx, x.model, y.effect, rng, _hint(y))
+                          for x, y in ((a, b), (b, a))])
         fit.uncertainty(pbx, fr)
         members = []
         for x, y in ((a, b), (b, a)):
