@@ -20,7 +20,8 @@ def _test(effect, resid, passes=True, nrmse=0.1, k=9, explains=True):
     """A guards.Test stand-in whose model has the given residual."""
     fr = SimpleNamespace(effects=(effect,), effect=effect, nrmse_val=nrmse, k=k,
                          residual=lambda pb, r=resid: r)
-    return SimpleNamespace(effect=effect, model=fr, passes=passes, excludes=explains,
+    ref = SimpleNamespace(effects=(), nrmse_val=1.0)      # the linear model, far worse
+    return SimpleNamespace(effect=effect, model=fr, ref=ref, passes=passes, excludes=explains,
                            val_gain=0.1 if explains else -0.1,
                            nm=noise.fit(np.zeros(0)), pb=SimpleNamespace(nfit=N_FIT, burn=0))
 
@@ -130,19 +131,20 @@ def test_lack_of_fit_needs_a_residual_that_depends_on_the_input():
     assert _lof_case(coloured + missed, e)[0]     # a response to the input left over
 
 
-def _forward_with(scale_b, on_top, monkeypatch):
+def _forward_with(scale_b, on_top, monkeypatch, ref_lag=1.0):
     """selection.forward over scripted rounds: round 1 on the baseline gives
     nozzle (residual a) and lag (residual b, scale_b times a's scale), both
     passing, nozzle the lower held-out NRMSE; `on_top` maps each later
     model's effect name to the tests a round on top of it gives."""
     ra, rb = _residuals(scale_b)
     first = [_test("lag", rb, nrmse=0.0184 * scale_b), _test("nozzle", ra, nrmse=0.0183)]
+    first[0].ref.nrmse_val = ref_lag
     rounds = {"none": first, **{k: f(ra) for k, f in on_top.items()}}
     monkeypatch.setattr(selection, "run_round",
                         lambda pb, cur, eff, seed, jobs, say, prev: rounds[cur.effect])
     monkeypatch.setattr(selection, "backward", lambda pb, fr, say: (fr, pb, []))
     monkeypatch.setattr(selection, "pairs", lambda *a: None)
-    base = SimpleNamespace(effects=(), effect="none")
+    base = SimpleNamespace(effects=(), effect="none", nrmse_val=1.0)
     notes = []
     final, _, _, _ = selection.forward("pb", base, 0, 1, lambda s: None, notes)
     return final, notes
@@ -173,6 +175,15 @@ def test_rival_that_passes_on_top_keeps_both_in_play(monkeypatch):
 def test_clearly_better_winner_is_kept(monkeypatch):
     final, notes = _forward_with(1.5, {"nozzle": _lag_fails_on_top}, monkeypatch)
     assert final.effect == "nozzle" and notes == []
+
+
+def test_no_effect_when_the_model_without_one_predicts_as_well(monkeypatch):
+    """A test's reference (no new effect, refitted with that test's
+    freedoms) predicts the held-out part better than the winner: the
+    winner's gain is the freedoms', and nothing is added."""
+    final, notes = _forward_with(1.5, {"nozzle": _lag_fails_on_top}, monkeypatch,
+                                 ref_lag=0.015)
+    assert final.effect == "none"
 
 
 def _pairs_with(monkeypatch, inadequate, passing, scales, worse_alone=()):

@@ -207,6 +207,12 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None):
                                          sets)
             break
         ok = [t for t in tests if t.passes]
+        without = best_without(tests, current)
+        if ok and without.nrmse_val <= min(t.model.nrmse_val for t in ok):
+            say(f"round {len(rounds)}: the model without a new effect, refitted with another "
+                f"test's freedoms, predicts the held-out part as well (NRMSE "
+                f"{without.nrmse_val:.4f}): no effect added")
+            ok = []
         if not ok:
             break
         win = min(ok, key=lambda t: t.model.nrmse_val)
@@ -227,6 +233,20 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None):
     else:   # a single effect was tested with everything else it could meet
         checks = [t for r in rounds for t in r if t.passes and t.model is current]
     return current, cur_pb, rounds, checks
+
+
+def best_without(tests, current):
+    """The best predicting model without a new effect that a round found:
+    the model so far, or a test's reference (the same effects refitted with
+    the freedoms and samples that test gave them). An effect whose model
+    predicts the held-out part no better than that explains nothing the
+    model so far cannot, refitted: its gain over its own reference is then
+    the freedoms', and naming it would credit an effect with what a better
+    fit of the model without it does (held-out errors compare models fairly
+    whatever their freedoms)."""
+    same = model.canonical(current.effects)
+    refs = [t.ref for t in tests if model.canonical(t.ref.effects) == same]
+    return min([current] + refs, key=lambda r: r.nrmse_val)
 
 
 def explains(t) -> bool:
