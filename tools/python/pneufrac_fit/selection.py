@@ -13,7 +13,9 @@ Three mechanisms, each used everywhere it applies:
    (rivals_of);
    a rival that adds nothing on top of it leaves neither named
    (_ambiguous).
-3. One search order (forward): rounds of single effects; pairs when a round
+3. One search order (forward): rounds of single effects, a round's winner
+   added only if it predicts better than every model without it the round
+   found (best_without); pairs when a round
    adds nothing and the model is inadequate (pairs); a backward check of
    every named effect against the final model without it (backward).
 """
