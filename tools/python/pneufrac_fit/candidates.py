@@ -98,10 +98,9 @@ def with_kind(pb, kind: int, told: float = 0.0):
 def for_model(pb, fr):
     """The problem on which fr's model is refitted: its saturation where fr
     placed it (a refit's values come from the search's parameters alone)."""
-    if fr is None or "saturation" not in fr.effects:
-        return pb
-    return with_kind(pb, model.sat_kind(fr.values, pb.setup.sat_kind),
-                     float(fr.values.get("sat_kind_told", 0.0)))
+    if fr is None or "saturation" not in fr.effects or "sat_kind" not in fr.values:
+        return pb           # every fit names its placement (fit.finish)
+    return with_kind(pb, model.sat_kind(fr.values), float(fr.values.get("sat_kind_told", 0.0)))
 
 
 def _kind_told(pb_a, a, pb_b, b) -> bool:
