@@ -123,11 +123,12 @@ def _fit_saturation(pb, base, rng, hint):
     as any fit of saturation."""
     effects = model.canonical(base.effects + ("saturation",))
     fits = []
-    seed = int(rng.integers(2 ** 32))
+    # the same fresh starts for both: the seat's from a copy of the generator
+    rngs = {model.SAT_STOP: copy.deepcopy(rng), model.SAT_CLIP: rng}
     for kind in (model.SAT_CLIP, model.SAT_STOP):
         pk = with_kind(pb, kind)
-        sub = np.random.default_rng(seed)       # the same fresh starts for both
-        b = search.explore_refine(pk, effects, _starts(pk, effects, "saturation", base, sub, hint),
+        b = search.explore_refine(pk, effects,
+                                  _starts(pk, effects, "saturation", base, rngs[kind], hint),
                                   dead=base.dead)
         fits.append((_not_worse(pk, effects, "saturation", base, b), pk, kind))
     fits.sort(key=lambda f: f[0].cost)
