@@ -109,7 +109,7 @@ static pf_status derive_effects(pf_ctrl_coeffs_f64 *c, const pf_effects *fx,
         c->nozzle_f0 = nz.f0;
         c->nozzle_g = nz.g;
     }
-    c->saturate = fx->saturate != 0;
+    c->saturate = (uint8_t)fx->saturate; /* pf_sat_kind, validated */
     c->sat_lo = fx->saturate ? fx->sat_lo : 0.0;
     c->sat_hi = fx->saturate ? fx->sat_hi : 0.0;
     c->in_loop_fx = c->play_r > 0.0 || c->nozzle_xh > 0.0 || c->saturate;

@@ -136,6 +136,19 @@ static int32_t play_solve(const pf_ctrl_q15 *S, int32_t e, int32_t x_lin, int32_
     return xe;
 }
 
+/* The relay operator's input v for a solved p_b (= k1 h): the free
+ * diaphragm's, or on its seat (PF_SAT_STOP) the v that holds z = w + v at
+ * the limit (pf_effects.h, pf_ctrl_float.inc). */
+static int32_t relay_input(const pf_ctrl_coeffs_q15 *c, int32_t pb, int32_t h, int32_t sP)
+{
+    if (c->saturate == PF_SAT_STOP) {
+        int32_t pc = pc_of_h(c, h, sP), lim = clamp_pc(c, pc);
+        if (lim != pc)
+            return pf_q_sat(pf_mulw(c->stop_v_pc, lim) + pf_mulw(c->stop_v_s, sP));
+    }
+    return pf_q_sat(pf_mulw(c->relay_v_pb, pb) + pf_mulw(c->relay_v_s, sP));
+}
+
 int16_t pf_ctrl_step_q15(pf_ctrl_q15 *S, int16_t e_q15)
 {
     const pf_ctrl_coeffs_q15 *c = S->c;
@@ -178,7 +191,7 @@ int16_t pf_ctrl_step_q15(pf_ctrl_q15 *S, int16_t e_q15)
         }
     }
     pb = pf_mulc(c->k1, h);
-    v = pf_q_sat(pf_mulw(c->relay_v_pb, pb) + pf_mulw(c->relay_v_s, sP));
+    v = relay_input(c, pb, h, sP);
     w = pf_q_op_update(&S->P, v, fP);
     pc = clamp_pc(c, pf_q_sat(pf_mulw(c->relay_z_pb, pb) + pf_mulw(c->relay_z_w, w)));
     if (c->has_v) {

@@ -173,6 +173,12 @@ pf_status pf_ctrl_coeffs_q15_make_nz(pf_ctrl_coeffs_q15 *cq, pf_nozzle_q15 *nz,
     QC(relay_v_s, -c->pmin * c->relay_den_inv, PF_N_V, PF_N_W);
     QC(relay_z_pb, c->k2 * c->relay_d0, PF_N_PC, PF_N_PB);
     QC(relay_z_w, c->k2 * c->relay_w, PF_N_PC, PF_N_W);
+    if (c->saturate == PF_SAT_STOP) {
+        /* v = (p_c/k2 - S_P)/(1 + D_P) on the seat (pf_effects.h) */
+        double seat = 1.0 / (1.0 + c->P.D);
+        QC(stop_v_pc, c->k2_inv * seat, PF_N_V, PF_N_PC);
+        QC(stop_v_s, -seat, PF_N_V, PF_N_W);
+    }
     QC(v_a, c->v_a, PF_N_RV, PF_N_PC);
     QC(w_a, c->w_a, PF_N_RW, PF_N_PC);
     QC(dv_pc, 1.0, PF_N_DV, PF_N_PC);

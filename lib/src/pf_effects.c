@@ -19,6 +19,8 @@ pf_status pf_effects_validate(const pf_effects *fx)
     st = pf_param_check(PF_P_BACKLASH, fx->backlash);
     if (st == PF_OK)
         st = pf_param_check(PF_P_NOZZLE_XH, fx->nozzle_xh);
+    if (st == PF_OK)
+        st = pf_param_check(PF_P_SATURATE, (double)fx->saturate);
     if (st == PF_OK && fx->saturate) {
         st = pf_param_check(PF_P_SAT_LO, fx->sat_lo);
         if (st == PF_OK)

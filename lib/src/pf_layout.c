@@ -71,9 +71,7 @@ static const member params_members[] = {
 static const member effects_members[] = {
     D(pf_effects, PF_P_BACKLASH, backlash),
     D(pf_effects, PF_P_NOZZLE_XH, nozzle_xh),
-    /* the switch of the two saturation limits: no parameter of its own */
-    {PF_P_COUNT, "saturate", offsetof(pf_effects, saturate),
-     SIZE_OF(pf_effects, saturate), PF_FIELD_INT, PF_TYPE_COUNT},
+    I(pf_effects, PF_P_SATURATE, saturate),
     D(pf_effects, PF_P_SAT_LO, sat_lo),
     D(pf_effects, PF_P_SAT_HI, sat_hi),
     D(pf_effects, PF_P_DEAD_TIME, dead_time),

@@ -140,6 +140,11 @@ static const pf_param_spec table[PF_P_COUNT] = {
                           "the curve's inflection, in units of x_1/2; 0 = at the "
                           "inflection",
                           -0.5, 10.0, 0, 0},
+    /* Where the supply limits act (pf_effects.h, pf_sat_kind). */
+    [PF_P_SATURATE] = {"saturate", "",
+                       "saturation: 0 off, 1 p_c clipped after the relay, "
+                       "2 the relay's diaphragm stops at the limits",
+                       0.0, 2.0, WHOLE, 0},
 };
 
 const pf_param_spec *pf_param_info(pf_param_id id)

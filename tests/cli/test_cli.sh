@@ -204,6 +204,13 @@ check "dead time of 10 samples delays the output" \
 run_ok "$TMP/sat.csv" "${SIM[@]}" --effect saturation:lo=-0.002,hi=0.002
 check "saturation bounds p_c" \
   csv_awk 'NR > 1 { if ($3 > 0.002 || $3 < -0.002) bad = 1 } END { exit bad }' "$TMP/sat.csv"
+run_ok "$TMP/stop.csv" "${SIM[@]}" --effect saturation:lo=-0.002,hi=0.002,kind=2
+check "the relay's stop bounds p_c" \
+  csv_awk 'NR > 1 { if ($3 > 0.002 || $3 < -0.002) bad = 1 } END { exit bad }' "$TMP/stop.csv"
+expect_err "effect: saturation kind out of the table's range" "saturate" \
+  "${SIM[@]}" --effect saturation:lo=-1,hi=1,kind=3
+expect_err "effect: saturation kind not whole" "not a whole number" \
+  "${SIM[@]}" --effect saturation:lo=-1,hi=1,kind=1.5
 
 expect_err "effect: unknown name" "unknown effect 'spring'.*backlash.*lag" "${SIM[@]}" --effect spring:k=1
 expect_err "effect: unknown key" "unknown key 'w'.*valid: width" "${SIM[@]}" --effect backlash:w=1

@@ -104,6 +104,9 @@ def test_design_reports_what_the_library_resolved():
     assert o["approx"] == "oustaloup" and o["input"] == "hold"
     s = pneufrac.design("p", 1000, effects={"sat_lo": -1, "sat_hi": 2})
     assert s.effects == {"sat_lo": -1.0, "sat_hi": 2.0} and not s.linear
+    # the placement: the relay's diaphragm on its seat, kept as designed
+    s = pneufrac.design("p", 1000, effects={"sat_lo": -1, "sat_hi": 2, "saturate": 2})
+    assert s.effects == {"sat_lo": -1.0, "sat_hi": 2.0, "saturate": 2}
     assert "dd at 20000 Hz" in repr(d)
 
 
@@ -123,6 +126,9 @@ def test_parameters_are_the_library_table():
     (lambda: pneufrac.design("dd", 20000, effects={"backlash": float("inf")}), "backlash"),
     (lambda: pneufrac.design("dd", 20000, effects={"deadtime": 1}), "unknown effect"),
     (lambda: pneufrac.design("dd", 20000, effects={"sat_lo": 1}), "sat_hi"),
+    (lambda: pneufrac.design("dd", 20000, effects={"saturate": 2}), "sat_lo"),
+    (lambda: pneufrac.design("dd", 20000, effects={"sat_lo": -1, "sat_hi": 1,
+                                                   "saturate": 1.5}), "whole number"),
     (lambda: pneufrac.design("dd", 20000, band=(1.0,)), "band"),
     (lambda: pneufrac.design("dd", 20000, order=2.5), "order"),
     (lambda: pneufrac.design("dd", 20000, order="many"), "order"),
@@ -141,6 +147,9 @@ def test_the_library_names_the_parameter_it_refuses():
     with pytest.raises(pneufrac.ModelError) as e:
         pneufrac.design("dd", 20000, effects={"sat_lo": 2, "sat_hi": 1})
     assert e.value.param == "sat_hi"
+    with pytest.raises(pneufrac.ModelError) as e:        # beyond the table's range
+        pneufrac.design("dd", 20000, effects={"sat_lo": -1, "sat_hi": 1, "saturate": 3})
+    assert e.value.param == "saturate"
 
 
 def test_nonlinear_and_dead_time_have_no_transfer_function():

@@ -181,26 +181,30 @@ static void test_output_saturates(void **state)
     free(r);
 }
 
-/* In-loop saturation (supply limits), lag and dead time in Q15 follow the
- * double runtime with the same effects. */
+/* In-loop saturation (supply limits, at both placements: p_c clipped
+ * after the relay, the relay on its stop), lag and dead time in Q15
+ * follow the double runtime with the same effects. */
 static void test_effects_match_double(void **state)
 {
     pf_effects fx;
-    rig *r;
-    double worst;
+    int kind;
     (void)state;
-    memset(&fx, 0, sizeof fx);
-    fx.saturate = 1;
-    fx.sat_lo = -0.2;
-    fx.sat_hi = 2.0;
-    fx.lag = 0.005;
-    fx.dead_time = 0.01;
-    r = make_rig(PF_TOPO_ID, &fx);
-    worst = run_compare(r, 0.5, NSTEP, NULL, NULL);
-    worst = fmax(worst, run_compare(r, -0.3, NSTEP, NULL, NULL));
-    printf("id with saturation, lag, dead time: max %.2f LSB\n", worst);
-    assert_true(worst <= 1.0);
-    free(r);
+    for (kind = PF_SAT_CLIP; kind <= PF_SAT_STOP; kind++) {
+        rig *r;
+        double worst;
+        memset(&fx, 0, sizeof fx);
+        fx.saturate = kind;
+        fx.sat_lo = -0.2;
+        fx.sat_hi = 2.0;
+        fx.lag = 0.005;
+        fx.dead_time = 0.01;
+        r = make_rig(PF_TOPO_ID, &fx);
+        worst = run_compare(r, 0.5, NSTEP, NULL, NULL);
+        worst = fmax(worst, run_compare(r, -0.3, NSTEP, NULL, NULL));
+        printf("id with saturation (kind %d), lag, dead time: max %.2f LSB\n", kind, worst);
+        assert_true(worst <= 1.0);
+        free(r);
+    }
 }
 
 /* Backlash is piecewise linear like saturation and solved exactly: Q15
@@ -216,13 +220,13 @@ static void test_backlash_matches_double(void **state)
     size_t i;
     int k;
     (void)state;
-    for (k = 0; k < 2; k++) {
+    for (k = 0; k < 3; k++) {
         rig *r;
         double worst = 0;
         memset(&fx, 0, sizeof fx);
         fx.backlash = 0.06; /* x units (in_fs = 1): wider than the small steps */
-        if (k == 1) {
-            fx.saturate = 1;
+        if (k >= 1) { /* k = 1 clip, 2 relay stop (pf_sat_kind) */
+            fx.saturate = k;
             fx.sat_lo = -0.2;
             fx.sat_hi = 2.0;
         }
@@ -230,7 +234,7 @@ static void test_backlash_matches_double(void **state)
         for (i = 0; i < sizeof steps / sizeof steps[0]; i++)
             worst = fmax(worst, run_compare(r, steps[i], NSTEP / 4, NULL, NULL));
         printf("%s with backlash%s: max %.2f LSB\n", k == 0 ? "dd" : "id",
-               k == 0 ? "" : " and saturation", worst);
+               k == 0 ? "" : k == 1 ? " and saturation" : " and the relay's stop", worst);
         assert_true(worst <= 1.0);
         free(r);
     }
@@ -304,8 +308,8 @@ static void test_random_designs(void **state)
         /* the run below: a step, then its reversal (the larger swing) */
         for (n = 0; n < N; n++)
             peak = fmax(peak, fabs(pf_ctrl_step_f64(&f, (n < N / 2 ? eq : -eq) / 16384.0)));
-        if (trial % 4 == 1) { /* supply limits inside the response */
-            fx.saturate = 1;
+        if (trial % 4 == 1) { /* supply limits inside the response, both placements */
+            fx.saturate = trial % 8 == 1 ? PF_SAT_CLIP : PF_SAT_STOP;
             fx.sat_lo = -0.3 * peak;
             fx.sat_hi = 0.6 * peak;
             assert_int_equal(pf_ctrl_design_make(&d, &p, &fx, &o), PF_OK);

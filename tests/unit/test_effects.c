@@ -870,12 +870,12 @@ static void test_all_in_loop_effects(void **state)
             fx.nozzle_xh = 0.5;
             fx.sat_lo = -0.3 * mx;
             fx.sat_hi = 0.3 * mx;
-            for (sat = 0; sat < 2; sat++) {
+            for (sat = PF_SAT_OFF; sat <= PF_SAT_STOP; sat++) {
                 fx.saturate = sat;
                 design_cfg(&g_d, cfgs[c], &fx, ins[i]);
                 run(&g_d, g_e, NS, &g_b);
                 snprintf(what, sizeof what, "%s/%s backlash+nozzle%s", pf_topology_name(cfgs[c]),
-                         i ? "linear" : "hold", sat ? "+sat" : "");
+                         i ? "linear" : "hold", sat == PF_SAT_STOP ? "+stop" : sat ? "+sat" : "");
                 check_lever(&g_d, &g_b, what);
                 check_play_relation(&g_d, &g_b, 0.05, 0.5, what);
                 if (sat)

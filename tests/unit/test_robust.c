@@ -426,7 +426,7 @@ static void gen_fx(rng *r, trial *t)
     if (chance(r, 0.25)) {
         double a = logu(r, 1e-9, FX_MAX), b = logu(r, 1e-9, FX_MAX);
         double lo = fmin(a, b), hi = fmax(a, b);
-        fx->saturate = 1;
+        fx->saturate = chance(r, 0.5) ? PF_SAT_CLIP : PF_SAT_STOP;
         switch (pick(r, 3)) {
         case 0: fx->sat_lo = -a; fx->sat_hi = b; break;
         case 1: /* the rest state outside the limits */

@@ -204,19 +204,21 @@ static void test_matches_typed_runtimes(void **state)
     /* out_fs per configuration: roughly 1.5 x the peak for this input. */
     static const double out_fs[PF_TOPO_COUNT] = {0.03, 0.03, 16.0, 16.0};
     pf_effects fx;
-    int c, a;
+    int c, a, kind;
     (void)state;
     memset(&fx, 0, sizeof fx);
-    fx.saturate = 1;
     fx.sat_lo = -1.0;
     fx.sat_hi = 1.0;
     fx.lag = 0.002;
     fx.dead_time = 0.005;
-    for (c = 0; c < PF_TOPO_COUNT; c++)
-        for (a = 0; a < PF_ARITH_COUNT; a++) {
-            setup_typed((pf_topology)c, &fx, 1.25, out_fs[c]);
-            compare((pf_arith)a, 1.25, out_fs[c]);
-        }
+    for (kind = PF_SAT_CLIP; kind <= PF_SAT_STOP; kind++) { /* both placements */
+        fx.saturate = kind;
+        for (c = 0; c < PF_TOPO_COUNT; c++)
+            for (a = 0; a < PF_ARITH_COUNT; a++) {
+                setup_typed((pf_topology)c, &fx, 1.25, out_fs[c]);
+                compare((pf_arith)a, 1.25, out_fs[c]);
+            }
+    }
 }
 
 static void test_run_is_steps(void **state)

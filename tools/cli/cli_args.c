@@ -194,12 +194,17 @@ int cli_parse_set(const char *arg, cli_set *out)
 }
 
 enum { FX_BACKLASH, FX_NOZZLE, FX_SATURATION, FX_DEADTIME, FX_LAG, FX_COUNT };
-#define FX_MAX_KEYS 2
+#define FX_MAX_KEYS 3
 
 static const char *const fx_names[FX_COUNT] = {
     "backlash", "nozzle", "saturation", "deadtime", "lag"};
 static const char *const fx_keys[FX_COUNT][FX_MAX_KEYS] = {
-    {"width", NULL}, {"xh", NULL}, {"lo", "hi"}, {"t", NULL}, {"tau", NULL}};
+    {"width", NULL, NULL}, {"xh", NULL, NULL}, {"lo", "hi", "kind"}, {"t", NULL, NULL},
+    {"tau", NULL, NULL}};
+/* Keys that may be left out, by effect (bit k: key k): saturation's kind,
+ * where the limits act (pf_sat_kind; default 1, p_c clipped after the
+ * relay; the library's table holds its range). */
+static const unsigned fx_optional[FX_COUNT] = {0u, 0u, 1u << 2, 0u, 0u};
 
 static int name_is(const char *s, size_t len, const char *name)
 {
@@ -223,12 +228,12 @@ static void fx_key_list(int fx, char *buf, size_t n)
 int cli_parse_effect(const char *arg, cli_effects *acc)
 {
     static const char valid[] = "backlash:width=W, nozzle:xh=X, "
-                                "saturation:lo=L,hi=H, deadtime:t=S, lag:tau=S";
+                                "saturation:lo=L,hi=H[,kind=K], deadtime:t=S, lag:tau=S";
     char q[48], keys[32];
     const char *colon = strchr(arg, ':');
     const char *p;
-    double val[FX_MAX_KEYS] = {0.0, 0.0};
-    int have[FX_MAX_KEYS] = {0, 0};
+    double val[FX_MAX_KEYS] = {0.0, 0.0, 0.0};
+    int have[FX_MAX_KEYS] = {0, 0, 0};
     int fx, k;
     size_t nlen;
 
@@ -292,7 +297,7 @@ int cli_parse_effect(const char *arg, cli_effects *acc)
         p = comma + 1;
     }
     for (k = 0; k < FX_MAX_KEYS && fx_keys[fx][k] != NULL; k++) {
-        if (!have[k]) {
+        if (!have[k] && !(fx_optional[fx] & (1u << k))) {
             cli_error("--effect %s: missing key '%s' (needs: %s)",
                       fx_names[fx], fx_keys[fx][k], keys);
             return -1;
@@ -305,7 +310,15 @@ int cli_parse_effect(const char *arg, cli_effects *acc)
     case FX_BACKLASH: acc->fx.backlash = val[0]; break;
     case FX_NOZZLE: acc->fx.nozzle_xh = val[0]; break;
     case FX_SATURATION:
-        acc->fx.saturate = 1;
+        /* a whole number, or the cast below would not be defined; its
+         * range is the library's to judge */
+        if (have[2] && !(val[2] == floor(val[2]) && fabs(val[2]) <= 1e6)) {
+            cli_error("--effect saturation: kind: %.10g is not a whole number "
+                      "(1 p_c clipped after the relay, 2 the relay's diaphragm on its seat)",
+                      val[2]);
+            return -1;
+        }
+        acc->fx.saturate = have[2] ? (int)val[2] : PF_SAT_CLIP;
         acc->fx.sat_lo = val[0];
         acc->fx.sat_hi = val[1];
         break;

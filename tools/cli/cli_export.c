@@ -140,7 +140,8 @@ int cli_export_c_q15(FILE *f, const char *name, const char *comment,
 #define QC(x) fprintf(f, "  .%s = {%ld, %u},\n", #x, (long)c->x.m, (unsigned)c->x.sh)
     QC(e_in); QC(x_e); QC(x_q); QC(x_v); QC(x_w); QC(x_p); QC(ce); QC(x_pc);
     QC(t_q); QC(t_v); QC(t_w); QC(pc_x); QC(pc_p); QC(k1); QC(relay_v_pb);
-    QC(relay_v_s); QC(relay_z_pb); QC(relay_z_w); QC(v_a); QC(v_b); QC(w_a);
+    QC(relay_v_s); QC(relay_z_pb); QC(relay_z_w); QC(stop_v_pc); QC(stop_v_s);
+    QC(v_a); QC(v_b); QC(w_a);
     QC(w_b); QC(m_v); QC(m_pc); QC(m_w); QC(kA_m); QC(dv_pc); QC(dv_r);
     QC(dw_pc); QC(dw_r); QC(pc_out);
     fprintf(f, "  .sat_lo = %ld, .sat_hi = %ld, .play_r = %ld, .play_ri = %ld,\n",

@@ -54,7 +54,9 @@ void cli_simulate_usage(FILE *f)
 "                       '-' reads standard input; a short file holds its\n"
 "                       last value\n"
 "  --effect NAME:K=V[,K=V]  repeatable: backlash:width=W  nozzle:xh=X\n"
-"                       saturation:lo=L,hi=H  deadtime:t=S  lag:tau=S\n"
+"                       saturation:lo=L,hi=H[,kind=K]  deadtime:t=S  lag:tau=S\n"
+"                       (kind 1: p_c clipped after the relay, the default;\n"
+"                       2: the relay's diaphragm stops at the limits)\n"
 "\n"
 "Options take their value as the next argument or after '='.\n");
     cli_exit_status_help(f);
@@ -114,6 +116,9 @@ static void describe_param(const cli_run *run, pf_param_id id, char *buf,
     case PF_P_SAT_HI:
         snprintf(buf, n, "--effect saturation:lo=%.10g,hi=%.10g; needs lo < hi",
                  fx->sat_lo, fx->sat_hi);
+        break;
+    case PF_P_SATURATE:
+        snprintf(buf, n, "--effect saturation:kind=%d; needs 1 or 2", fx->saturate);
         break;
     case PF_P_DEAD_TIME:
         snprintf(buf, n, "--effect deadtime:t=%.10g", fx->dead_time);

@@ -262,6 +262,8 @@ typedef struct pf_ctrl_coeffs_q15 {
     pf_qc k1;                      /**< x -> p_b */
     pf_qc relay_v_pb, relay_v_s;   /**< p_b, S_P -> v */
     pf_qc relay_z_pb, relay_z_w;   /**< p_b, w -> p_c (k2 folded in) */
+    pf_qc stop_v_pc, stop_v_s;     /**< held p_c, S_P -> v with the relay on
+                                        its seat (PF_SAT_STOP; else 0) */
     pf_qc v_a, v_b, w_a, w_b;      /**< restrictors: p_c, S -> r */
     pf_qc m_v, m_pc, m_w;          /**< r_V or p_c, r_W -> m */
     pf_qc kA_m;                    /**< m -> y when q = 0 */

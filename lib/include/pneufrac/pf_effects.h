@@ -11,6 +11,25 @@
  *
  * All are off in a zeroed struct. The in-loop effects are monotone, so the
  * loop equation stays uniquely solvable each sample (see pf_controller.h).
+ *
+ * Saturation comes in two placements (pf_effects.saturate):
+ *  - PF_SAT_CLIP: p_c is clipped after the relay; the relay's fractional
+ *    memory runs on with the unclipped output, so after a saturated
+ *    stretch the output leaves the limit only once that memory has wound
+ *    back (a delayed recovery).
+ *  - PF_SAT_STOP: the relay's diaphragm sits on its seat (supply or
+ *    exhaust). Eq. 11 is the diaphragm's own material law (a Zener model,
+ *    stress ~ p_b, strain ~ z); on the seat the strain z is held at the
+ *    limit and the seat carries the part of p_b the material does not, so
+ *    the material's memory is that of the held z: with z = w + v and
+ *    w = (tau s)^-beta v (pf_controller.h), v = (z_lim - S_P)/(1 + D_P)
+ *    each sample on the seat. The diaphragm lifts off as soon as p_b falls
+ *    below the material's own (relaxing) stress, which is where the free
+ *    diaphragm's z comes back inside the limit: recovery follows the input
+ *    at once. Off the seat the same v is the free relay's, so nothing
+ *    jumps at the limit. The loop's solution within a sample is the
+ *    clip's (the seat only changes what the relay remembers), so it stays
+ *    uniquely solvable.
  */
 #ifndef PNEUFRAC_PF_EFFECTS_H
 #define PNEUFRAC_PF_EFFECTS_H
@@ -21,12 +40,21 @@
 extern "C" {
 #endif
 
+/** pf_effects.saturate: where the supply limits act (see above). */
+enum pf_sat_kind {
+    PF_SAT_OFF = 0,  /**< no saturation */
+    PF_SAT_CLIP = 1, /**< p_c clipped after the relay */
+    PF_SAT_STOP = 2  /**< the relay's diaphragm stops at the limits */
+};
+
 /** Effect parameters; zero means off. */
 typedef struct pf_effects {
     double backlash;  /**< dead-band full width on x (units of x), >= 0 */
     double nozzle_xh; /**< x_1/2 of p_b/p_s = 1/(1+(x/x_1/2)^2), units of x,
                            >= 0; 0 = linear nozzle (eq. 9) */
-    int saturate;     /**< non-zero: clip p_c to [sat_lo, sat_hi] */
+    int saturate;     /**< pf_sat_kind: 0 off, 1 clip p_c after the relay,
+                           2 the relay stops at the limits (range in
+                           pf_param_info, parameter "saturate") */
     double sat_lo, sat_hi; /**< supply limits on p_c, sat_lo < sat_hi */
     double dead_time; /**< output line transport delay, s, >= 0 */
     double lag;       /**< output line extra lag time constant, s, >= 0 */
@@ -35,9 +63,9 @@ typedef struct pf_effects {
                            0 = the curve's inflection (see pf_nozzle) */
 } pf_effects;
 
-/** Check effect parameters: each within its range (pf_param_info; sat_lo
- *  and sat_hi only with saturate), and with saturate sat_lo < sat_hi (else
- *  names sat_hi). The design also caps dead_time at 4194304 samples.
+/** Check effect parameters: each within its range (pf_param_info;
+ *  saturate in {0, 1, 2}; sat_lo and sat_hi only with saturate), and with
+ *  saturate sat_lo < sat_hi (else names sat_hi). The design also caps dead_time at 4194304 samples.
  *  @return PF_OK or PF_E_PARAM(PF_P_BACKLASH ...) naming the parameter. */
 pf_status pf_effects_validate(const pf_effects *fx);
 

@@ -21,7 +21,7 @@ typedef enum pf_param_id {
     PF_P_IN_FS, PF_P_OUT_FS,
     /* effects */
     PF_P_BACKLASH, PF_P_NOZZLE_XH, PF_P_SAT_LO, PF_P_SAT_HI, PF_P_DEAD_TIME,
-    PF_P_LAG, PF_P_NOZZLE_BIAS,
+    PF_P_LAG, PF_P_NOZZLE_BIAS, PF_P_SATURATE,
     PF_P_COUNT
 } pf_param_id;
 

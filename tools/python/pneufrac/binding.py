@@ -41,6 +41,9 @@ class Field(C.Structure):
 PF_FIELD_DOUBLE, PF_FIELD_INT, PF_FIELD_STRUCT = 0, 1, 2
 PF_PARAM_LO_OPEN = 0x1
 PF_PARAM_HI_OPEN = 0x2
+# pf_sat_kind (pf_effects.h): pf_effects.saturate, where the supply limits
+# act; its range is the parameter "saturate" of the library's table.
+PF_SAT_OFF, PF_SAT_CLIP, PF_SAT_STOP = 0, 1, 2
 
 
 class LibraryError(RuntimeError):

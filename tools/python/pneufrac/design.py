@@ -24,8 +24,9 @@ def model_parameters() -> list[str]:
 
 
 def effect_parameters() -> list[str]:
-    """Effect parameter names (pf_effects; saturation is sat_lo with sat_hi)."""
-    return [n for n, _ in binding.Effects._fields_ if n != "saturate"]
+    """Effect parameter names (pf_effects; saturation is sat_lo with sat_hi,
+    and saturate its placement, pf_sat_kind)."""
+    return [n for n, _ in binding.Effects._fields_]
 
 
 def _check_number(what: str, v) -> float:
@@ -47,8 +48,16 @@ def _effects(effects: dict | None) -> dict:
     out = {k: _check_number(f"effect {k}", v) for k, v in fx.items()}
     if ("sat_lo" in out) != ("sat_hi" in out):
         raise ValueError("saturation needs both sat_lo and sat_hi")
-    if "sat_lo" in out:
-        out["saturate"] = 1
+    if "saturate" in out:
+        # the placement (the library's range judges the value); only with limits
+        k = out["saturate"]
+        if isinstance(fx["saturate"], bool) or k != int(k):
+            raise ValueError(f"effect saturate: {fx['saturate']!r} is not a whole number")
+        if "sat_lo" not in out:
+            raise ValueError("saturate needs sat_lo and sat_hi")
+        out["saturate"] = int(k)
+    elif "sat_lo" in out:
+        out["saturate"] = binding.PF_SAT_CLIP
     return out
 
 
@@ -90,8 +99,10 @@ def design(config: str, fs: float, *, effects: dict | None = None,
         tau, pmin, pmax, beta, q, nu, w, RC, RCd, RCi), over the paper's
         example for the configuration; ranges: ``pneufrac.parameters()``.
     effects: {name: value} of backlash (dead-band width on the flapper
-        displacement x), nozzle_xh, sat_lo with sat_hi (limits on p_c),
-        dead_time (s) and lag (s); absent or 0 means off.
+        displacement x), nozzle_xh, sat_lo with sat_hi (limits on p_c;
+        saturate: 1 clipped after the relay, the default, or 2 the relay's
+        diaphragm stops there, pf_effects.h), dead_time (s) and lag (s);
+        absent or 0 means off.
     band: (wb, wh), the Oustaloup band in rad/s (default: from t_slow up
         to pi fs); order: Oustaloup N (default: from the band);
         approx: "oustaloup" or "refined"; prewarp: Tustin prewarp
@@ -135,10 +146,13 @@ class Design:
         self.config = binding.load().pf_topology_name(h.p.topology).decode()
         self.params = {n: getattr(h.p, n) for n in model_parameters()}
         fx = {n: getattr(h.fx, n) for n, _ in binding.Effects._fields_}
-        if not fx.pop("saturate"):
+        kind = fx.pop("saturate")
+        if not kind:
             fx.pop("sat_lo")
             fx.pop("sat_hi")
         self.effects = {k: v for k, v in fx.items() if v != 0.0 or k.startswith("sat_")}
+        if kind not in (binding.PF_SAT_OFF, binding.PF_SAT_CLIP):   # the placement, if not the default
+            self.effects["saturate"] = kind
         o = {n: getattr(h.opt, n) for n, _ in binding.DesignOpts._fields_}
         o["approx"] = _name_of(APPROX, o["approx"])
         o["input"] = _name_of(INPUT_MODELS, o["input"])

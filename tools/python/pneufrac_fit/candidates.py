@@ -12,11 +12,12 @@ groups are refitted at the best few."""
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 
 import numpy as np
 
-from . import fit, model, search
+from . import fit, guards, model, noise, search
 
 N_FRESH = 12
 N_FRESH_KEEP = 1
@@ -26,8 +27,9 @@ DEAD_MAX = 200             # data samples scanned at most
 # Relative cost of testing an effect: an effect inside the loop (a play,
 # the nozzle curve, the supply limits) makes the library solve the loop
 # iteratively at every sample, 3-4x the cost of a linear simulation, and
-# the nozzle has two parameters and three starting sizes.
-COST = {"nozzle": 4, "backlash": 3, "saturation": 3, "dead_time": 1, "lag": 1}
+# the nozzle has two parameters and three starting sizes; saturation is
+# fitted at both its placements.
+COST = {"nozzle": 4, "backlash": 3, "saturation": 6, "dead_time": 1, "lag": 1}
 
 
 def by_cost(tasks: list) -> list:
@@ -80,6 +82,59 @@ def _sat_start(pb, base, st: dict) -> dict:
         st["sat_hi"] -= c
     st.setdefault("K", base.values["K"])
     return st
+
+
+def with_kind(pb, kind: int, told: float = 0.0):
+    """The problem with saturation placed as `kind` (model.SAT_KINDS), and
+    whether the record told that placement from the other: every fit on it
+    simulates that placement and names it (fit.finish)."""
+    if (pb.setup.sat_kind, pb.setup.sat_kind_told) == (kind, told):
+        return pb
+    q = copy.copy(pb)
+    q.setup = dataclasses.replace(pb.setup, sat_kind=kind, sat_kind_told=told)
+    return q
+
+
+def for_model(pb, fr):
+    """The problem on which fr's model is refitted: its saturation where fr
+    placed it (a refit's values come from the search's parameters alone)."""
+    if fr is None or "saturation" not in fr.effects or "sat_kind" not in fr.values:
+        return pb           # every fit names its placement (fit.finish)
+    return with_kind(pb, model.sat_kind(fr.values), float(fr.values.get("sat_kind_told", 0.0)))
+
+
+def _kind_told(pb_a, a, pb_b, b) -> bool:
+    """Whether the record tells placement a from b: a explains it
+    significantly better on the fit part and held out (guards.better, the
+    rule that tells any two explanations apart), residuals whitened by the
+    AR model of a's (if a is the explanation, its residual is the noise)."""
+    nm = noise.fit(a.residual(pb_a)[pb_a.counted])
+    ta = guards.Test("saturation", a, None)
+    tb = guards.Test("saturation", b, None)
+    ta.pb, tb.pb = pb_a, pb_b
+    t_fit, t_val = guards.better(ta, tb, nm)
+    return t_fit > guards.Z_BETTER and t_val > guards.Z_BETTER
+
+
+def _fit_saturation(pb, base, rng, hint):
+    """Saturation at both placements, each from the same starts and with the
+    same search: the better is kept, marked with its placement and with
+    whether the record tells it from the other. Every guard then treats it
+    as any fit of saturation."""
+    effects = model.canonical(base.effects + ("saturation",))
+    fits = []
+    # the same fresh starts for both: the seat's from a copy of the generator
+    rngs = {model.SAT_STOP: copy.deepcopy(rng), model.SAT_CLIP: rng}
+    for kind in (model.SAT_CLIP, model.SAT_STOP):
+        pk = with_kind(pb, kind)
+        b = search.explore_refine(pk, effects,
+                                  _starts(pk, effects, "saturation", base, rngs[kind], hint),
+                                  dead=base.dead)
+        fits.append((_not_worse(pk, effects, "saturation", base, b), pk, kind))
+    fits.sort(key=lambda f: f[0].cost)
+    (win, pw, kind), (lose, pl, _) = fits
+    win.values["sat_kind_told"] = 1.0 if _kind_told(pw, win, pl, lose) else 0.0
+    return win
 
 
 def with_freed(pb, groups: list):
@@ -222,6 +277,9 @@ def fit_extended(pb, base, new: str, rng, hint: dict | None = None):
     refined (search.explore_refine); dead time profiled first. hint: the
     new effect's parameters fitted in an earlier round."""
     effects = model.canonical(base.effects + (new,))
+    if new == "saturation":
+        return _fit_saturation(pb, base, rng, hint)
+    pb = for_model(pb, base)            # saturation stays where the model so far has it
     if new == "dead_time":
         ds = _dead_candidates(pb, effects, base)
         if hint and hint.get("dead"):

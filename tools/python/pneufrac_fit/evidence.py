@@ -238,7 +238,7 @@ def verdict(causes, base, ext, tests, checks, evb, eva, pb, floor,
         elif c == "saturation":
             out.append("Evidence: the error sits at the extremes of the output range, where "
                        "the measured output is flat while the model keeps rising: p_c is "
-                       "clipped.")
+                       "limited.")
         elif c == "backlash":
             mr, _ = _t(evb["rise"])
             mf, _ = _t(evb["fall"])
@@ -261,7 +261,10 @@ def describe_effect(cause: str, p: dict, fs: float) -> str:
     if cause == "lag":
         return f"line lag {p['lag'] * 1e3:.4g} ms ({p['lag'] * fs:.2f} samples)"
     if cause == "saturation":
-        return f"p_c clipped to [{p['sat_lo']:.4g}, {p['sat_hi']:.4g}]"
+        kind = model.SAT_KINDS[model.sat_kind(p)]
+        told = ("" if p.get("sat_kind_told") else
+                " (the record does not tell this from the other placement)")
+        return f"p_c limited to [{p['sat_lo']:.4g}, {p['sat_hi']:.4g}]: {kind}{told}"
     if cause == "backlash":
         return f"dead band {p['deadband']:.4g} input units wide"
     if cause == "nozzle":

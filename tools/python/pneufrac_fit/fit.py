@@ -281,7 +281,9 @@ def effect_report(effects, vals: dict, fs_int: float, m: int, dead: int = 0) -> 
         elif eff == "lag":
             out["lag"] = vals["lag"]
         elif eff == "saturation":
-            out.update(sat_lo=vals["sat_lo"], sat_hi=vals["sat_hi"])
+            out.update(sat_lo=vals["sat_lo"], sat_hi=vals["sat_hi"],
+                       sat_kind=model.sat_kind(vals),
+                       sat_kind_told=float(vals.get("sat_kind_told", 0.0)))
         elif eff == "backlash":
             out["deadband"] = vals["deadband"]
         elif eff == "nozzle":
@@ -604,6 +606,8 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
 
 def finish(pb: Problem, effects, sp, th, dead: int, cost: float, label: str = "") -> FitResult:
     vals = from_theta(sp, th, pb)
+    if "saturation" in effects:          # the placement simulated (candidates.with_kind)
+        vals.update(sat_kind=pb.setup.sat_kind, sat_kind_told=pb.setup.sat_kind_told)
     out, K, c, a = model_output(pb, effects, vals, dead, pb.nfit)
     vals["K"] = K
     vals["pc0"] = c

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import excite, lib, sensor
+from . import excite, lib, model, sensor
 
 
 def bump_input(n: int, fs: float, rng: np.random.Generator, amp: float = 1.0,
@@ -112,7 +112,7 @@ def plant_effects(effect: str, ev: dict, p: dict) -> dict:
     if effect == "lag":
         return {"lag": ev["lag"]}
     if effect == "saturation":
-        return {"saturate": 1, "sat_lo": ev["sat_lo"], "sat_hi": ev["sat_hi"]}
+        return {"saturate": model.sat_kind(ev), "sat_lo": ev["sat_lo"], "sat_hi": ev["sat_hi"]}
     if effect == "backlash":
         return {"backlash": ev["deadband"] * ce}
     if effect == "nozzle":

@@ -62,7 +62,9 @@ CONFIG_GROUPS = {
 EFFECT_PARAMS = {
     "dead_time": ["dead_time"],          # s (whole internal samples)
     "lag": ["lag"],                      # s
-    "saturation": ["sat_lo", "sat_hi"],  # output units
+    # output units; where the limits act (SAT_KINDS) and whether the
+    # record tells that placement from the other (1) or not (0)
+    "saturation": ["sat_lo", "sat_hi", "sat_kind", "sat_kind_told"],
     "backlash": ["deadband"],            # full width, input units
     "nozzle": ["nozzle_xh", "nozzle_bias"],  # x_1/2, input units; bias point
     "none": [],
@@ -84,6 +86,23 @@ PLACE = {
     "nozzle": "flapper displacement x, inside the loop (nozzle characteristic)",
     "none": "-",
 }
+
+
+# Where the supply limits act (the library's pf_sat_kind): both are fitted
+# and the better kept (candidates.fit_extended); the report says which.
+SAT_CLIP, SAT_STOP = lib.PF_SAT_CLIP, lib.PF_SAT_STOP
+SAT_KINDS = {
+    SAT_CLIP: "the output pressure is clipped (p_c limited after the relay, whose "
+              "memory runs on)",
+    SAT_STOP: "the relay reaches its stop (the diaphragm sits on its seat; its memory "
+              "holds the stopped position)",
+}
+
+
+def sat_kind(vals: dict, default: int = SAT_CLIP) -> int:
+    """The saturation placement a fit's values carry (default: clip)."""
+    k = int(vals.get("sat_kind", default))
+    return k if k in SAT_KINDS else default
 
 
 def group_bounds(name: str) -> tuple[float | None, float | None]:
@@ -140,10 +159,11 @@ def physical_from_groups(config: str, g: dict) -> dict:
     return p
 
 
-def library_effects(effects, ev: dict, fs_int: float) -> dict:
+def library_effects(effects, ev: dict, fs_int: float, kind: int = SAT_CLIP) -> dict:
     """Effect parameters (report units) of a set of effects to the
     library's pf_effects; fs_int is the simulation rate (dead time is a
-    whole number of its samples, ev["dead"])."""
+    whole number of its samples, ev["dead"]); kind: the saturation's
+    placement where ev does not carry one (sat_kind)."""
     fx = {}
     for eff in effects:
         if eff == "dead_time" and ev.get("dead", 0) > 0:
@@ -151,7 +171,7 @@ def library_effects(effects, ev: dict, fs_int: float) -> dict:
         elif eff == "lag":
             fx["lag"] = ev["lag"]
         elif eff == "saturation":
-            fx.update(saturate=1, sat_lo=ev["sat_lo"], sat_hi=ev["sat_hi"])
+            fx.update(saturate=sat_kind(ev, kind), sat_lo=ev["sat_lo"], sat_hi=ev["sat_hi"])
         elif eff == "backlash" and ev["deadband"] > 0:
             fx["backlash"] = ev["deadband"] * CE
         elif eff == "nozzle" and ev.get("nozzle_k", 0) > 0:
@@ -178,6 +198,8 @@ class Setup:
     duration: float
     order: int = 8
     oversample: int = 1
+    sat_kind: int = SAT_CLIP     # saturation's placement, where a fit's values name none
+    sat_kind_told: float = 0.0   # 1: the record told it from the other placement
 
     def bounds(self, name: str) -> tuple[float, float]:
         lo, hi = group_bounds(name)
@@ -201,7 +223,7 @@ class Setup:
         ev = dict(ev or {})
         if oversample is not None and "dead" in ev:   # the same delay in seconds
             ev["dead"] = ev["dead"] * m / self.oversample
-        fx = library_effects(effects, ev, self.fs * m)
+        fx = library_effects(effects, ev, self.fs * m, self.sat_kind)
         ctl = lib.Controller(self.config, p, fx, self.fs * m, order=self.order,
                              t_slow=max(self.duration, 1.0 / self.fs * 100))
         if m == 1:

@@ -79,8 +79,10 @@ def try_effect(pb, current, effect: str, seed: int, hint: dict | None = None):
     freedoms."""
     t0 = time.monotonic()
     rng = np.random.default_rng(seed)
+    pb = candidates.for_model(pb, current)   # saturation where the model so far has it
     pbx = problem_for(pb, (effect,))
     fr = candidates.fit_extended(pbx, current, effect, rng, hint)
+    pbx = candidates.for_model(pbx, fr)      # saturation where the fit placed it
     if fr.cost < fit.start_cost(pbx, current.effects, {**current.groups, **current.values},
                                 current.dead) * (1 - 1e-6):
         ref = reference(pbx, current.effects, fr, current)
@@ -296,7 +298,8 @@ def pairs(pb, current, tests, say, notes=None, sets=None, seed=0):
     rng = np.random.default_rng(seed)
     for a, b in itertools.combinations(expl, 2):
         t0 = time.monotonic()
-        pbx = problem_for(pb, (a.effect, b.effect))
+        placed = next((t.model for t in (a, b) if t.effect == "saturation"), current)
+        pbx = problem_for(candidates.for_model(pb, placed), (a.effect, b.effect))
         effects = model.canonical(current.effects + (a.effect, b.effect))
         # each member's model extended by the other, as a round extends the
         # model so far (warm and fresh starts, the other's own fitted size,
