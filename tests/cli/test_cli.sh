@@ -209,8 +209,11 @@ check "the relay's stop bounds p_c" \
   csv_awk 'NR > 1 { if ($3 > 0.002 || $3 < -0.002) bad = 1 } END { exit bad }' "$TMP/stop.csv"
 expect_err "effect: saturation kind out of the table's range" "saturate" \
   "${SIM[@]}" --effect saturation:lo=-1,hi=1,kind=3
-expect_err "effect: saturation kind not whole" "not a whole number" \
+expect_err "effect: saturation kind not whole" "not a placement, a whole number" \
   "${SIM[@]}" --effect saturation:lo=-1,hi=1,kind=1.5
+# kind 0 is the library's "off": asked for a saturation, it must not vanish
+expect_err "effect: saturation kind 0 would switch it off" "not a placement" \
+  "${SIM[@]}" --effect saturation:lo=-1,hi=1,kind=0
 
 expect_err "effect: unknown name" "unknown effect 'spring'.*backlash.*lag" "${SIM[@]}" --effect spring:k=1
 expect_err "effect: unknown key" "unknown key 'w'.*valid: width" "${SIM[@]}" --effect backlash:w=1

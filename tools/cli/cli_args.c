@@ -310,10 +310,11 @@ int cli_parse_effect(const char *arg, cli_effects *acc)
     case FX_BACKLASH: acc->fx.backlash = val[0]; break;
     case FX_NOZZLE: acc->fx.nozzle_xh = val[0]; break;
     case FX_SATURATION:
-        /* a whole number, or the cast below would not be defined; its
-         * range is the library's to judge */
-        if (have[2] && !(val[2] == floor(val[2]) && fabs(val[2]) <= 1e6)) {
-            cli_error("--effect saturation: kind: %.10g is not a whole number "
+        /* a whole number, or the cast below would not be defined, and not
+         * 0, which would switch off the saturation asked for; the rest of
+         * its range is the library's to judge */
+        if (have[2] && !(val[2] == floor(val[2]) && val[2] >= 1 && val[2] <= 1e6)) {
+            cli_error("--effect saturation: kind: %.10g is not a placement, a whole number "
                       "(1 p_c clipped after the relay, 2 the relay's diaphragm on its seat)",
                       val[2]);
             return -1;
