@@ -104,16 +104,14 @@ def for_model(pb, fr):
 
 
 def _kind_told(pb_a, a, pb_b, b) -> bool:
-    """Whether the record tells placement a from b: a explains it
-    significantly better on the fit part and held out (guards.better, the
-    rule that tells any two explanations apart), residuals whitened by the
-    AR model of a's (if a is the explanation, its residual is the noise)."""
-    nm = noise.fit(a.residual(pb_a)[pb_a.counted])
-    ta = guards.Test("saturation", a, None)
+    """Whether the record tells placement a from b: the rule that tells any
+    two explanations apart (guards.distinguishable), residuals whitened by
+    the AR model of a's (if a is the explanation, its residual is the
+    noise)."""
+    ta = guards.Test("saturation", a, None, nm=noise.fit(a.residual(pb_a)[pb_a.counted]))
     tb = guards.Test("saturation", b, None)
     ta.pb, tb.pb = pb_a, pb_b
-    t_fit, t_val = guards.better(ta, tb, nm)
-    return t_fit > guards.Z_BETTER and t_val > guards.Z_BETTER
+    return guards.distinguishable(ta, tb)
 
 
 def _fit_saturation(pb, base, rng, hint):
