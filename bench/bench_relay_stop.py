@@ -51,8 +51,9 @@ def rel(a: np.ndarray, b: np.ndarray) -> float:
 def main() -> None:
     e = step_train()
     print("| config | linear: library vs blindsim | clip vs blindsim stop | seat vs blindsim stop "
-          "| at the limit after the fall: clip / seat / blindsim (samples) |")
-    print("|---|---|---|---|---|")
+          "| wind vs blindsim stop | at the limit after the fall: clip / seat / wind / blindsim "
+          "(samples) |")
+    print("|---|---|---|---|---|---|")
     for cfg in ("p", "dd", "id", "pid"):
         p = lib.default_params(cfg)
         lin = lib.Controller(cfg, p, {}, FS, t_slow=1.0).run(e)
@@ -63,10 +64,11 @@ def main() -> None:
                        e, 1 / FS)["pc"]
         outs = {k: lib.Controller(cfg, p, {"saturate": k, "sat_lo": lo, "sat_hi": hi}, FS,
                                   t_slow=1.0).run(e)
-                for k in (lib.PF_SAT_CLIP, lib.PF_SAT_STOP)}
-        c, s = outs[lib.PF_SAT_CLIP], outs[lib.PF_SAT_STOP]
+                for k in (lib.PF_SAT_CLIP, lib.PF_SAT_STOP, lib.PF_SAT_WIND)}
+        c, s, w = outs[lib.PF_SAT_CLIP], outs[lib.PF_SAT_STOP], outs[lib.PF_SAT_WIND]
         print(f"| {cfg} | {rel(lin, ref_lin):.2e} | {rel(c, ref):.3f} | {rel(s, ref):.3f} "
-              f"| {stays(c, hi)} / {stays(s, hi)} / {stays(ref, hi)} |")
+              f"| {rel(w, ref):.3f} | {stays(c, hi)} / {stays(s, hi)} / {stays(w, hi)} / "
+              f"{stays(ref, hi)} |")
 
 
 if __name__ == "__main__":

@@ -115,6 +115,11 @@ pf_status pf_ctrl_coeffs_q15_make_nz(pf_ctrl_coeffs_q15 *cq, pf_nozzle_q15 *nz,
      * times the others, more than one shared branch shift can hold. */
     if (d->opt.approx == PF_APPROX_REFINED)
         return PF_E_UNSUPPORTED;
+    /* A relay whose memory winds on at a limit (PF_SAT_WIND) takes its
+     * state far beyond the linear loop's peaks, by the time it is held
+     * there ((t/tau)^beta): no fixed node scale holds it. */
+    if (c->saturate == PF_SAT_WIND)
+        return PF_E_UNSUPPORTED;
     if (c->nozzle_xh > 0.0 && PF_Q15_NOZZLE_SEG == 0)
         return PF_E_UNSUPPORTED; /* left out of this build (pf_config.h) */
     if (c->nozzle_xh > 0.0 && nz == NULL)

@@ -143,8 +143,9 @@ static const pf_param_spec table[PF_P_COUNT] = {
     /* Where the supply limits act (pf_effects.h, pf_sat_kind). */
     [PF_P_SATURATE] = {"saturate", "",
                        "saturation: 0 off, 1 p_c clipped after the relay, "
-                       "2 the relay's diaphragm stops at the limits",
-                       0.0, 2.0, WHOLE, 0},
+                       "2 the relay's diaphragm stops at the limits, "
+                       "3 the relay's output stops and its memory winds on",
+                       0.0, 3.0, WHOLE, 0},
 };
 
 const pf_param_spec *pf_param_info(pf_param_id id)

@@ -208,7 +208,7 @@ run_ok "$TMP/stop.csv" "${SIM[@]}" --effect saturation:lo=-0.002,hi=0.002,kind=2
 check "the relay's stop bounds p_c" \
   csv_awk 'NR > 1 { if ($3 > 0.002 || $3 < -0.002) bad = 1 } END { exit bad }' "$TMP/stop.csv"
 expect_err "effect: saturation kind out of the table's range" "saturate" \
-  "${SIM[@]}" --effect saturation:lo=-1,hi=1,kind=3
+  "${SIM[@]}" --effect saturation:lo=-1,hi=1,kind=4
 expect_err "effect: saturation kind not whole" "not a placement, a whole number" \
   "${SIM[@]}" --effect saturation:lo=-1,hi=1,kind=1.5
 # kind 0 is the library's "off": asked for a saturation, it must not vanish

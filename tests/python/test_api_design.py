@@ -148,7 +148,7 @@ def test_the_library_names_the_parameter_it_refuses():
         pneufrac.design("dd", 20000, effects={"sat_lo": 2, "sat_hi": 1})
     assert e.value.param == "sat_hi"
     with pytest.raises(pneufrac.ModelError) as e:        # beyond the table's range
-        pneufrac.design("dd", 20000, effects={"sat_lo": -1, "sat_hi": 1, "saturate": 3})
+        pneufrac.design("dd", 20000, effects={"sat_lo": -1, "sat_hi": 1, "saturate": 4})
     assert e.value.param == "saturate"
 
 

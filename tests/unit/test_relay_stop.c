@@ -16,8 +16,12 @@
  *    tells the two placements apart;
  *  - after a saturated stretch the diaphragm lifts off its seat with the
  *    input; the clip model's output stays at the limit longer;
- *  - p_c never leaves the limits, in every arithmetic, for both placements.
- * Agreement of f32 and Q15 with f64 for both placements: test_runtime,
+ *  - the wound-on relay (PF_SAT_WIND) obeys eq. 11 with the whole p_b and
+ *    the held z in its memory (a check that fails on the clip and the
+ *    seat), and recovers last: seat < clip < wind;
+ *  - p_c never leaves the limits, in every arithmetic, for every placement
+ *    (Q15 refuses PF_SAT_WIND: its memory outgrows any fixed scale).
+ * f32 against f64 for every placement: here; Q15 for clip and seat: test_runtime,
  * test_ctrl_q15 (their stated tolerances).
  */
 #include <stdarg.h>
@@ -141,18 +145,18 @@ static int lift_off(size_t k0, double hi)
 static void test_saturate_range(void **state)
 {
     const pf_param_spec *s = pf_param_info(PF_P_SATURATE);
-    static const int bad[] = {-1, 3, 100};
+    static const int bad[] = {-1, 4, 100};
     pf_effects fx;
     int i;
     (void)state;
     assert_non_null(s);
     EXPECT(pf_param_lookup("saturate") == PF_P_SATURATE, "lookup");
-    EXPECT(s->lo == PF_SAT_OFF && s->hi == PF_SAT_STOP && (s->flags & PF_PARAM_INTEGER),
+    EXPECT(s->lo == PF_SAT_OFF && s->hi == PF_SAT_WIND && (s->flags & PF_PARAM_INTEGER),
            "range [%g, %g] flags %u", s->lo, s->hi, (unsigned)s->flags);
     memset(&fx, 0, sizeof fx);
     fx.sat_lo = -1.0;
     fx.sat_hi = 1.0;
-    for (i = PF_SAT_OFF; i <= PF_SAT_STOP; i++) {
+    for (i = PF_SAT_OFF; i <= PF_SAT_WIND; i++) {
         fx.saturate = i;
         EXPECT(pf_effects_validate(&fx) == PF_OK, "saturate = %d refused", i);
     }
@@ -210,7 +214,71 @@ static void test_diaphragm_on_its_seat(void **state)
     END_SOFT();
 }
 
-/* p_c inside the limits in f32 and Q15 too, for both placements. */
+/* The wound-on relay's law (pf_effects.h, PF_SAT_WIND), from outside:
+ * with v = (p_b - pmin z)/(pmax - pmin) taken from the recorded p_b and
+ * z = p_c/k2 at every sample (the diaphragm loaded by the whole p_b, the
+ * stroke z held at a limit) and w = I v stepped by this test, z = w + v
+ * holds wherever the output is free; largest |w + v - z| off the limits
+ * over the largest |z|. The clip's relay remembers its unclipped z and
+ * the seat's a relaxed stress, so the check fails on both. */
+static double wind_residual(double lo, double hi)
+{
+    pf_fracop_design I = g_d.rt.P;
+    pf_fracop_f64 op;
+    const double pmin = g_d.p.pmin, pmax = g_d.p.pmax;
+    double worst = 0, scale = 1e-300;
+    size_t k;
+    I.hold = 0;
+    assert_int_equal(pf_fracop_init_f64(&op, &I), PF_OK);
+    for (k = 0; k < NS; k++)
+        scale = fmax(scale, fabs(g_sig[k].z));
+    for (k = 0; k < NS; k++) {
+        const double v = (g_sig[k].pb - pmin * g_sig[k].z) / (pmax - pmin);
+        const double w = pf_fracop_step_f64(&op, v);
+        if (g_sig[k].pc < hi && g_sig[k].pc > lo)
+            worst = fmax(worst, fabs(w + v - g_sig[k].z) / scale);
+    }
+    return worst;
+}
+
+static void test_memory_winds_on(void **state)
+{
+    int c;
+    (void)state;
+    make_input();
+    for (c = 0; c < PF_TOPO_COUNT; c++) {
+        const pf_topology topo = (pf_topology)c;
+        const char *name = pf_topology_name(topo);
+        const double pk = linear_peak(topo), lo = -0.3 * pk, hi = 0.4 * pk;
+        double res[4];
+        int up[4], kind;
+        size_t k;
+        for (kind = PF_SAT_CLIP; kind <= PF_SAT_WIND; kind++) {
+            design(topo, kind, lo, hi);
+            run();
+            for (k = 0; k < NS; k++)
+                EXPECT(g_sig[k].pc >= lo && g_sig[k].pc <= hi, "%s kind %d, k=%zu: p_c %g "
+                       "outside [%g, %g]", name, kind, k, g_sig[k].pc, lo, hi);
+            res[kind] = wind_residual(lo, hi);
+            up[kind] = lift_off(5 * NS / 12, hi);
+        }
+        print_message("%s: wound-on law off the limits %.2e (wind), %.2e (clip), %.2e "
+                      "(seat); off the upper limit after %d (wind), %d (clip), %d (seat) "
+                      "samples\n", name, res[PF_SAT_WIND], res[PF_SAT_CLIP],
+                      res[PF_SAT_STOP], up[PF_SAT_WIND], up[PF_SAT_CLIP], up[PF_SAT_STOP]);
+        EXPECT(res[PF_SAT_WIND] <= 1e-9, "%s: the wound-on relay breaks its law (%.3g)", name,
+               res[PF_SAT_WIND]);
+        EXPECT(res[PF_SAT_CLIP] >= 1e-3 && res[PF_SAT_STOP] >= 1e-3, "%s: clip or seat obey "
+               "the wound-on law (%.3g, %.3g)", name, res[PF_SAT_CLIP], res[PF_SAT_STOP]);
+        /* the excess the memory took on must fade first: the longest recovery */
+        EXPECT(up[PF_SAT_WIND] > up[PF_SAT_CLIP] && up[PF_SAT_CLIP] > up[PF_SAT_STOP],
+               "%s: recoveries %d (wind), %d (clip), %d (seat) not in the memory's order",
+               name, up[PF_SAT_WIND], up[PF_SAT_CLIP], up[PF_SAT_STOP]);
+    }
+    END_SOFT();
+}
+
+/* p_c inside the limits in f32 and Q15 too, for every placement. */
 static void test_limits_every_arithmetic(void **state)
 {
     static pf_ctrl_coeffs_f32 cf;
@@ -220,23 +288,36 @@ static void test_limits_every_arithmetic(void **state)
     int kind;
     (void)state;
     make_input();
-    for (kind = PF_SAT_CLIP; kind <= PF_SAT_STOP; kind++) {
+    for (kind = PF_SAT_CLIP; kind <= PF_SAT_WIND; kind++) {
         const double pk = linear_peak(PF_TOPO_PID), lo = -0.3 * pk, hi = 0.4 * pk;
         const double out_fs = 1.25 * pk, lsb = out_fs / 32768.0;
         size_t k;
+        /* the wound-on memory outgrows any fixed scale: refused in Q15 */
+        const int q15 = kind != PF_SAT_WIND;
         design(PF_TOPO_PID, kind, lo, hi);
         pf_ctrl_coeffs_f32_make(&cf, &g_d.rt);
         assert_int_equal(pf_ctrl_init_f32(&f, &cf, NULL, 0), PF_OK);
-        assert_int_equal(pf_ctrl_coeffs_q15_make(&cq, &g_d, 1.25, out_fs), PF_OK);
-        assert_int_equal(pf_ctrl_init_q15(&q, &cq, NULL, 0), PF_OK);
+        assert_int_equal(pf_ctrl_coeffs_q15_make(&cq, &g_d, 1.25, out_fs),
+                         q15 ? PF_OK : PF_E_UNSUPPORTED);
+        if (q15)
+            assert_int_equal(pf_ctrl_init_q15(&q, &cq, NULL, 0), PF_OK);
+        double dev = 0;
+        assert_int_equal(pf_ctrl_init_f64(&g_c, &g_d.rt, NULL, 0), PF_OK);
         for (k = 0; k < NS; k++) {
             const float of = pf_ctrl_step_f32(&f, (float)g_e[k]);
-            const double oq = pf_ctrl_step_q15(&q, pf_q15_quantize(g_e[k], 1.25)) * lsb;
+            dev = fmax(dev, fabs(of - pf_ctrl_step_f64(&g_c, g_e[k])) / (hi - lo));
             EXPECT(of >= (float)lo && of <= (float)hi, "kind %d f32, k=%zu: %g", kind, k,
                    (double)of);
-            /* the limits are rounded to the internal scale, the output to Q15 */
-            EXPECT(oq >= lo - lsb && oq <= hi + lsb, "kind %d Q15, k=%zu: %g", kind, k, oq);
+            if (q15) {
+                const double oq = pf_ctrl_step_q15(&q, pf_q15_quantize(g_e[k], 1.25)) * lsb;
+                /* the limits are rounded to the internal scale, the output to Q15 */
+                EXPECT(oq >= lo - lsb && oq <= hi + lsb, "kind %d Q15, k=%zu: %g", kind, k,
+                       oq);
+            }
         }
+        /* float's rounding, carried by a state the limits leave unbounded */
+        print_message("kind %d: f32 within %.2e of f64 (of the limits' span)\n", kind, dev);
+        EXPECT(dev <= 1e-4, "kind %d: f32 off f64 by %.3g of the span", kind, dev);
     }
     END_SOFT();
 }
@@ -246,6 +327,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_saturate_range, setup_soft),
         cmocka_unit_test_setup(test_diaphragm_on_its_seat, setup_soft),
+        cmocka_unit_test_setup(test_memory_winds_on, setup_soft),
         cmocka_unit_test_setup(test_limits_every_arithmetic, setup_soft),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -56,7 +56,8 @@ void cli_simulate_usage(FILE *f)
 "  --effect NAME:K=V[,K=V]  repeatable: backlash:width=W  nozzle:xh=X\n"
 "                       saturation:lo=L,hi=H[,kind=K]  deadtime:t=S  lag:tau=S\n"
 "                       (kind 1: p_c clipped after the relay, the default;\n"
-"                       2: the relay's diaphragm stops at the limits)\n"
+"                       2: the relay's diaphragm stops at the limits;\n"
+"                       3: the relay's output stops, its memory winds on)\n"
 "\n"
 "Options take their value as the next argument or after '='.\n");
     cli_exit_status_help(f);

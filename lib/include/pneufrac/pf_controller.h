@@ -294,8 +294,10 @@ typedef struct pf_ctrl_q15 {
 /** Derive the Q15 coefficient set. e = in_fs maps to Q15 +1.0 at the input,
  *  p_c = out_fs to +1.0 at the output (ranges: pf_param_info).
  *  Supports backlash, saturation, lag and dead time; the nozzle curve needs
- *  room for its table (pf_ctrl_coeffs_q15_make_nz), and the refined
- *  approximation is float/double only (PF_E_UNSUPPORTED).
+ *  room for its table (pf_ctrl_coeffs_q15_make_nz); the refined
+ *  approximation and a relay whose memory winds on at the limits
+ *  (PF_SAT_WIND, whose state outgrows any fixed scale) are float/double
+ *  only (PF_E_UNSUPPORTED).
  *  @return PF_OK, PF_E_PARAM(PF_P_IN_FS | PF_P_OUT_FS), PF_E_UNSUPPORTED,
  *          PF_E_BUFFER for a nozzle curve, or PF_E_SCALE when a
  *          coefficient between two node scales does not fit a 31-bit

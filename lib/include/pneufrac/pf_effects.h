@@ -30,6 +30,16 @@
  *    jumps at the limit. The loop's solution within a sample is the
  *    clip's (the seat only changes what the relay remembers), so it stays
  *    uniquely solvable.
+ *  - PF_SAT_WIND: the relay's output z stops at the limit (a stop on the
+ *    stroke it drives, downstream of the diaphragm) while the diaphragm
+ *    stays loaded by the whole p_b: eq. 11 written as pmin z + (pmax -
+ *    pmin) v = p_b with z held gives v = (p_b - pmin z_lim)/(pmax - pmin),
+ *    and the memory winds on with the excess for as long as the stop holds
+ *    (as an integrator's windup). Recovery waits until that excess has
+ *    faded: longer than the clip's. The three placements order the
+ *    memory's load on a limit: seat <= clip <= wind (the same v at the
+ *    limit itself, so nothing jumps there). pmax = pmin leaves v no part in
+ *    z: the free v is kept.
  */
 #ifndef PNEUFRAC_PF_EFFECTS_H
 #define PNEUFRAC_PF_EFFECTS_H
@@ -44,7 +54,8 @@ extern "C" {
 enum pf_sat_kind {
     PF_SAT_OFF = 0,  /**< no saturation */
     PF_SAT_CLIP = 1, /**< p_c clipped after the relay */
-    PF_SAT_STOP = 2  /**< the relay's diaphragm stops at the limits */
+    PF_SAT_STOP = 2, /**< the relay's diaphragm stops at the limits */
+    PF_SAT_WIND = 3  /**< the relay's output stops, its memory winds on */
 };
 
 /** Effect parameters; zero means off. */
@@ -64,7 +75,7 @@ typedef struct pf_effects {
 } pf_effects;
 
 /** Check effect parameters: each within its range (pf_param_info;
- *  saturate in {0, 1, 2}; sat_lo and sat_hi only with saturate), and with
+ *  saturate in {0, 1, 2, 3}; sat_lo and sat_hi only with saturate), and with
  *  saturate sat_lo < sat_hi (else names sat_hi). The design also caps dead_time at 4194304 samples.
  *  @return PF_OK or PF_E_PARAM(PF_P_BACKLASH ...) naming the parameter. */
 pf_status pf_effects_validate(const pf_effects *fx);

@@ -63,11 +63,14 @@ def _restrictor(net: Net, name: str, inp: str, order: float, rc: float,
 
 
 def build(config: str, p: dict, band: tuple[float, float], lag: float = 0.0,
-          open_x: bool = False, open_pc: bool = False) -> StateSpace:
+          open_x: bool = False, open_pc: bool = False, wind: bool = False) -> StateSpace:
     """Closed-loop state space. Inputs: e, then xf if open_x, then pcs if
     open_pc (the outputs of the in-loop effects, fed back by the caller).
     Outputs: x (flapper displacement), pc (relay output before any clip),
-    line (output line, after the lag)."""
+    line (output line, after the lag). wind (with open_pc): the relay's
+    integral sees the stopped z = pcs/k2 instead of its own z (the stop
+    acts on the stroke the diaphragm drives, the diaphragm stays loaded
+    by the whole p_b), so it winds on while the output is held."""
     if config not in CONFIGS:
         raise ValueError(f"unknown configuration {config}")
     ce, cy = lever(p)
@@ -77,7 +80,10 @@ def build(config: str, p: dict, band: tuple[float, float], lag: float = 0.0,
     if not open_x:
         net.junction("xf", {"x": 1.0})
     net.junction("pb", {"xf": p["k1"]})
-    net.junction("relay_in", {"pb": 1.0, "z": -p["pmin"]})
+    if wind and open_pc:
+        net.junction("relay_in", {"pb": 1.0, "pcs": -p["pmin"] / p["k2"]})
+    else:
+        net.junction("relay_in", {"pb": 1.0, "z": -p["pmin"]})
     net.block("relay_i", "relay_in", frac_integrator(p["beta"], *band), p["tau"] ** -p["beta"])
     net.junction("z", {"pb": 1.0 / p["pmax"], "relay_i": 1.0 / p["pmax"]})
     net.junction("pc", {"z": p["k2"]})

@@ -10,7 +10,11 @@ docs/analysis.md, with the parameters in pneufrac-fit's units:
   library fixes u0 at the inflection 1/sqrt(3); here u0 is set by the
   equilibrium and may lie elsewhere. The gap cannot close below u = 0;
 - saturation: p_c clipped to [sat_lo, sat_hi] (absolute output units)
-  inside the loop, so the bellows see the clipped pressure;
+  inside the loop, so the bellows see the clipped pressure; the relay's
+  memory runs on with its own unclipped z, or (sat_wind) the stop holds
+  the stroke z the diaphragm drives while the diaphragm stays loaded by
+  the whole p_b: its integral of p_b - pmin z sees the held z and winds
+  on for as long as the stop holds (controller.build);
 - lag: a first-order lag of time constant `lag` (s) on the output line;
 - dead_time: a transport delay (s) on the output line, after the lag.
 """
@@ -32,6 +36,7 @@ class Effects:
     nozzle_u0: float = U0_INFLECTION
     sat_lo: float = -math.inf    # absolute output units
     sat_hi: float = math.inf
+    sat_wind: bool = False       # the relay's memory winds on at a limit
     lag: float = 0.0             # s
     dead_time: float = 0.0       # s
 

@@ -54,6 +54,7 @@ def _effects(req: dict, rng, fs: float, e_dev: np.ndarray, pc_dev: np.ndarray,
             fx.sat_hi = pc0 + _u(rng, f) * float(pc_dev.max())
         if side in ("lo", "both"):
             fx.sat_lo = pc0 + _u(rng, f) * float(pc_dev.min())
+        fx.sat_wind = req["saturation"].get("stop") == "wind"
     if "backlash" in req:
         fx.deadband = _u(rng, req["backlash"]["span_frac"]) * float(np.ptp(e_dev))
         fx.backlash_side = float(rng.choice([-1.0, 1.0]))  # at rest after a move
@@ -77,7 +78,8 @@ def _truth_effects(fx: Effects, fs: float) -> list[dict]:
     if fx.saturates():
         out.append({"cause": "saturation", "params": {
             "sat_lo": fx.sat_lo if math.isfinite(fx.sat_lo) else None,
-            "sat_hi": fx.sat_hi if math.isfinite(fx.sat_hi) else None}})
+            "sat_hi": fx.sat_hi if math.isfinite(fx.sat_hi) else None,
+            "relay_memory": "winds on" if fx.sat_wind else "runs on"}})
     if fx.deadband > 0:
         out.append({"cause": "backlash", "params": {"deadband": fx.deadband,
                                                     "start_side": fx.backlash_side}})

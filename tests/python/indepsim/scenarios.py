@@ -110,6 +110,9 @@ def _catalogue() -> list[Recipe]:
            fs=10000.0, durations=(5.0,), excitations=("steps", "prbs")),
         _r("lag-jitter", "lag, realistic record with jittered time stamps", BY_SEED,
            {"lag": MATERIAL["lag"]}, REAL, jitter=(0.005,)),
+        _r("saturation-wind", "saturation whose relay memory winds on at the limits (the "
+           "stop holds the stroke, the diaphragm stays loaded), steps, white noise", BY_SEED,
+           {"saturation": dict(MATERIAL["saturation"], stop="wind")}, EASY, cls="realistic"),
         _r("lag-sweep", "lag with a 0.1-5 Hz sine sweep, AR(1) noise", BY_SEED,
            {"lag": MATERIAL["lag"]}, EASY, cls="realistic", excitations=("sweep",),
            noises=("ar1",)),

@@ -34,7 +34,8 @@ class Run:
 def design(config: str, p: dict, fx: Effects, fs_int: float, duration: float) -> Discrete:
     band = controller.band_for(fs_int, duration)
     ss = controller.build(config, p, band, lag=fx.lag,
-                          open_x=fx.deadband > 0 or fx.nozzle_xh > 0, open_pc=fx.saturates())
+                          open_x=fx.deadband > 0 or fx.nozzle_xh > 0, open_pc=fx.saturates(),
+                          wind=fx.sat_wind)
     return foh(ss, 1.0 / fs_int)
 
 

@@ -43,7 +43,7 @@ PF_PARAM_LO_OPEN = 0x1
 PF_PARAM_HI_OPEN = 0x2
 # pf_sat_kind (pf_effects.h): pf_effects.saturate, where the supply limits
 # act; its range is the parameter "saturate" of the library's table.
-PF_SAT_OFF, PF_SAT_CLIP, PF_SAT_STOP = 0, 1, 2
+PF_SAT_OFF, PF_SAT_CLIP, PF_SAT_STOP, PF_SAT_WIND = 0, 1, 2, 3
 
 
 class LibraryError(RuntimeError):

@@ -100,8 +100,9 @@ def design(config: str, fs: float, *, effects: dict | None = None,
         example for the configuration; ranges: ``pneufrac.parameters()``.
     effects: {name: value} of backlash (dead-band width on the flapper
         displacement x), nozzle_xh, sat_lo with sat_hi (limits on p_c;
-        saturate: 1 clipped after the relay, the default, or 2 the relay's
-        diaphragm stops there, pf_effects.h), dead_time (s) and lag (s);
+        saturate: 1 clipped after the relay, the default, 2 the relay's
+        diaphragm stops there, or 3 the relay's output stops while its
+        memory winds on, pf_effects.h), dead_time (s) and lag (s);
         absent or 0 means off.
     band: (wb, wh), the Oustaloup band in rad/s (default: from t_slow up
         to pi fs); order: Oustaloup N (default: from the band);

@@ -28,8 +28,8 @@ DEAD_MAX = 200             # data samples scanned at most
 # the nozzle curve, the supply limits) makes the library solve the loop
 # iteratively at every sample, 3-4x the cost of a linear simulation, and
 # the nozzle has two parameters and three starting sizes; saturation is
-# fitted at both its placements.
-COST = {"nozzle": 4, "backlash": 3, "saturation": 6, "dead_time": 1, "lag": 1}
+# fitted at its three placements.
+COST = {"nozzle": 4, "backlash": 3, "saturation": 9, "dead_time": 1, "lag": 1}
 
 
 def by_cost(tasks: list) -> list:
@@ -115,23 +115,28 @@ def _kind_told(pb_a, a, pb_b, b) -> bool:
 
 
 def _fit_saturation(pb, base, rng, hint):
-    """Saturation at both placements, each from the same starts and with the
-    same search: the better is kept, marked with its placement and with
-    whether the record tells it from the other. Every guard then treats it
-    as any fit of saturation."""
+    """Saturation at every placement the library has (model.SAT_KINDS: the
+    relay's memory held on a limit, run on, or wound on), each from the
+    same starts and with the same search: what a record's recovery from a
+    limit looks like is not known in advance, so none is assumed. The best
+    is kept, marked with its placement and with whether the record tells
+    it from each of the others. Every guard then treats it as any fit of
+    saturation."""
     effects = model.canonical(base.effects + ("saturation",))
     fits = []
-    # the same fresh starts for both: the seat's from a copy of the generator
-    rngs = {model.SAT_STOP: copy.deepcopy(rng), model.SAT_CLIP: rng}
-    for kind in (model.SAT_CLIP, model.SAT_STOP):
+    # the same fresh starts for all: the others' from copies of the generator
+    kinds = (model.SAT_CLIP, model.SAT_STOP, model.SAT_WIND)
+    rngs = {k: rng if k == model.SAT_CLIP else copy.deepcopy(rng) for k in kinds}
+    for kind in kinds:
         pk = with_kind(pb, kind)
         b = search.explore_refine(pk, effects,
                                   _starts(pk, effects, "saturation", base, rngs[kind], hint),
                                   dead=base.dead)
         fits.append((_not_worse(pk, effects, "saturation", base, b), pk, kind))
     fits.sort(key=lambda f: f[0].cost)
-    (win, pw, kind), (lose, pl, _) = fits
-    win.values["sat_kind_told"] = 1.0 if _kind_told(pw, win, pl, lose) else 0.0
+    win, pw, _ = fits[0]
+    told = all(_kind_told(pw, win, pl, lose) for lose, pl, _ in fits[1:])
+    win.values["sat_kind_told"] = 1.0 if told else 0.0
     return win
 
 

@@ -88,14 +88,16 @@ PLACE = {
 }
 
 
-# Where the supply limits act (the library's pf_sat_kind): both are fitted
-# and the better kept (candidates.fit_extended); the report says which.
-SAT_CLIP, SAT_STOP = lib.PF_SAT_CLIP, lib.PF_SAT_STOP
+# Where the supply limits act (the library's pf_sat_kind): all are fitted
+# and the best kept (candidates.fit_extended); the report says which.
+SAT_CLIP, SAT_STOP, SAT_WIND = lib.PF_SAT_CLIP, lib.PF_SAT_STOP, lib.PF_SAT_WIND
 SAT_KINDS = {
     SAT_CLIP: "the output pressure is clipped (p_c limited after the relay, whose "
               "memory runs on)",
     SAT_STOP: "the relay reaches its stop (the diaphragm sits on its seat; its memory "
               "holds the stopped position)",
+    SAT_WIND: "the relay's output stops and its memory winds on (the diaphragm stays "
+              "loaded by the whole p_b: a delayed recovery, longer than the clip's)",
 }
 
 
@@ -199,7 +201,7 @@ class Setup:
     order: int = 8
     oversample: int = 1
     sat_kind: int = SAT_CLIP     # saturation's placement, where a fit's values name none
-    sat_kind_told: float = 0.0   # 1: the record told it from the other placement
+    sat_kind_told: float = 0.0   # 1: the record told it from the other placements
 
     def bounds(self, name: str) -> tuple[float, float]:
         lo, hi = group_bounds(name)
