@@ -129,6 +129,25 @@ def test_saturation_clips_inside_the_loop():
     assert diff > 0.01 * lin.line.max()
 
 
+def test_wound_on_stop_recovers_later_than_the_clip():
+    """sat_wind: the relay's integral sees the held z, so while the output
+    sits at the limit it winds on with p_b - pmin z_lim > 0 and the output
+    leaves the limit later than the clip's, whose relay ran on."""
+    p = PAPER["id"]
+    e = np.zeros(16000)
+    e[800:6000] = 1.0
+    hi = 0.6 * simulate.run("id", p, Effects(), e, FS_INT).line.max()
+    held = {}
+    for w in (False, True):
+        line = simulate.run("id", p, Effects(sat_hi=hi, sat_wind=w), e, FS_INT).line
+        assert line.max() <= hi + 1e-12
+        k = 6000
+        while line[k] >= hi - 1e-12:
+            k += 1
+        held[w] = k - 6000
+    assert held[True] > 2 * held[False] > 0
+
+
 def test_lag_time_constant():
     T = 0.012
     e = np.ones(8000)

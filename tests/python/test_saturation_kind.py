@@ -1,9 +1,10 @@
 # SPDX-License-Identifier: MIT
-"""Saturation at its two places (the library's saturate, pf_effects.h):
-p_c clipped after the relay, or the relay's diaphragm on its seat. A
-record made with one is named `saturation` with that placement when the
-record tells the two apart, and the report says which; a placement the
-record does not tell is said to be so, never claimed."""
+"""Saturation at its three places (the library's saturate, pf_effects.h):
+p_c clipped after the relay, the relay's diaphragm on its seat, or the
+relay's output stopped while its memory winds on. A record made with one
+is named `saturation` with that placement when the record tells it from
+the others, and the report says which; a placement the record does not
+tell is said to be so, never claimed."""
 import numpy as np
 import pytest
 
@@ -22,7 +23,7 @@ def _record(kind: int, seed: int):
                              **cases.PLANT)
 
 
-@pytest.mark.parametrize("kind", [model.SAT_CLIP, model.SAT_STOP])
+@pytest.mark.parametrize("kind", [model.SAT_CLIP, model.SAT_STOP, model.SAT_WIND])
 def test_the_placement_is_fitted_and_reported(kind):
     ds = _record(kind, 11)
     d = cases.run(ds)
@@ -33,8 +34,9 @@ def test_the_placement_is_fitted_and_reported(kind):
         assert abs(p[k] - ds.effects["saturation"][k]) <= cases.SAT_TOL * span
     # After every saturated stretch the clip's output stays at the limit
     # while its relay's memory winds back (13 ms on Example 6 at 20 kHz,
-    # test_relay_stop) and the seated relay's follows the input: with
-    # several saturated steps at 0.5 % noise the record tells them apart
+    # test_relay_stop), the wound-on relay's longer (85 ms) and the seated
+    # relay's follows the input: with several saturated steps at 0.5 %
+    # noise the record tells them apart
     assert p["sat_kind_told"] == 1.0 and p["sat_kind"] == kind
     line = evidence.describe_effect("saturation", p, ds.fs)
     assert model.SAT_KINDS[kind] in line and "does not tell" not in line
