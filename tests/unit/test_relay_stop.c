@@ -168,6 +168,19 @@ static void test_saturate_range(void **state)
     END_SOFT();
 }
 
+/* Design and run one placement; p_c must stay within the limits. */
+static void run_within(pf_topology topo, int kind, double lo, double hi)
+{
+    size_t k;
+    design(topo, kind, lo, hi);
+    run();
+    for (k = 0; k < NS; k++)
+        EXPECT(g_sig[k].pc >= lo && g_sig[k].pc <= hi, "%s kind %d, k=%zu: p_c %g outside "
+               "[%g, %g]", pf_topology_name(topo), kind, k, g_sig[k].pc, lo, hi);
+}
+
+static void wind_checks(pf_topology topo, double lo, double hi);
+
 static void test_diaphragm_on_its_seat(void **state)
 {
     int c;
@@ -179,16 +192,10 @@ static void test_diaphragm_on_its_seat(void **state)
         const double pk = linear_peak(topo), lo = -0.3 * pk, hi = 0.4 * pk;
         double stop, clip, side_stop, side_clip;
         int n_stop, n_clip, up_stop, up_clip;
-        size_t k;
-        design(topo, PF_SAT_STOP, lo, hi);
-        run();
-        for (k = 0; k < NS; k++)
-            EXPECT(g_sig[k].pc >= lo && g_sig[k].pc <= hi, "%s stop, k=%zu: p_c %g outside "
-                   "[%g, %g]", name, k, g_sig[k].pc, lo, hi);
+        run_within(topo, PF_SAT_STOP, lo, hi);
         stop = material_residual(lo, hi, &side_stop, &n_stop);
         up_stop = lift_off(5 * NS / 12, hi);
-        design(topo, PF_SAT_CLIP, lo, hi);
-        run();
+        run_within(topo, PF_SAT_CLIP, lo, hi);
         clip = material_residual(lo, hi, &side_clip, &n_clip);
         up_clip = lift_off(5 * NS / 12, hi);
         print_message("%s: material law off the seats %.2e (stop), %.2e (clip); wrong side "
@@ -210,6 +217,7 @@ static void test_diaphragm_on_its_seat(void **state)
                up_stop);
         EXPECT(up_clip > up_stop, "%s: the clip recovered as fast (%d samples)", name,
                up_clip);
+        wind_checks(topo, lo, hi);
     }
     END_SOFT();
 }
@@ -241,41 +249,30 @@ static double wind_residual(double lo, double hi)
     return worst;
 }
 
-static void test_memory_winds_on(void **state)
+/* The wound-on relay against its law and the others (called for every
+ * topology by test_diaphragm_on_its_seat, on its limits). */
+static void wind_checks(pf_topology topo, double lo, double hi)
 {
-    int c;
-    (void)state;
-    make_input();
-    for (c = 0; c < PF_TOPO_COUNT; c++) {
-        const pf_topology topo = (pf_topology)c;
-        const char *name = pf_topology_name(topo);
-        const double pk = linear_peak(topo), lo = -0.3 * pk, hi = 0.4 * pk;
-        double res[4];
-        int up[4], kind;
-        size_t k;
-        for (kind = PF_SAT_CLIP; kind <= PF_SAT_WIND; kind++) {
-            design(topo, kind, lo, hi);
-            run();
-            for (k = 0; k < NS; k++)
-                EXPECT(g_sig[k].pc >= lo && g_sig[k].pc <= hi, "%s kind %d, k=%zu: p_c %g "
-                       "outside [%g, %g]", name, kind, k, g_sig[k].pc, lo, hi);
-            res[kind] = wind_residual(lo, hi);
-            up[kind] = lift_off(5 * NS / 12, hi);
-        }
-        print_message("%s: wound-on law off the limits %.2e (wind), %.2e (clip), %.2e "
-                      "(seat); off the upper limit after %d (wind), %d (clip), %d (seat) "
-                      "samples\n", name, res[PF_SAT_WIND], res[PF_SAT_CLIP],
-                      res[PF_SAT_STOP], up[PF_SAT_WIND], up[PF_SAT_CLIP], up[PF_SAT_STOP]);
-        EXPECT(res[PF_SAT_WIND] <= 1e-9, "%s: the wound-on relay breaks its law (%.3g)", name,
-               res[PF_SAT_WIND]);
-        EXPECT(res[PF_SAT_CLIP] >= 1e-3 && res[PF_SAT_STOP] >= 1e-3, "%s: clip or seat obey "
-               "the wound-on law (%.3g, %.3g)", name, res[PF_SAT_CLIP], res[PF_SAT_STOP]);
-        /* the excess the memory took on must fade first: the longest recovery */
-        EXPECT(up[PF_SAT_WIND] > up[PF_SAT_CLIP] && up[PF_SAT_CLIP] > up[PF_SAT_STOP],
-               "%s: recoveries %d (wind), %d (clip), %d (seat) not in the memory's order",
-               name, up[PF_SAT_WIND], up[PF_SAT_CLIP], up[PF_SAT_STOP]);
+    const char *name = pf_topology_name(topo);
+    double res[4];
+    int up[4], kind;
+    for (kind = PF_SAT_CLIP; kind <= PF_SAT_WIND; kind++) {
+        run_within(topo, kind, lo, hi);
+        res[kind] = wind_residual(lo, hi);
+        up[kind] = lift_off(5 * NS / 12, hi);
     }
-    END_SOFT();
+    print_message("%s: wound-on law off the limits %.2e (wind), %.2e (clip), %.2e "
+                  "(seat); off the upper limit after %d (wind), %d (clip), %d (seat) "
+                  "samples\n", name, res[PF_SAT_WIND], res[PF_SAT_CLIP], res[PF_SAT_STOP],
+                  up[PF_SAT_WIND], up[PF_SAT_CLIP], up[PF_SAT_STOP]);
+    EXPECT(res[PF_SAT_WIND] <= 1e-9, "%s: the wound-on relay breaks its law (%.3g)", name,
+           res[PF_SAT_WIND]);
+    EXPECT(res[PF_SAT_CLIP] >= 1e-3 && res[PF_SAT_STOP] >= 1e-3, "%s: clip or seat obey "
+           "the wound-on law (%.3g, %.3g)", name, res[PF_SAT_CLIP], res[PF_SAT_STOP]);
+    /* the excess the memory took on must fade first: the longest recovery */
+    EXPECT(up[PF_SAT_WIND] > up[PF_SAT_CLIP] && up[PF_SAT_CLIP] > up[PF_SAT_STOP],
+           "%s: recoveries %d (wind), %d (clip), %d (seat) not in the memory's order", name,
+           up[PF_SAT_WIND], up[PF_SAT_CLIP], up[PF_SAT_STOP]);
 }
 
 /* p_c inside the limits in f32 and Q15 too, for every placement. */
@@ -327,7 +324,6 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_saturate_range, setup_soft),
         cmocka_unit_test_setup(test_diaphragm_on_its_seat, setup_soft),
-        cmocka_unit_test_setup(test_memory_winds_on, setup_soft),
         cmocka_unit_test_setup(test_limits_every_arithmetic, setup_soft),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
