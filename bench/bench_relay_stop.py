@@ -1,18 +1,20 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""Saturation's placements side by side: the library's two (p_c clipped
-after the relay; the relay's diaphragm on its seat, pf_effects.h) against
-the blind simulator's relay stop (bench/blindsim/plant.py, which holds z at
-the limit but keeps the memory of the true p_b), on the same input and
+"""Saturation's placements side by side: the library's three (p_c clipped
+after the relay; the relay's diaphragm on its seat; the relay's output
+stopped while its memory winds on, pf_effects.h) against the blind
+simulator's relay stop (bench/blindsim/plant.py, which holds z at the
+limit but keeps the memory of the true p_b), on the same input and
 parameters at the same internal rate. A benchmark: it measures and prints.
 
     .venv/bin/python bench/bench_relay_stop.py
 
 Per configuration (the paper's example parameters, 20 kHz, a step train
 that drives p_c into both limits, limits at -0.3 and +0.4 of the linear
-loop's peak): the rms difference of the relay outputs over their sd, the
-linear loops first (the discretisations alone), and the samples the output
-stays at the upper limit after the input falls from its first high step.
+loop's peak): the rms difference of the relay outputs over the blind
+simulator's sd, the linear loops first (the discretisations alone), and
+the samples the output stays at the upper limit after the input falls
+from its first high step.
 """
 from __future__ import annotations
 
