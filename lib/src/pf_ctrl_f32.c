@@ -10,6 +10,7 @@
 #define PF_CC pf_ctrl_coeffs_f32
 #define PF_CI pf_ctrl_f32
 #define PF_BIG 1e30f
+#define PF_EPS 1.1920929e-07f /* FLT_EPSILON */
 #include "pf_float_ops.h"
 #include "pf_ctrl_float.inc"
 

@@ -10,6 +10,7 @@
 #define PF_CC pf_ctrl_coeffs_f64
 #define PF_CI pf_ctrl_f64
 #define PF_BIG 1e300
+#define PF_EPS 2.220446049250313e-16 /* DBL_EPSILON */
 #include "pf_float_ops.h"
 #include "pf_ctrl_float.inc"
 
