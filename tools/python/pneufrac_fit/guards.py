@@ -235,36 +235,45 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
     return t
 
 
-# Telling two explanations apart: ONE test over the whole record. The
-# statistic is each sample's log-likelihood difference between the two
-# models under one noise model, the winner's (if it is the explanation, its
-# whitened residual is the noise; its variance from the fit part): on the
-# fit part the in-sample likelihood ratio (Vuong's test for non-nested
-# models), on the held-out part the log score of each model's prediction
-# (Diebold and Mariano's comparison of predictive accuracy, in likelihood
-# form). Under one Gaussian noise model the difference is the difference of
-# the squared whitened residuals over twice the variance. One sum, not one
-# test per part, because requiring two separately significant parts is a
-# test of the smaller of two t statistics, each on part of the evidence: a
-# difference spread evenly over the record gives the sum about sqrt(2) the
-# t of either half, and no half-test sees it until it is that much larger.
-# The fitting's optimism on the fit part (the in-sample log-likelihood
-# exceeds the model's expected one by about k/2, Akaike) is offset by the
-# held-out part's shortfall (about k/2 n_val/n_fit): what is left, k/2 (1 -
-# n_val/n_fit), is well below Vuong's BIC correction (k_a - k_b) ln(m) / 2,
-# which is kept, so that a model with more parameters pays for them.
-# Neighbouring differences are correlated (an effect's signature lasts as
-# long as the response to an input change), so the sum's variance is the
-# long-run variance: Newey and West's estimator (Bartlett weights) with
-# Andrews' (1991) automatic bandwidth from an AR(1) fitted to the
-# differences, the standard HAC choice for Vuong's and Diebold and
-# Mariano's tests; a difference that sits in one stretch of the record is
-# then one piece of evidence however large it is. Level: the round's winner
-# is the effect with the lowest held-out error, chosen after seeing the
-# record, so the direction of the comparison is not fixed in advance and
-# the test is Vuong's two-sided one at 5 %: Z_DIFFERENT, the normal's
-# 97.5 % point.
-Z_DIFFERENT = Z95
+# Telling two explanations apart: ONE test over the whole record, fit part
+# and held-out part together (requiring each part to be significant on its
+# own is a test of the smaller of two t statistics, each on part of the
+# evidence). The statistic is Vuong's log-likelihood ratio for non-nested
+# models (on the held-out part, the log score of each model's prediction:
+# Diebold and Mariano's comparison of predictive accuracy in likelihood
+# form), both residuals whitened by the winner's noise model (if it is the
+# explanation, its whitened residual is the noise), less Vuong's BIC
+# correction (k_a - k_b) ln(m) / 2 so that extra parameters pay for
+# themselves. The fitting's optimism on the fit part (about k/2, Akaike) is
+# largely offset by the held-out part's shortfall (about k/2 n_val/n_fit).
+#
+# The noise level is not taken as one number for the whole record: the
+# record is cut into GROUPS contiguous stretches, each with its own
+# variance, profiled out. Each stretch's log-likelihood ratio is then
+# n_g/2 log(MSE_b / MSE_a) on its whitened residuals, and the test is
+# Ibragimov and Mueller's (2010, J. Bus. Econ. Stat. 28:453) t test across
+# the stretches' log error ratios, against Student's t with q - 1 degrees
+# of freedom. Why: a misfit comes in events (the response to an input
+# step), and how large it is differs by orders of magnitude from one event
+# to the next. Under one common variance the sum is dominated by the
+# largest event and its long-run variance (Newey-West) by the same event,
+# so a model that explains every event better still gets |t| about 2 at
+# best (the test has the power of one observation). The ratio inside each
+# stretch weighs each stretch by how much better one model explains it
+# relative to its own misfit, so each event is one comparable piece of
+# evidence however large; Ibragimov and Mueller show the t test across q
+# independent, normal group estimates holds its level (at 5 %, for q >= 2)
+# however different the groups' variances are. Groups must be nearly
+# independent: each is at least twice as long as the span over which the
+# per-sample differences are correlated (Andrews' (1991) automatic
+# Bartlett bandwidth of an AR(1) fitted to them); at most GROUPS_MAX
+# (beyond it Student's 97.5 % point is within 9 % of the normal's: more,
+# shorter groups add little power and risk dependence). A difference that
+# sits in one stretch is one group of q, not evidence. Level: the round's
+# winner is chosen after seeing the record, so the direction is not fixed
+# in advance: two-sided 5 %, DIFFERENT_LEVEL.
+GROUPS_MAX = 16
+DIFFERENT_LEVEL = 0.05
 
 
 def bandwidth(d: np.ndarray) -> int:
@@ -278,44 +287,60 @@ def bandwidth(d: np.ndarray) -> int:
     return int(min(1.1447 * (alpha * d.size) ** (1 / 3), d.size // 4))
 
 
-def hac_t(d: np.ndarray, offset: float = 0.0) -> float:
-    """t statistic of sum(d) - offset > 0, the sum's variance the
-    Newey-West long-run variance of d (bandwidth()) times its length."""
-    if d.size < 8:
-        return 0.0
-    x = d - np.mean(d)
-    v = float(x @ x)
-    L = bandwidth(d)
-    for k in range(1, L + 1):
-        v += 2 * (1 - k / (L + 1)) * float(x[k:] @ x[:-k])
-    num = float(np.sum(d)) - offset
-    if not v > 0:
-        return math.copysign(math.inf, num) if num else 0.0
-    return num / math.sqrt(v)
+def groups_of(wa: np.ndarray, wb: np.ndarray) -> np.ndarray:
+    """Edges of the contiguous groups for whitened residuals wa, wb: as
+    many as fit at twice the correlation span of the per-sample
+    differences, at most GROUPS_MAX, equal in length."""
+    L = bandwidth(wb * wb - wa * wa)
+    q = int(min(GROUPS_MAX, wa.size // (2 * (L + 1))))
+    return np.linspace(0, wa.size, max(q, 1) + 1).astype(int)
 
 
-def better(a: Test, b: Test, nm) -> float:
-    """t statistic that model a explains the record better than b, the
-    residuals whitened by nm: the whole record's log-likelihood
-    differences under nm with a's whitened variance on the fit part,
-    summed, less Vuong's BIC correction, over the sum's long-run sd
-    (hac_t)."""
+def group_t(wa: np.ndarray, wb: np.ndarray, penalty: float = 0.0) -> tuple[float, int]:
+    """(t, q): Ibragimov and Mueller's t statistic that residual wa is the
+    smaller across q groups (groups_of), each group's statistic its log
+    ratio of mean squares less `penalty` per sample (spread evenly:
+    summed over the samples it is the total penalty in log-likelihood
+    units, times 2)."""
+    edges = groups_of(wa, wb)
+    q = edges.size - 1
+    if q < 2:
+        return 0.0, q
+    per = 2.0 * penalty / wa.size
+    tiny = 1e-300
+    g = np.array([math.log(max(float(wb[i:j] @ wb[i:j]), tiny) / max(float(wa[i:j] @ wa[i:j]), tiny))
+                  for i, j in zip(edges[:-1], edges[1:])]) - per
+    mean, sd = float(np.mean(g)), float(np.std(g, ddof=1))
+    if not sd > 0:
+        return (math.copysign(math.inf, mean) if mean else 0.0), q
+    return mean / (sd / math.sqrt(q)), q
+
+
+def critical(q: int) -> float:
+    """Student's two-sided DIFFERENT_LEVEL point with q - 1 degrees of freedom."""
+    from scipy.stats import t as student
+    return float(student.ppf(1 - DIFFERENT_LEVEL / 2, q - 1)) if q >= 2 else math.inf
+
+
+def better(a: Test, b: Test, nm) -> tuple[float, int]:
+    """(t, q): the group t statistic (group_t) that model a explains the
+    whole record better than b, residuals whitened by nm, less Vuong's BIC
+    correction for the parameter counts."""
     n = a.pb.nfit
     ra, rb = a.model.residual(a.pb), b.model.residual(b.pb)
     k = max(a.pb.burn, b.pb.burn)
-    fa, fb = nm.whiten(ra[k:]), nm.whiten(rb[k:])
-    m = max(n - k, 1)
-    var = max(float(fa[:m] @ fa[:m]) / m, 1e-300)
-    d = (fb * fb - fa * fa) / (2 * var)
-    return hac_t(d, (a.model.k - b.model.k) * math.log(max(m, 2)) / 2)
+    wa, wb = nm.whiten(ra[k:]), nm.whiten(rb[k:])
+    m = max(n - k, 2)
+    return group_t(wa, wb, (a.model.k - b.model.k) * math.log(m) / 2)
 
 
 def distinguishable(a: Test, b: Test) -> bool:
     """Whether the record says that a, not b, is the explanation: a explains
-    it significantly better over the whole record (Z_DIFFERENT), both
+    the whole record significantly better (better, critical), both
     residuals whitened by a's noise model (as in the guards: if a is the
     explanation, its residual is the noise)."""
-    return better(a, b, a.nm) > Z_DIFFERENT
+    t, q = better(a, b, a.nm)
+    return t > critical(q)
 
 
 # Lack of fit: a model is inadequate when its residual, whitened by the
