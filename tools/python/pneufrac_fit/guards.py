@@ -235,45 +235,48 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
     return t
 
 
-# Telling two explanations apart: ONE test over the whole record, fit part
-# and held-out part together (requiring each part to be significant on its
-# own is a test of the smaller of two t statistics, each on part of the
-# evidence). The statistic is Vuong's log-likelihood ratio for non-nested
-# models (on the held-out part, the log score of each model's prediction:
-# Diebold and Mariano's comparison of predictive accuracy in likelihood
-# form), both residuals whitened by the winner's noise model (if it is the
-# explanation, its whitened residual is the noise), less Vuong's BIC
-# correction (k_a - k_b) ln(m) / 2 so that extra parameters pay for
-# themselves. The fitting's optimism on the fit part (about k/2, Akaike) is
-# largely offset by the held-out part's shortfall (about k/2 n_val/n_fit).
+# Telling two explanations apart. The record says that a, not b, is the
+# explanation when it rejects "b is the explanation" and does not reject
+# "a is the explanation" (Davidson and MacKinnon's (1981) J test, each
+# model as the null in turn); when it rejects both (neither alone explains
+# the record: two effects at once), when a is the one that explains the
+# record significantly better (Vuong's comparison of two misspecified
+# models). Under "b is the explanation" a is chosen only if the J test
+# rejects b, so the level is the J test's, however the second test goes.
 #
-# The noise level is not taken as one number for the whole record: the
-# record is cut into GROUPS contiguous stretches, each with its own
-# variance, profiled out. Each stretch's log-likelihood ratio is then
-# n_g/2 log(MSE_b / MSE_a) on its whitened residuals, and the test is
-# Ibragimov and Mueller's (2010, J. Bus. Econ. Stat. 28:453) t test across
-# the stretches' log error ratios, against Student's t with q - 1 degrees
-# of freedom. Why: a misfit comes in events (the response to an input
-# step), and how large it is differs by orders of magnitude from one event
-# to the next. Under one common variance the sum is dominated by the
-# largest event and its long-run variance (Newey-West) by the same event,
-# so a model that explains every event better still gets |t| about 2 at
-# best (the test has the power of one observation). The ratio inside each
-# stretch weighs each stretch by how much better one model explains it
-# relative to its own misfit, so each event is one comparable piece of
-# evidence however large; Ibragimov and Mueller show the t test across q
-# independent, normal group estimates holds its level (at 5 %, for q >= 2)
-# however different the groups' variances are. Groups must be nearly
-# independent: each is at least twice as long as the span over which the
-# per-sample differences are correlated (Andrews' (1991) automatic
-# Bartlett bandwidth of an AR(1) fitted to them); at most GROUPS_MAX
-# (beyond it Student's 97.5 % point is within 9 % of the normal's: more,
-# shorter groups add little power and risk dependence). A difference that
-# sits in one stretch is one group of q, not evidence. Level: the round's
+# The J test of "b is the explanation" against a: if b is the explanation,
+# its residual, whitened by the noise model, is the noise, and it does not
+# correlate with the direction from b's model to a's (the difference of
+# the two models' outputs, which is the difference of their residuals).
+# Regressing b's whitened residual on that difference, the coefficient is
+# 0 under b and 1 if a is the explanation (the compound model (1 - alpha)
+# b + alpha a); only alpha > 0 is evidence for a (a negative one says that
+# moving away from a would help b), so b is rejected when the coefficient's
+# t exceeds Z95, one-sided: a 2.5 % level. On the held-out part only: there
+# neither model was fitted to the noise it is tested on (on the fit part
+# the extra parameters of a absorb about (k_a - k_b) noise variances along
+# the difference, biasing the coefficient towards a). Its standard error is
+# Newey and West's long-run variance of the product of the regression's
+# residual and the regressor (Bartlett weights, Andrews' AR(1) bandwidth):
+# the noise model may whiten imperfectly. The regression's residual, not
+# b's: what b misses along the difference is the effect being tested, not
+# noise, and a misfit that comes in a few large events would otherwise make
+# the variance as large as the evidence (a test with the power of one
+# event).
+#
+# Vuong's comparison (both models misspecified): each sample's
+# log-likelihood difference between the two models under the winner's
+# noise model, summed over the fit part and the held-out part (the log
+# score of each model's prediction there: Diebold and Mariano's comparison
+# of predictive accuracy in likelihood form), less Vuong's BIC correction
+# (k_a - k_b) ln(m) / 2, over the sum's Newey-West long-run sd. One sum, not
+# one test per part: requiring two separately significant parts is a test
+# of the smaller of two t statistics, each on part of the evidence. The
+# fitting's optimism on the fit part (about k/2, Akaike) is largely offset
+# by the held-out part's shortfall (about k/2 n_val/n_fit). The round's
 # winner is chosen after seeing the record, so the direction is not fixed
-# in advance: two-sided 5 %, DIFFERENT_LEVEL.
-GROUPS_MAX = 16
-DIFFERENT_LEVEL = 0.05
+# in advance: two-sided 5 %, Z_DIFFERENT.
+Z_DIFFERENT = Z95
 
 
 def bandwidth(d: np.ndarray) -> int:
@@ -287,60 +290,93 @@ def bandwidth(d: np.ndarray) -> int:
     return int(min(1.1447 * (alpha * d.size) ** (1 / 3), d.size // 4))
 
 
-def groups_of(wa: np.ndarray, wb: np.ndarray) -> np.ndarray:
-    """Edges of the contiguous groups for whitened residuals wa, wb: as
-    many as fit at twice the correlation span of the per-sample
-    differences, at most GROUPS_MAX, equal in length."""
-    L = bandwidth(wb * wb - wa * wa)
-    q = int(min(GROUPS_MAX, wa.size // (2 * (L + 1))))
-    return np.linspace(0, wa.size, max(q, 1) + 1).astype(int)
+def long_run_sum_var(d: np.ndarray, prewhiten: bool = False) -> float:
+    """Newey-West estimate of the variance of sum(d): the long-run variance
+    of d (Bartlett weights, bandwidth()) times its length. prewhiten:
+    Andrews and Monahan's (1992) version, the estimate made on the
+    residual of an AR(1) fitted to d and recoloured by 1 / (1 - rho)^2
+    (Bartlett weights alone under-estimate a positively correlated d's
+    variance in records of a few thousand samples)."""
+    x = d - np.mean(d)
+    scale = 1.0
+    if prewhiten and x.size > 2:
+        xx = float(x @ x)
+        rho = min(max(float(x[1:] @ x[:-1]) / xx if xx > 0 else 0.0, -0.97), 0.97)
+        x = x[1:] - rho * x[:-1]
+        scale = (1 - rho) ** -2 * d.size / x.size
+    v = float(x @ x)
+    L = bandwidth(x)
+    for k in range(1, L + 1):
+        v += 2 * (1 - k / (L + 1)) * float(x[k:] @ x[:-k])
+    return v * scale
 
 
-def group_t(wa: np.ndarray, wb: np.ndarray, penalty: float = 0.0) -> tuple[float, int]:
-    """(t, q): Ibragimov and Mueller's t statistic that residual wa is the
-    smaller across q groups (groups_of), each group's statistic its log
-    ratio of mean squares less `penalty` per sample (spread evenly:
-    summed over the samples it is the total penalty in log-likelihood
-    units, times 2)."""
-    edges = groups_of(wa, wb)
-    q = edges.size - 1
-    if q < 2:
-        return 0.0, q
-    per = 2.0 * penalty / wa.size
-    tiny = 1e-300
-    g = np.array([math.log(max(float(wb[i:j] @ wb[i:j]), tiny) / max(float(wa[i:j] @ wa[i:j]), tiny))
-                  for i, j in zip(edges[:-1], edges[1:])]) - per
-    mean, sd = float(np.mean(g)), float(np.std(g, ddof=1))
-    if not sd > 0:
-        return (math.copysign(math.inf, mean) if mean else 0.0), q
-    return mean / (sd / math.sqrt(q)), q
+def hac_t(d: np.ndarray, offset: float = 0.0) -> float:
+    """t statistic of sum(d) - offset > 0, the sum's variance
+    long_run_sum_var(d)."""
+    if d.size < 8:
+        return 0.0
+    v = long_run_sum_var(d)
+    num = float(np.sum(d)) - offset
+    if not v > 0:
+        return math.copysign(math.inf, num) if num else 0.0
+    return num / math.sqrt(v)
 
 
-def critical(q: int) -> float:
-    """Student's two-sided DIFFERENT_LEVEL point with q - 1 degrees of freedom."""
-    from scipy.stats import t as student
-    return float(student.ppf(1 - DIFFERENT_LEVEL / 2, q - 1)) if q >= 2 else math.inf
+def j_t(w: np.ndarray, x: np.ndarray) -> float:
+    """t statistic of the coefficient of regressor x in w = alpha x + e
+    (no intercept), its standard error from the prewhitened long-run
+    variance of the regression's residual times x (long_run_sum_var)."""
+    xx = float(x @ x)
+    if w.size < 8 or not xx > 0:
+        return 0.0
+    alpha = float(w @ x) / xx
+    v = long_run_sum_var((w - alpha * x) * x, prewhiten=True)
+    if not v > 0:
+        return math.copysign(math.inf, alpha) if alpha else 0.0
+    return alpha * xx / math.sqrt(v)
 
 
-def better(a: Test, b: Test, nm) -> tuple[float, int]:
-    """(t, q): the group t statistic (group_t) that model a explains the
-    whole record better than b, residuals whitened by nm, less Vuong's BIC
-    correction for the parameter counts."""
-    n = a.pb.nfit
+def _whitened(a: Test, b: Test, nm):
+    """(first sample counted, a's and b's residuals whitened by nm from it)."""
     ra, rb = a.model.residual(a.pb), b.model.residual(b.pb)
     k = max(a.pb.burn, b.pb.burn)
-    wa, wb = nm.whiten(ra[k:]), nm.whiten(rb[k:])
-    m = max(n - k, 2)
-    return group_t(wa, wb, (a.model.k - b.model.k) * math.log(m) / 2)
+    return k, nm.whiten(ra[k:]), nm.whiten(rb[k:])
+
+
+def better(a: Test, b: Test, nm) -> float:
+    """Vuong's t statistic that model a explains the record better than b,
+    the residuals whitened by nm: the whole record's log-likelihood
+    differences under nm with a's whitened variance on the fit part,
+    summed, less Vuong's BIC correction, over the sum's long-run sd
+    (hac_t)."""
+    k, fa, fb = _whitened(a, b, nm)
+    m = max(a.pb.nfit - k, 1)
+    var = max(float(fa[:m] @ fa[:m]) / m, 1e-300)
+    d = (fb * fb - fa * fa) / (2 * var)
+    return hac_t(d, (a.model.k - b.model.k) * math.log(max(m, 2)) / 2)
+
+
+def rejects(a: Test, b: Test, nm) -> tuple[bool, bool]:
+    """(whether the held-out part rejects "b is the explanation" in favour
+    of a, and "a is the explanation" in favour of b): the J tests, both
+    residuals whitened by nm."""
+    k, fa, fb = _whitened(a, b, nm)
+    m = max(a.pb.nfit - k, 0)
+    va, vb = fa[m:], fb[m:]
+    return j_t(vb, vb - va) > Z95, j_t(va, va - vb) > Z95
 
 
 def distinguishable(a: Test, b: Test) -> bool:
-    """Whether the record says that a, not b, is the explanation: a explains
-    the whole record significantly better (better, critical), both
+    """Whether the record says that a, not b, is the explanation, both
     residuals whitened by a's noise model (as in the guards: if a is the
-    explanation, its residual is the noise)."""
-    t, q = better(a, b, a.nm)
-    return t > critical(q)
+    explanation, its residual is the noise): the held-out part rejects b
+    and not a (J tests); or it rejects both, and a explains the whole
+    record significantly better (Vuong, Z_DIFFERENT)."""
+    not_b, not_a = rejects(a, b, a.nm)
+    if not not_b:
+        return False
+    return not not_a or better(a, b, a.nm) > Z_DIFFERENT
 
 
 # Lack of fit: a model is inadequate when its residual, whitened by the
