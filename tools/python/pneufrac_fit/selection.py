@@ -8,8 +8,9 @@ Three mechanisms, each used everywhere it applies:
    groups the baseline held; reference and confirm refit the model without
    it) and same samples (play_start_unknown).
 2. One comparison of two explanations (guards.distinguishable): the
-   round's winner is named only if it explains the whole record
-   significantly better than every rival explanation of the same residual
+   round's winner is named only if the record rejects every rival
+   explanation of the same residual and not the winner, or rejects both
+   and the winner explains the whole record significantly better
    (rivals_of);
    a rival that adds nothing on top of it leaves neither named
    (_ambiguous).
@@ -350,9 +351,8 @@ def rivals_of(win, tests) -> list[str]:
     that explains part of the residual, whether or not it passes the other
     guards: significant against its reference on the fit part, and
     predicting the held-out part better than its reference (one that
-    predicts worse than no effect explains nothing). The record tells it
-    from the winner when the winner explains the whole record
-    significantly better (guards.distinguishable)."""
+    predicts worse than no effect explains nothing). Whether the record
+    tells it from the winner is guards.distinguishable."""
     return [t.effect for t in tests
             if t is not win and explains(t) and not guards.distinguishable(win, t)]
 
