@@ -212,15 +212,15 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None):
                                          sets)
             break
         ok = [t for t in tests if t.passes]
-        if not ok:
-            break
-        win = min(ok, key=lambda t: t.model.nrmse_val)
-        without = best_without(tests, current, win)
-        if without.nrmse_val <= win.model.nrmse_val:
+        without = best_without(tests, current)
+        if ok and without.nrmse_val <= min(t.model.nrmse_val for t in ok):
             say(f"round {len(rounds)}: the model without a new effect, refitted with another "
                 f"test's freedoms, predicts the held-out part as well (NRMSE "
                 f"{without.nrmse_val:.4f}): no effect added")
+            ok = []
+        if not ok:
             break
+        win = min(ok, key=lambda t: t.model.nrmse_val)
         rivals = rivals_of(win, tests)
         before = (current, cur_pb)
         say(f"round {len(rounds)}: {win.effect} added"
@@ -240,24 +240,17 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None):
     return current, cur_pb, rounds, checks
 
 
-def best_without(tests, current, win):
+def best_without(tests, current):
     """The best predicting model without a new effect that a round found:
     the model so far, or a test's reference (the same effects refitted with
-    the freedoms that test gave them) fitted on the same samples as the
-    winner. An effect whose model predicts the held-out part no better than
-    that explains nothing the model so far cannot, refitted: its gain over
-    its own reference is then the freedoms', and naming it would credit an
-    effect with what a better fit of the model without it does (held-out
-    errors compare models fairly whatever their freedoms). The same
-    samples: a reference that did not count some of the winner's samples
-    (a dead band's test drops those before the input's first reversal,
-    play_start_unknown) is not a better fit of the same data but a fit
-    that ignores part of it; if the effect's evidence lies there (a static
-    curve seen at a third input level only while the record opens at
-    rest), it would predict the rest as well and wrongly unname it."""
+    the freedoms and samples that test gave them). An effect whose model
+    predicts the held-out part no better than that explains nothing the
+    model so far cannot, refitted: its gain over its own reference is then
+    the freedoms', and naming it would credit an effect with what a better
+    fit of the model without it does (held-out errors compare models fairly
+    whatever their freedoms)."""
     same = model.canonical(current.effects)
-    refs = [t.ref for t in tests if model.canonical(t.ref.effects) == same
-            and t.pb.burn == win.pb.burn]
+    refs = [t.ref for t in tests if model.canonical(t.ref.effects) == same]
     return min([current] + refs, key=lambda r: r.nrmse_val)
 
 
