@@ -235,16 +235,48 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
     return t
 
 
-# Telling two explanations apart. Each sample's log-likelihood difference
-# between two fitted models is correlated in time (an effect's signature
-# lasts as long as the response to an input change), so the variance of its
-# sum is the long-run variance: Newey and West's estimator (Bartlett
-# weights), with Andrews' (1991) automatic bandwidth from an AR(1) fitted to
-# the differences themselves, the standard choice for Diebold and Mariano's
-# test. The question is directional (does the round's winner explain the
-# record better than this rival?): Z_BETTER is the one-sided 95 % point of
-# the normal.
-Z_BETTER = 1.6448536269514722
+# Telling two explanations apart. The record says that a, not b, is the
+# explanation when it rejects "b is the explanation" and does not reject
+# "a is the explanation" (Davidson and MacKinnon's (1981) J test, each
+# model as the null in turn); when it rejects both (neither alone explains
+# the record: two effects at once), when a is the one that explains the
+# record significantly better (Vuong's comparison of two misspecified
+# models). Under "b is the explanation" a is chosen only if the J test
+# rejects b, so the level is the J test's, however the second test goes.
+#
+# The J test of "b is the explanation" against a: if b is the explanation,
+# its residual, whitened by the noise model, is the noise, and it does not
+# correlate with the direction from b's model to a's (the difference of
+# the two models' outputs, which is the difference of their residuals).
+# Regressing b's whitened residual on that difference, the coefficient is
+# 0 under b and 1 if a is the explanation (the compound model (1 - alpha)
+# b + alpha a); only alpha > 0 is evidence for a (a negative one says that
+# moving away from a would help b), so b is rejected when the coefficient's
+# t exceeds Z95, one-sided: a 2.5 % level. On the held-out part only: there
+# neither model was fitted to the noise it is tested on (on the fit part
+# the extra parameters of a absorb about (k_a - k_b) noise variances along
+# the difference, biasing the coefficient towards a). Its standard error is
+# Newey and West's long-run variance of the product of the regression's
+# residual and the regressor (Bartlett weights, Andrews' AR(1) bandwidth):
+# the noise model may whiten imperfectly. The regression's residual, not
+# b's: what b misses along the difference is the effect being tested, not
+# noise, and a misfit that comes in a few large events would otherwise make
+# the variance as large as the evidence (a test with the power of one
+# event).
+#
+# Vuong's comparison (both models misspecified): each sample's
+# log-likelihood difference between the two models under the winner's
+# noise model, summed over the fit part and the held-out part (the log
+# score of each model's prediction there: Diebold and Mariano's comparison
+# of predictive accuracy in likelihood form), less Vuong's BIC correction
+# (k_a - k_b) ln(m) / 2, over the sum's Newey-West long-run sd. One sum, not
+# one test per part: requiring two separately significant parts is a test
+# of the smaller of two t statistics, each on part of the evidence. The
+# fitting's optimism on the fit part (about k/2, Akaike) is largely offset
+# by the held-out part's shortfall (about k/2 n_val/n_fit). The round's
+# winner is chosen after seeing the record, so the direction is not fixed
+# in advance: two-sided 5 %, Z_DIFFERENT.
+Z_DIFFERENT = Z95
 
 
 def bandwidth(d: np.ndarray) -> int:
@@ -258,56 +290,93 @@ def bandwidth(d: np.ndarray) -> int:
     return int(min(1.1447 * (alpha * d.size) ** (1 / 3), d.size // 4))
 
 
-def hac_t(d: np.ndarray, offset: float = 0.0) -> float:
-    """t statistic of sum(d) - offset > 0, the sum's variance the
-    Newey-West long-run variance of d (bandwidth()) times its length."""
-    if d.size < 8:
-        return 0.0
+def long_run_sum_var(d: np.ndarray, prewhiten: bool = False) -> float:
+    """Newey-West estimate of the variance of sum(d): the long-run variance
+    of d (Bartlett weights, bandwidth()) times its length. prewhiten:
+    Andrews and Monahan's (1992) version, the estimate made on the
+    residual of an AR(1) fitted to d and recoloured by 1 / (1 - rho)^2
+    (Bartlett weights alone under-estimate a positively correlated d's
+    variance in records of a few thousand samples)."""
     x = d - np.mean(d)
+    scale = 1.0
+    if prewhiten and x.size > 2:
+        xx = float(x @ x)
+        rho = min(max(float(x[1:] @ x[:-1]) / xx if xx > 0 else 0.0, -0.97), 0.97)
+        x = x[1:] - rho * x[:-1]
+        scale = (1 - rho) ** -2 * d.size / x.size
     v = float(x @ x)
-    L = bandwidth(d)
+    L = bandwidth(x)
     for k in range(1, L + 1):
         v += 2 * (1 - k / (L + 1)) * float(x[k:] @ x[:-k])
+    return v * scale
+
+
+def hac_t(d: np.ndarray, offset: float = 0.0) -> float:
+    """t statistic of sum(d) - offset > 0, the sum's variance
+    long_run_sum_var(d)."""
+    if d.size < 8:
+        return 0.0
+    v = long_run_sum_var(d)
     num = float(np.sum(d)) - offset
     if not v > 0:
         return math.copysign(math.inf, num) if num else 0.0
     return num / math.sqrt(v)
 
 
-def better(a: Test, b: Test, nm) -> tuple[float, float]:
-    """(t on the fit part, t on the held-out part) that model a explains the
-    record better than b, residuals whitened by nm.
+def j_t(w: np.ndarray, x: np.ndarray) -> float:
+    """t statistic of the coefficient of regressor x in w = alpha x + e
+    (no intercept), its standard error from the prewhitened long-run
+    variance of the regression's residual times x (long_run_sum_var)."""
+    xx = float(x @ x)
+    if w.size < 8 or not xx > 0:
+        return 0.0
+    alpha = float(w @ x) / xx
+    v = long_run_sum_var((w - alpha * x) * x, prewhiten=True)
+    if not v > 0:
+        return math.copysign(math.inf, alpha) if alpha else 0.0
+    return alpha * xx / math.sqrt(v)
 
-    Fit part: Vuong's test for non-nested models, with his BIC correction
-    for the parameter counts: each sample's Gaussian log-likelihood
-    difference under each model's own whitened variance, summed, minus
-    (k_a - k_b) ln(m) / 2, over its long-run sd (hac_t). Held-out part:
-    Diebold and Mariano's test of equal predictive accuracy on the squared
-    whitened errors, and again on the errors as measured (less their mean:
-    an offset is pc0's business), the smaller counting (as in the guards:
-    an advantage only in the fast, whitened part can be the model's own
-    discretisation)."""
-    n = a.pb.nfit
+
+def _whitened(a: Test, b: Test, nm):
+    """(first sample counted, a's and b's residuals whitened by nm from it)."""
     ra, rb = a.model.residual(a.pb), b.model.residual(b.pb)
     k = max(a.pb.burn, b.pb.burn)
-    fa, fb = nm.whiten(ra[k:n]), nm.whiten(rb[k:n])
-    m = fa.size
-    sa, sb = max(float(fa @ fa) / m, 1e-300), max(float(fb @ fb) / m, 1e-300)
-    d = 0.5 * math.log(sb / sa) + fb * fb / (2 * sb) - fa * fa / (2 * sa)
-    t_fit = hac_t(d, (a.model.k - b.model.k) * math.log(max(m, 2)) / 2)
-    va, vb = nm.whiten(ra[n:]), nm.whiten(rb[n:])
-    pa, pb_ = ra[n:] - np.mean(ra[n:]), rb[n:] - np.mean(rb[n:])
-    t_val = min(hac_t(vb * vb - va * va), hac_t(pb_ * pb_ - pa * pa))
-    return t_fit, t_val
+    return k, nm.whiten(ra[k:]), nm.whiten(rb[k:])
+
+
+def better(a: Test, b: Test, nm) -> float:
+    """Vuong's t statistic that model a explains the record better than b,
+    the residuals whitened by nm: the whole record's log-likelihood
+    differences under nm with a's whitened variance on the fit part,
+    summed, less Vuong's BIC correction, over the sum's long-run sd
+    (hac_t)."""
+    k, fa, fb = _whitened(a, b, nm)
+    m = max(a.pb.nfit - k, 1)
+    var = max(float(fa[:m] @ fa[:m]) / m, 1e-300)
+    d = (fb * fb - fa * fa) / (2 * var)
+    return hac_t(d, (a.model.k - b.model.k) * math.log(max(m, 2)) / 2)
+
+
+def rejects(a: Test, b: Test, nm) -> tuple[bool, bool]:
+    """(whether the held-out part rejects "b is the explanation" in favour
+    of a, and "a is the explanation" in favour of b): the J tests, both
+    residuals whitened by nm."""
+    k, fa, fb = _whitened(a, b, nm)
+    m = max(a.pb.nfit - k, 0)
+    va, vb = fa[m:], fb[m:]
+    return j_t(vb, vb - va) > Z95, j_t(va, va - vb) > Z95
 
 
 def distinguishable(a: Test, b: Test) -> bool:
-    """Whether the record says that a, not b, is the explanation: a explains
-    it significantly better (Z_BETTER) on the fit part and on the held-out
-    part, both residuals whitened by a's noise model (as in the guards: if a
-    is the explanation, its residual is the noise)."""
-    t_fit, t_val = better(a, b, a.nm)
-    return t_fit > Z_BETTER and t_val > Z_BETTER
+    """Whether the record says that a, not b, is the explanation, both
+    residuals whitened by a's noise model (as in the guards: if a is the
+    explanation, its residual is the noise): the held-out part rejects b
+    and not a (J tests); or it rejects both, and a explains the whole
+    record significantly better (Vuong, Z_DIFFERENT)."""
+    not_b, not_a = rejects(a, b, a.nm)
+    if not not_b:
+        return False
+    return not not_a or better(a, b, a.nm) > Z_DIFFERENT
 
 
 # Lack of fit: a model is inadequate when its residual, whitened by the

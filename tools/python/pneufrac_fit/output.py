@@ -134,7 +134,7 @@ def to_dict(d) -> dict:
                    "over_discretisation": guards.APPROX_RATIO,
                    "min_timing_samples": guards.MIN_TIMING,
                    "over_input_timing": guards.TIMING_RATIO,
-                   "better_t": guards.Z_BETTER},
+                   "distinguish_z": guards.Z_DIFFERENT},
         "record": {"n": d.n, "n_fit": d.nfit, "fs": d.fs, "e0": d.e0, "pc0": d.pc0,
                    "oversample": d.oversample,
                    "noise_sd": _num(d.noise_sd), "noise_floor_val": _num(d.noise_floor_val),

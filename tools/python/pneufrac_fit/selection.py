@@ -8,11 +8,15 @@ Three mechanisms, each used everywhere it applies:
    groups the baseline held; reference and confirm refit the model without
    it) and same samples (play_start_unknown).
 2. One comparison of two explanations (guards.distinguishable): the
-   round's winner is named only if it explains the record significantly
-   better than every rival explanation of the same residual (rivals_of);
+   round's winner is named only if the record rejects every rival
+   explanation of the same residual and not the winner, or rejects both
+   and the winner explains the whole record significantly better
+   (rivals_of);
    a rival that adds nothing on top of it leaves neither named
    (_ambiguous).
-3. One search order (forward): rounds of single effects; pairs when a round
+3. One search order (forward): rounds of single effects, a round's winner
+   added only if it predicts better than every model without it the round
+   found (best_without); pairs when a round
    adds nothing and the model is inadequate (pairs); a backward check of
    every named effect against the final model without it (backward).
 """
@@ -208,6 +212,12 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None):
                                          sets)
             break
         ok = [t for t in tests if t.passes]
+        without = best_without(tests, current)
+        if ok and without.nrmse_val <= min(t.model.nrmse_val for t in ok):
+            say(f"round {len(rounds)}: the model without a new effect, refitted with another "
+                f"test's freedoms, predicts the held-out part as well (NRMSE "
+                f"{without.nrmse_val:.4f}): no effect added")
+            ok = []
         if not ok:
             break
         win = min(ok, key=lambda t: t.model.nrmse_val)
@@ -219,7 +229,7 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None):
         current, cur_pb = win.model, win.pb
     on_top = tested_on.get(id(current))
     if on_top:
-        got = pairs(cur_pb, current, on_top, say, notes, sets)
+        got = pairs(cur_pb, current, on_top, say, notes, sets, seed + 7 * len(rounds))
         if got is not None:
             current, cur_pb, tests = got
             rounds.append(tests)
@@ -230,6 +240,20 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None):
     return current, cur_pb, rounds, checks
 
 
+def best_without(tests, current):
+    """The best predicting model without a new effect that a round found:
+    the model so far, or a test's reference (the same effects refitted with
+    the freedoms and samples that test gave them). An effect whose model
+    predicts the held-out part no better than that explains nothing the
+    model so far cannot, refitted: its gain over its own reference is then
+    the freedoms', and naming it would credit an effect with what a better
+    fit of the model without it does (held-out errors compare models fairly
+    whatever their freedoms)."""
+    same = model.canonical(current.effects)
+    refs = [t.ref for t in tests if model.canonical(t.ref.effects) == same]
+    return min([current] + refs, key=lambda r: r.nrmse_val)
+
+
 def explains(t) -> bool:
     """Whether a tested effect explains part of the residual: significant
     against its reference on the fit part, and predicting the held-out part
@@ -237,21 +261,33 @@ def explains(t) -> bool:
     return bool(t.excludes and t.val_gain > 0)
 
 
-def pairs(pb, current, tests, say, notes=None, sets=None):
+def half_story(t) -> bool:
+    """Whether a tested effect may be one member of a pair: significant
+    against its reference on the fit part. Not also predicting the
+    held-out part better (`explains`): fitted alone, a member also bends
+    its own and the freed groups' parameters to imitate the missing other
+    member, and that imitation is what can predict worse held-out; the
+    pair's members meet every guard, the held-out one included, when the
+    pair is tested."""
+    return bool(t.excludes)
+
+
+def pairs(pb, current, tests, say, notes=None, sets=None, seed=0):
     """Two effects at once, when forward selection added nothing more but
     the model is inadequate (guards.inadequate: its whitened residual still
     depends on the input). One at a time cannot find two effects neither of
     which passes alone (each is only half the story, and the other half
-    counts against it). Every pair of effects that explain part of the
-    residual on their own (`explains`) is fitted on top of the model, from
-    each member's own fit with the other's parameters added; each member
+    counts against it). Every pair of effects that are significant on
+    their own (`half_story`) is fitted on top of the model, as each
+    member's model extended by the other (candidates.fit_extended, the
+    better of the two orders); each member
     is then tested with every guard against the pair without it (the other
     member's model refitted with the same freedoms). The pair whose members
     both pass and that predicts the held-out part best is added, if the
     record tells it from every other such pair (guards.distinguishable);
     otherwise none is. Returns (model, problem, the members' tests) or
     None."""
-    expl = [t for t in tests if explains(t)]
+    expl = [t for t in tests if half_story(t)]
     if len(expl) < 2:
         return None
     bad, z = guards.inadequate(pb, current)
@@ -260,17 +296,20 @@ def pairs(pb, current, tests, say, notes=None, sets=None):
     say(f"pairs: {current.effect} is inadequate (its whitened residual correlates with the "
         f"input at {z:.1f} sd); testing pairs of " + ", ".join(t.effect for t in expl))
     found = []
+    rng = np.random.default_rng(seed)
     for a, b in itertools.combinations(expl, 2):
         t0 = time.monotonic()
         placed = next((t.model for t in (a, b) if t.effect == "saturation"), current)
         pbx = problem_for(candidates.for_model(pb, placed), (a.effect, b.effect))
         effects = model.canonical(current.effects + (a.effect, b.effect))
-        dead = next((t.model.dead for t in (a, b) if t.effect == "dead_time"), current.dead)
-        starts = []
-        for x, y in ((a, b), (b, a)):
-            st = {**x.model.groups, **x.model.values, **_own(y.model, y.effect)}
-            starts.append((f"{x.effect}+{y.effect}", st))
-        fr = search.refine(pbx, effects, starts, dead=dead, iters=2 * search.REFINE_ITER)
+        # each member's model extended by the other, as a round extends the
+        # model so far (warm and fresh starts, the other's own fitted size,
+        # a dead time profiled): a local refinement from the two members'
+        # parameters merged does not move a fitted delay, and from a
+        # member that was imitating the other it stays where the
+        # imitation put it
+        fr = search.best([candidates.fit_extended(pbx, x.model, y.effect, rng, _hint(y))
+                          for x, y in ((a, b), (b, a))])
         fit.uncertainty(pbx, fr)
         members = []
         for x, y in ((a, b), (b, a)):
@@ -305,9 +344,8 @@ def rivals_of(win, tests) -> list[str]:
     that explains part of the residual, whether or not it passes the other
     guards: significant against its reference on the fit part, and
     predicting the held-out part better than its reference (one that
-    predicts worse than no effect explains nothing). The record tells it
-    from the winner when the winner explains the record significantly
-    better on both the fit and the held-out part (guards.distinguishable)."""
+    predicts worse than no effect explains nothing). Whether the record
+    tells it from the winner is guards.distinguishable."""
     return [t.effect for t in tests
             if t is not win and explains(t) and not guards.distinguishable(win, t)]
 
@@ -332,7 +370,7 @@ def _cannot_tell(names, tests, why, say, notes, sets):
     report's notes and in the JSON's `ambiguous` sets."""
     line = (f"{' or '.join(names)}: the record cannot tell which (held-out NRMSE "
             + ", ".join(f"{n} {t.model.nrmse_val:.4f}" for n, t in zip(names, tests))
-            + f", not significantly different on both the fit and the held-out part; {why}), "
+            + f", not significantly different over the record; {why}), "
             "so none of them is named.")
     say("ambiguous: " + line)
     if notes is not None:
