@@ -263,7 +263,7 @@ def describe_effect(cause: str, p: dict, fs: float) -> str:
     if cause == "saturation":
         kind = model.SAT_KINDS[model.sat_kind(p)]
         told = ("" if p.get("sat_kind_told") else
-                " (the record does not tell this from the other placement)")
+                " (the record does not tell this from the other placements)")
         return f"p_c limited to [{p['sat_lo']:.4g}, {p['sat_hi']:.4g}]: {kind}{told}"
     if cause == "backlash":
         return f"dead band {p['deadband']:.4g} input units wide"
