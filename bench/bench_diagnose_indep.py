@@ -12,13 +12,17 @@ Default: every scenario, seed 1, two records at a time (about 20 minutes on
 the shared 2-core machine).
 
 Prints a markdown table (one row per record) and summary lines. Right
-means the set of named causes equals the set of true causes. Parameter
+means the set of named causes equals the set of true causes; partial, some
+of them and nothing else; missed, none; wrong, a cause that is not in the
+record (on a clean record: a false effect). Parameter
 errors are relative to the true value; saturation limits relative to the
 record's output range. "halfway" is the issue's criterion: the validation
 NRMSE after is at most halfway from before to the true noise floor. The
 effect size next to the true causes is the rms change the effects make to
 the sampled output over the noise sd (an upper bound on what a fit can
-attribute to them).
+attribute to them); with several effects, each one's on top of the others
+in the fit part and in the held-out part (bench/indep_contributions.py:
+an effect absent from the held-out part cannot pass the held-out guard).
 """
 from __future__ import annotations
 
@@ -179,6 +183,8 @@ def one(name: str, seed: int, tool: str, tool_jobs: int, timeout: float, keep: s
     pc = np.loadtxt(f"{stem}.csv", delimiter=",", skiprows=1, usecols=2)
     row.update(config=truth["config"], truth=truth["causes"],
                size=truth["noise"]["effect_rms_over_sd"])
+    if len(truth["causes"]) >= 2:
+        row["parts"] = parts_of(name, seed, timeout, env, procs)
     cmd = [tool, "diagnose", f"{stem}.csv", "--config", truth["config"], "--json", "--quiet",
            "--jobs", str(tool_jobs)]
     t0 = time.monotonic()
@@ -209,6 +215,29 @@ def one(name: str, seed: int, tool: str, tool_jobs: int, timeout: float, keep: s
     return row
 
 
+def parts_of(name: str, seed: int, timeout: float, env: dict, procs: Procs) -> dict:
+    """Each true effect's rms change to the sampled output on top of the
+    others, over the noise sd, in the fit and the held-out part
+    (bench/indep_contributions.py); {} when it cannot be had."""
+    rc, out, _ = procs.run([sys.executable, str(ROOT / "bench" / "indep_contributions.py"),
+                            name, str(seed)], timeout, env)
+    try:
+        return json.loads(out) if rc == 0 else {}
+    except json.JSONDecodeError:
+        return {}
+
+
+def truth_cell(r: dict) -> str:
+    """The true causes, the effects' rms over the noise sd, and for several
+    effects each one's on top of the others as fit part / held-out part."""
+    if not r["truth"]:
+        return "none"
+    parts = r.get("parts") or {}
+    names = [c + (f" ({_f(parts[c]['fit'], '{:.2g}')}/{_f(parts[c]['val'], '{:.2g}')})"
+                  if c in parts else "") for c in r["truth"]]
+    return ", ".join(names) + ("" if r["size"] is None else f" ({r['size']:.2g})")
+
+
 def _f(x, fmt="{:.3g}") -> str:
     return "-" if x is None else fmt.format(x)
 
@@ -216,11 +245,17 @@ def _f(x, fmt="{:.3g}") -> str:
 def verdict(row: dict) -> str:
     if row["named"] is None:
         return "n/a"
-    return "right" if set(row["named"]) == set(row["truth"]) else "wrong"
+    named, truth = set(row["named"]), set(row["truth"])
+    if named == truth:
+        return "right"
+    if named - truth:
+        return "wrong"      # a cause that is not in the record
+    return "partial" if named else "missed"
 
 
 def table(rows: list[dict]) -> list[str]:
-    L = ["| scenario | seed | cfg | truth (effect rms / noise sd) | named | | "
+    L = ["| scenario | seed | cfg | truth (effect rms / noise sd; with two, each on top of "
+         "the other, fit / held-out part) | named | | "
          "parameters: tool vs truth | "
          "val NRMSE before -> after | floor tool / true | noise sd tool / true | time |",
          "|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -230,12 +265,21 @@ def table(rows: list[dict]) -> list[str]:
             "" if r["halfway"] is None else (" (halfway)" if r["halfway"] else " (not halfway)"))
         fl = "-" if not r["floor"] else f"{_f(r['floor'][0])} / {_f(r['floor'][1])}"
         ns = "-" if not r["noise"] else f"{_f(r['noise'][0])} / {_f(r['noise'][1])}"
-        size = "" if r["size"] is None or not r["truth"] else f" ({r['size']:.2g})"
         L.append(f"| {r['scenario']} | {r['seed']} | {r['config']} | "
-                 f"{', '.join(r['truth']) or 'none'}{size} | {named} | {verdict(r)} | "
+                 f"{truth_cell(r)} | {named} | {verdict(r)} | "
                  f"{'; '.join(r['params']) or '-'} | {nr} | {fl} | {ns} | "
                  f"{_f(r['time'], '{:.0f} s')} |")
     return L
+
+
+def partial_missed(rows: list[dict]) -> str:
+    """For records with several true causes: how many name only some of
+    them, none, or a cause that is not there."""
+    several = [r for r in rows if len(r["truth"]) >= 2 and r["named"] is not None]
+    if not several:
+        return ""
+    n = {v: sum(verdict(r) == v for r in several) for v in ("partial", "missed", "wrong")}
+    return f" ({n['partial']} partial, {n['missed']} missed, {n['wrong']} with a wrong cause)"
 
 
 def summary(rows: list[dict]) -> list[str]:
@@ -250,12 +294,18 @@ def summary(rows: list[dict]) -> list[str]:
         na = sum(verdict(r) == "n/a" for r in rs)
         lim = " (sized at the detection limit: none is defensible)" if c == "marginal" else ""
         L.append(f"- {c}: {right} / {len(rs)} right" + (f", {na} not diagnosed" if na else "")
-                 + lim)
+                 + lim + partial_missed(rs))
     clean = [r for r in rows if not r["truth"] and r["named"] is not None]
     false = [r for r in clean if r["named"]]
     L.append(f"- false effects on clean records: {len(false)} of {len(clean)} diagnosed"
              + (": " + ", ".join(f"{r['scenario']}-{r['seed']} ({', '.join(r['named'])})"
                                  for r in false) if false else ""))
+    eff = [r for r in rows if r["truth"] and r["named"] is not None]
+    wrong = [r for r in eff if verdict(r) == "wrong"]
+    L.append(f"- wrong causes (a cause named that is not there): {len(wrong)} of {len(eff)} "
+             "records with effects" + (": " + ", ".join(
+                 f"{r['scenario']}-{r['seed']} ({', '.join(r['named'])})" for r in wrong)
+                 if wrong else ""))
     fair = [r for r in rows if r["expected"] == "fair"]
     L.append(f"- all fair records: {sum(verdict(r) == 'right' for r in fair)} / {len(fair)} right")
     hw = [r for r in rows if r["halfway"] is not None]
