@@ -207,8 +207,11 @@ check "saturation bounds p_c" \
 run_ok "$TMP/stop.csv" "${SIM[@]}" --effect saturation:lo=-0.002,hi=0.002,kind=2
 check "the relay's stop bounds p_c" \
   csv_awk 'NR > 1 { if ($3 > 0.002 || $3 < -0.002) bad = 1 } END { exit bad }' "$TMP/stop.csv"
-expect_err "effect: saturation kind out of the table's range" "saturate" \
+expect_err "effect: saturation kind out of the table's range" "saturate.*from 1 to 3" \
   "${SIM[@]}" --effect saturation:lo=-1,hi=1,kind=4
+# the wound-on relay's state outgrows any fixed Q15 scale: refused, and said so
+expect_err "effect: wound-on saturation refused in q15" "memory winds on" \
+  "${SIM[@]}" --arith q15 --in-fs 1 --out-fs 1 --effect saturation:lo=-0.5,hi=0.5,kind=3
 expect_err "effect: saturation kind not whole" "not a placement, a whole number" \
   "${SIM[@]}" --effect saturation:lo=-1,hi=1,kind=1.5
 # kind 0 is the library's "off": asked for a saturation, it must not vanish

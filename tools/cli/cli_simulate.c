@@ -119,7 +119,9 @@ static void describe_param(const cli_run *run, pf_param_id id, char *buf,
                  fx->sat_lo, fx->sat_hi);
         break;
     case PF_P_SATURATE:
-        snprintf(buf, n, "--effect saturation:kind=%d; needs 1 or 2", fx->saturate);
+        /* 0 is the library's "off"; the top placement is the table's. */
+        snprintf(buf, n, "--effect saturation:kind=%d; needs a whole number from 1 to %g",
+                 fx->saturate, pf_param_info(PF_P_SATURATE)->hi);
         break;
     case PF_P_DEAD_TIME:
         snprintf(buf, n, "--effect deadtime:t=%.10g", fx->dead_time);
@@ -142,9 +144,10 @@ static void report_status(const cli_run *run, pf_status st)
         describe_param(run, id, why, sizeof why);
         cli_error("invalid parameter '%s' (%s)", pf_param_name(id), why);
     } else if (st == PF_E_UNSUPPORTED) {
-        cli_error("--arith q15 does not support the refined approximation, nor a "
-                  "nozzle curve whose in-sample loop is not monotone (%s); use "
-                  "--arith double or float", pf_status_str(st));
+        cli_error("--arith q15 does not support the refined approximation, a "
+                  "relay whose memory winds on at its limits (saturation "
+                  "kind=3), nor a nozzle curve whose in-sample loop is not "
+                  "monotone (%s); use --arith double or float", pf_status_str(st));
     } else if (st == PF_E_SCALE) {
         cli_error("--arith q15: %s; try other --in-fs/--out-fs or a "
                   "narrower --band", pf_status_str(st));
