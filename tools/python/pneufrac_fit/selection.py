@@ -39,7 +39,9 @@ def reference(pb, effects, fr, prior):
     b = {**prior.groups, **prior.values}
     if "saturation" in effects and "K" not in b:
         b["K"] = fr.values["K"]
-    return search.refine(pb, effects, [("from extended", a), ("prior", b)], dead=dead)
+    r = search.refine(pb, effects, [("from extended", a), ("prior", b)], dead=dead)
+    # the delay free as in the extended fit (candidates.fit_extended)
+    return candidates.profile_dead(pb, effects, r) if dead else r
 
 
 def play_start_unknown(pb):
