@@ -117,6 +117,21 @@ def test_library_refusal_names_parameter():
     assert ex.value.param == "beta"
 
 
+@pytest.mark.parametrize("kind", [1.5, 2.5, True, "2", float("nan"), float("inf")])
+def test_whole_number_fields_are_not_truncated(kind):
+    """An int field (here the saturation's placement) given a value that is
+    not a whole number is refused, not truncated to another placement."""
+    fx = {"saturate": kind, "sat_lo": -0.5, "sat_hi": 0.5}
+    with pytest.raises(ValueError, match="saturate.*whole number"):
+        lib.Controller("pid", lib.default_params("pid"), fx, 1000.0)
+
+
+def test_whole_number_fields_take_whole_floats():
+    fx = {"saturate": 2.0, "sat_lo": -0.5, "sat_hi": 0.5}
+    y = lib.Controller("pid", lib.default_params("pid"), fx, 1000.0).run(np.ones(50))
+    assert np.max(y) <= 0.5 + 1e-12
+
+
 def test_ranges_come_from_the_library():
     """model.py and the binding read names, ranges and uses from the C table."""
     r = lib.param_range("beta")

@@ -345,6 +345,16 @@ def _alloc(nbytes: int):
     return (C.c_uint64 * max(1, (nbytes + 7) // 8))()
 
 
+def _whole(v) -> bool:
+    """v is a number with no fractional part (not a bool or a string)."""
+    if isinstance(v, (bool, str, bytes)):
+        return False
+    try:
+        return float(v) == int(v)
+    except (TypeError, ValueError, OverflowError):
+        return False
+
+
 def _fill(struct, values: dict, what: str) -> None:
     """Set fields of a mirrored struct by name; a name it lacks is an
     error (ctypes would quietly add an attribute instead)."""
@@ -353,7 +363,11 @@ def _fill(struct, values: dict, what: str) -> None:
         if k not in names:
             raise KeyError(f"{what} has no field '{k}'")
         if dict(struct._fields_)[k] is C.c_int:
-            # ctypes would wrap an int that does not fit round silently.
+            # int() would truncate 2.5 to 2 and ctypes wrap an int that does
+            # not fit round, both silently: a placement or an order asked
+            # for must be the one the library gets.
+            if not _whole(v):
+                raise ValueError(f"{what}.{k}: {v!r} is not a whole number")
             if not -2**31 <= int(v) < 2**31:
                 raise ValueError(f"{what}.{k}: {v} does not fit an int")
             setattr(struct, k, int(v))
