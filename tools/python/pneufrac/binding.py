@@ -345,7 +345,7 @@ def _alloc(nbytes: int):
     return (C.c_uint64 * max(1, (nbytes + 7) // 8))()
 
 
-def _whole(v) -> bool:
+def whole_number(v) -> bool:
     """v is a number with no fractional part (not a bool or a string)."""
     if isinstance(v, (bool, str, bytes)):
         return False
@@ -366,7 +366,7 @@ def _fill(struct, values: dict, what: str) -> None:
             # int() would truncate 2.5 to 2 and ctypes wrap an int that does
             # not fit round, both silently: a placement or an order asked
             # for must be the one the library gets.
-            if not _whole(v):
+            if not whole_number(v):
                 raise ValueError(f"{what}.{k}: {v!r} is not a whole number")
             if not -2**31 <= int(v) < 2**31:
                 raise ValueError(f"{what}.{k}: {v} does not fit an int")

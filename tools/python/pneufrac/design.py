@@ -51,7 +51,7 @@ def _effects(effects: dict | None) -> dict:
     if "saturate" in out:
         # the placement (the library's range judges the value); only with limits
         k = out["saturate"]
-        if isinstance(fx["saturate"], bool) or k != int(k):
+        if isinstance(fx["saturate"], bool) or not binding.whole_number(k):
             raise ValueError(f"effect saturate: {fx['saturate']!r} is not a whole number")
         if "sat_lo" not in out:
             raise ValueError("saturate needs sat_lo and sat_hi")
