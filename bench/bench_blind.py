@@ -46,26 +46,11 @@ sys.path.insert(0, str(ROOT / "bench"))
 
 from blindsim.__main__ import write  # noqa: E402
 from blindsim.catalogue import SCENARIOS  # noqa: E402
+from seedlist import seed_arg  # noqa: E402
 
 SECTION = "## Scoreboard on a third, blind simulator"
 MARKER = "blind"
 VERDICTS = ("right", "partial", "missed", "FALSE EFFECT", "WRONG CAUSE", "failed")
-
-
-def parse_seeds(text: str) -> list[int]:
-    """1, 1-3 or 1,4 as an argparse type: a bad list is a usage error, not a
-    traceback."""
-    out = []
-    try:
-        for part in text.split(","):
-            lo, _, hi = part.strip().partition("-")
-            a, b = int(lo), int(hi or lo)
-            if not 0 <= a <= b or b - a > 10000:
-                raise ValueError
-            out += range(a, b + 1)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a seed list (1, 1-3, 1,4): {text!r}") from None
-    return out
 
 
 def diagnose(tool: Path, csv: Path, truth: dict, timeout: float) -> tuple[dict | None, str, float]:
@@ -265,7 +250,7 @@ def write_docs(path: Path, text: str) -> None:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scenarios", default="*")
-    ap.add_argument("--seeds", default="1", type=parse_seeds)
+    ap.add_argument("--seeds", default="1", type=seed_arg)
     ap.add_argument("--records", type=Path, default=Path("/tmp/blindsim-records"))
     ap.add_argument("--results", type=Path, default=None,
                     help="JSON lines, appended as results come (default: RECORDS/results.jsonl)")

@@ -49,20 +49,10 @@ sys.path.insert(0, str(ROOT / "tests" / "python"))
 import numpy as np  # noqa: E402
 
 from indepsim.scenarios import CATALOGUE, SEED_MAX  # noqa: E402
+from seedlist import seed_list  # noqa: E402
 
 PARAM_OF = {"dead_time": "dead_time", "lag": "lag", "backlash": "deadband",
             "nozzle": "nozzle_xh"}
-
-
-def parse_seeds(text: str) -> list[int]:
-    seeds: list[int] = []
-    for part in text.split(","):
-        lo, _, hi = part.strip().partition("-")
-        a, b = int(lo), int(hi or lo)
-        if not 0 <= a <= b <= SEED_MAX or b - a > 10000:
-            raise ValueError(part)
-        seeds.extend(range(a, b + 1))
-    return seeds
 
 
 def pick_scenarios(text: str | None) -> list[str]:
@@ -340,7 +330,7 @@ def main() -> int:
         print(f"bench_diagnose_indep: no scenario matches '{a.scenarios}'", file=sys.stderr)
         return 2
     try:
-        seeds = parse_seeds(a.seeds)
+        seeds = seed_list(a.seeds, SEED_MAX)
     except ValueError:
         print(f"bench_diagnose_indep: --seeds '{a.seeds}': use N, N-M or N,M with seeds in "
               f"[0, {SEED_MAX}] (at most 10001 per range)", file=sys.stderr)
