@@ -154,12 +154,19 @@ def prune(pb, best, say, reasons: dict):
         nm = noise.fit(best.residual(pb)[pb.counted])
         fit.uncertainty(pb, best)
         sp = fit.full_specs(pb, best)
+        # A group at a bound has no interval: the optimum there is the
+        # bound's, not the data's (the gradient is not zero), and a restart
+        # inside that costs the same (unstick) left it free. Holding the
+        # others refits it, and it can come back to a bound: on the
+        # independent simulator's lag records beta at 1, rho at 1e4 and w
+        # at 1 were reported identified with intervals across the bound.
+        edge = {x[0]: x for x in _at_bounds(pb, best)}
         worst, worst_ratio = None, 1.0
         for name, tr, _, _ in sp:
             if (name not in model.GROUPS and name != "e0") or name == "K":
                 continue
             s = best.se.get(name, math.inf)
-            ratio = 1.96 * s / _id_width(pb, name)
+            ratio = math.inf if name in edge else 1.96 * s / _id_width(pb, name)
             if ratio > worst_ratio:
                 worst, worst_ratio = name, ratio
         if worst is None:
@@ -187,9 +194,13 @@ def prune(pb, best, say, reasons: dict):
         where = ("held at its fitted value " if visible else
                  "held at the input's opening level " if worst == "e0" else
                  "held at the paper's value ") + fmt(held)
-        reasons[worst] = (
-            f"not identified ({why}; 95 % interval {_ci_text(worst, val, best.se[worst])}): "
-            + where + ("; freed again in the extended fits" if visible else ""))
+        if worst in edge:
+            _, side, bound = edge[worst]
+            ci = f"at its {side} bound {fmt(bound)}, where no interval holds"
+        else:
+            ci = f"95 % interval {_ci_text(worst, val, best.se[worst])}"
+        reasons[worst] = (f"not identified ({why}; {ci}): "
+                          + where + ("; freed again in the extended fits" if visible else ""))
         say(f"baseline: {worst} not identified ({why}); held")
         st = dict(best.values)
         st[worst] = held
