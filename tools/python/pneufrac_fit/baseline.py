@@ -13,7 +13,10 @@ Pruning: a group whose 95 % interval (sandwich covariance under the
 residual's noise model) is wider than a factor 2 (orders: +-0.15) is not
 identified; the worst is held and the fit repeated: where the fit put it if
 the record shows it but only in combination with others (entangled), at the
-paper's value if moving it changes nothing the record shows.
+paper's value if moving it changes nothing the record shows. A group
+still at a bound when pruning comes to it (restarts inside cost the same,
+or holding another group brought it back) has no interval and is held
+first.
 """
 from __future__ import annotations
 
@@ -201,7 +204,8 @@ def prune(pb, best, say, reasons: dict):
             ci = f"95 % interval {_ci_text(worst, val, best.se[worst])}"
         reasons[worst] = (f"not identified ({why}; {ci}): "
                           + where + ("; freed again in the extended fits" if visible else ""))
-        say(f"baseline: {worst} not identified ({why}); held")
+        say(f"baseline: {worst} not identified ({why}"
+            + (f"; at its {edge[worst][1]} bound" if worst in edge else "") + "); held")
         st = dict(best.values)
         st[worst] = held
         best = search.refine(pb, (), [("pruned", st)])
