@@ -13,10 +13,7 @@ Pruning: a group whose 95 % interval (sandwich covariance under the
 residual's noise model) is wider than a factor 2 (orders: +-0.15) is not
 identified; the worst is held and the fit repeated: where the fit put it if
 the record shows it but only in combination with others (entangled), at the
-paper's value if moving it changes nothing the record shows. A group
-still at a bound when pruning comes to it (restarts inside cost the same,
-or holding another group brought it back) has no interval and is held
-first.
+paper's value if moving it changes nothing the record shows.
 """
 from __future__ import annotations
 
@@ -157,19 +154,12 @@ def prune(pb, best, say, reasons: dict):
         nm = noise.fit(best.residual(pb)[pb.counted])
         fit.uncertainty(pb, best)
         sp = fit.full_specs(pb, best)
-        # A group at a bound has no interval: the optimum there is the
-        # bound's, not the data's (the gradient is not zero), and a restart
-        # inside that costs the same (unstick) left it free. Holding the
-        # others refits it, and it can come back to a bound: on the
-        # independent simulator's lag records beta at 1, rho at 1e4 and w
-        # at 1 were reported identified with intervals across the bound.
-        edge = {x[0]: x for x in _at_bounds(pb, best)}
         worst, worst_ratio = None, 1.0
         for name, tr, _, _ in sp:
             if (name not in model.GROUPS and name != "e0") or name == "K":
                 continue
             s = best.se.get(name, math.inf)
-            ratio = math.inf if name in edge else 1.96 * s / _id_width(pb, name)
+            ratio = 1.96 * s / _id_width(pb, name)
             if ratio > worst_ratio:
                 worst, worst_ratio = name, ratio
         if worst is None:
@@ -197,15 +187,10 @@ def prune(pb, best, say, reasons: dict):
         where = ("held at its fitted value " if visible else
                  "held at the input's opening level " if worst == "e0" else
                  "held at the paper's value ") + fmt(held)
-        if worst in edge:
-            _, side, bound = edge[worst]
-            ci = f"at its {side} bound {fmt(bound)}, where no interval holds"
-        else:
-            ci = f"95 % interval {_ci_text(worst, val, best.se[worst])}"
-        reasons[worst] = (f"not identified ({why}; {ci}): "
-                          + where + ("; freed again in the extended fits" if visible else ""))
-        say(f"baseline: {worst} not identified ({why}"
-            + (f"; at its {edge[worst][1]} bound" if worst in edge else "") + "); held")
+        reasons[worst] = (
+            f"not identified ({why}; 95 % interval {_ci_text(worst, val, best.se[worst])}): "
+            + where + ("; freed again in the extended fits" if visible else ""))
+        say(f"baseline: {worst} not identified ({why}); held")
         st = dict(best.values)
         st[worst] = held
         best = search.refine(pb, (), [("pruned", st)])
