@@ -23,6 +23,7 @@ Three mechanisms, each used everywhere it applies:
 from __future__ import annotations
 
 import itertools
+import math
 import time
 
 import numpy as np
@@ -230,16 +231,82 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None):
                "top of it next)" if rivals else ""))
         current, cur_pb = win.model, win.pb
     on_top = tested_on.get(id(current))
+    refitted = False
     if on_top:
         got = pairs(cur_pb, current, on_top, say, notes, sets, seed + 7 * len(rounds))
         if got is not None:
             current, cur_pb, tests = got
             rounds.append(tests)
-    if len(current.effects) >= 2:
+        elif current.effects:
+            better_fit, better_pb, src = best_same_fit(on_top, current, cur_pb)
+            if better_fit is not current:
+                say(f"round {len(rounds)}: {current.effect} refitted from the {src} test's "
+                    f"reference fits the same samples better (BIC {_bic(cur_pb, current):.1f} "
+                    f"-> {_bic(better_pb, better_fit):.1f}; held-out NRMSE "
+                    f"{current.nrmse_val:.4f} -> {better_fit.nrmse_val:.4f}): that fit is kept")
+                current, cur_pb, refitted = better_fit, better_pb, True
+    if len(current.effects) >= 2 or refitted:
         current, cur_pb, checks = backward(cur_pb, current, say)
     else:   # a single effect was tested with everything else it could meet
         checks = [t for r in rounds for t in r if t.passes and t.model is current]
     return current, cur_pb, rounds, checks
+
+
+# A fit of the same effects replaces the one kept only when its BIC is lower
+# by more than this: under 2 the difference is "not worth more than a bare
+# mention" (Kass and Raftery 1995), and refits that end a rounding error
+# apart would otherwise churn the model kept.
+SAME_FIT_DBIC = 2.0
+
+
+def _bic(pb, fr) -> float:
+    """fr's BIC on pb's counted fit samples, whitened as pb's fits are (the
+    fit criterion, with fr's own count of parameters); K, pc0 and the
+    start's terms solved on those samples (fit.start_cost)."""
+    pb = candidates.for_model(pb, fr)
+    m = max(pb.nfit - pb.burn, 1)
+    c = fit.start_cost(pb, fr.effects, {**fr.groups, **fr.values}, fr.dead)
+    return m * math.log(max(c, 1e-300) / m) + fr.k * math.log(m) if math.isfinite(c) else math.inf
+
+
+def best_same_fit(tests, current, cur_pb):
+    """(model, problem, source): the best fit of current's effects that a
+    round found, on the fit criterion, and the test whose reference it
+    came from (current, cur_pb, "" when none is better).
+
+    Every test of a round refits the model so far as its reference, with
+    the freedoms the test frees and, beside a dead band, without the
+    samples before the input's first reversal; such a refit can end in a
+    better optimum than the model so far. Which is better is decided on the
+    fit part, never on the held-out part (it would then no longer be held
+    out, and the reported held-out error would be chosen, not measured):
+    by BIC (the whitened residual's likelihood less ln(m)/2 per parameter,
+    as the guards count a model's freedoms), lower by more than
+    SAME_FIT_DBIC, both models on the same
+    samples: the model so far's (a reference fitted on fewer samples is
+    refined on them first). A reference that beats the model so far only
+    on the samples it was fitted to, or only held out, is not a better fit
+    (analysis-bench.md, "The fit kept when a round names nothing")."""
+    same = model.canonical(current.effects)
+    refs = [t for t in tests if t.ref is not current
+            and model.canonical(t.ref.effects) == same]
+    if not refs:
+        return current, cur_pb, ""
+    import copy
+    score = _bic(cur_pb, current)
+    best = (current, cur_pb, "")
+    for t in refs:
+        p = copy.copy(t.pb)          # the test's freedoms, the model so far's samples
+        p.burn = cur_pb.burn
+        p = candidates.for_model(p, t.ref)
+        if not _bic(p, t.ref) < score - SAME_FIT_DBIC:
+            continue
+        r = search.refine(p, same, [("reference of " + t.effect,
+                                     {**t.ref.groups, **t.ref.values})], dead=t.ref.dead)
+        b = _bic(p, r)
+        if b < score - SAME_FIT_DBIC:
+            score, best = b, (r, p, t.effect)
+    return best
 
 
 def best_without(tests, current):
