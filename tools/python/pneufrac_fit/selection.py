@@ -19,9 +19,8 @@ Three mechanisms, each used everywhere it applies:
    found (best_without); pairs when a round
    adds nothing and the model is inadequate (pairs); a backward check of
    every named effect against the final model without it (backward), and
-   rounds again on top of the model it leaves when it drops one; when a
-   round names nothing, the best fit of the same effects it found
-   (best_same_fit).
+   rounds again on top of the model it leaves when it drops one. The
+   baseline is the best linear fit on its own samples (best_same_fit).
 """
 from __future__ import annotations
 
@@ -240,21 +239,12 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None, _tried=None):
                "top of it next)" if rivals else ""))
         current, cur_pb = win.model, win.pb
     on_top = tested_on.get(id(current))
-    refitted = False
     if on_top:
         got = pairs(cur_pb, current, on_top, say, notes, sets, seed + 7 * len(rounds))
         if got is not None:
             current, cur_pb, tests = got
             rounds.append(tests)
-        elif current.effects:
-            better_fit, better_pb, src = best_same_fit(on_top, current, cur_pb)
-            if better_fit is not current:
-                say(f"round {len(rounds)}: {current.effect} refitted from the {src} test's "
-                    f"reference fits the same samples better (BIC {_bic(cur_pb, current):.1f} "
-                    f"-> {_bic(better_pb, better_fit):.1f}; held-out NRMSE "
-                    f"{current.nrmse_val:.4f} -> {better_fit.nrmse_val:.4f}): that fit is kept")
-                current, cur_pb, refitted = better_fit, better_pb, True
-    if len(current.effects) >= 2 or refitted:
+    if len(current.effects) >= 2:
         current, cur_pb, checks = backward(cur_pb, current, say)
         if model.canonical(current.effects) not in tried:
             say(f"after the backward check: rounds again, on top of {current.effect} (never "
