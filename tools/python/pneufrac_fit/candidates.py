@@ -347,7 +347,8 @@ def _fit_extended(pb, base, new: str, rng, hint: dict | None = None):
                      for e, dw in tried[:(len(tried) + 1) // 2]]
         e, dw = tried[0]
         d = max(1, int(round(dw / r)))
-        return profile_dead(pb, effects, search.refine(pb, effects, [(e.start, e.values)], dead=d))
+        b = profile_dead(pb, effects, search.refine(pb, effects, [(e.start, e.values)], dead=d))
+        return _not_worse(pb, effects, new, base, b)
     b = search.explore_refine(pb, effects, _starts(pb, effects, new, base, rng, hint),
                               dead=base.dead)
     return _not_worse(pb, effects, new, base, b)
@@ -358,8 +359,10 @@ def _not_worse(pb, effects, new: str, base, b):
     that ends worse than that model (the search lost on the way, as under
     strongly coloured noise, where the whitened criterion punishes a start's
     effect size hard and leaves the way to a small one flat) is refined
-    again from the model so far with the effect at no effect, and the
-    better of the two kept."""
+    again from the model so far with the effect at no effect (a dead time
+    at its shortest), and the better of the two kept: every effect, the
+    dead time too, so that no candidate is reported worse than the model
+    it extends."""
     full = {**base.groups, **base.values}
     if not b.cost > fit.start_cost(pb, base.effects, full, base.dead):
         return b
@@ -367,5 +370,8 @@ def _not_worse(pb, effects, new: str, base, b):
     st.update(no_effect(pb, new))
     if "saturation" in effects:
         st = _sat_start(pb, base, st)
-    alt = search.refine(pb, effects, [("no-effect start", st)], dead=base.dead)
+    # a dead time has no no-effect value: its shortest, one sample of the
+    # simulation rate, is the nearest to the model without it
+    dead = 1 if new == "dead_time" else base.dead
+    alt = search.refine(pb, effects, [("no-effect start", st)], dead=dead)
     return search.best([b, alt])

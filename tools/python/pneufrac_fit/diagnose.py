@@ -175,14 +175,11 @@ def _noise_from_rest(rec, pb) -> list:
 def _best_baseline(pb, base, rounds, notes):
     """A reference refitted in round 1 with the baseline's own freedoms may
     have found a better optimum of the linear model (starting from an
-    extended fit's groups): then that is the baseline."""
-    best = base
-    for t in (rounds[0] if rounds else []):
-        ref = t.ref
-        if (not ref.effects and ref.free_groups == base.free_groups
-                and ref.cost < best.cost * (1 - 1e-6)):
-            best = ref
-            src = t.effect
+    extended fit's groups): then that is the baseline. Compared on the
+    baseline's own samples (selection.best_same_fit: a dead band's
+    reference counts fewer, and fewer samples cost less whatever the fit)."""
+    same = [t for t in (rounds[0] if rounds else []) if t.ref.free_groups == base.free_groups]
+    best, _, src = selection.best_same_fit(same, base, pb)
     if best is not base:
         notes.append(f"The multi-start baseline was not the best optimum of the linear model: "
                      f"refitted from the {src} candidate's groups it fits better (RSS "
