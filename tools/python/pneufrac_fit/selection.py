@@ -52,11 +52,11 @@ def play_start_unknown(pb):
     the input's first reversal (and 2 % of the fit part more, for the
     difference to die away): the same samples for both."""
     import copy
-    k = signals.first_reversal(pb.e_abs[:pb.nfit]) + int(fit.BURN * pb.nfit)
+    k = signals.first_reversal(pb.e_abs[:pb.nsim]) + int(fit.BURN * pb.split.n_fit)
     if k <= pb.burn:
         return pb
     q = copy.copy(pb)
-    q.burn = int(min(k, pb.nfit // 2))
+    q.burn = int(min(k, pb.split.first_end // 2))
     return q
 
 
