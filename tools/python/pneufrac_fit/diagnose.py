@@ -103,6 +103,19 @@ def _floor(rec, pb, final) -> tuple[float, str]:
                                    "error left counts as noise)")
 
 
+def _held_blocks_note(split, nm) -> list:
+    """A held-out block shorter than 20 of the noise's correlation times
+    (holdout.py): its edges' noise correlates with the fit parts' beside
+    them, and the held-out error may be optimistic."""
+    tc = nm.correlation_time()
+    h = min(b - a for a, b in split.held)
+    if len(split.held) < 2 or 20 * tc <= h:
+        return []
+    return [f"The residual's noise stays correlated for {tc} samples, more than a "
+            f"twentieth of the shortest held-out block ({h} samples): the held-out "
+            "error may be optimistic (--holdout tail holds out one block)."]
+
+
 def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
              oversample: int | None = None, jobs: int | None = None, progress: bool = True,
              seed: int = 0, holdout: str = "blocks") -> Diagnosis:
@@ -136,6 +149,7 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
     sd = noise_estimate(pb.y, pb.e_abs)
     floor, src = _floor(rec, pb, final)
     nmf = noise.fit(pbf.fit_pieces(final.residual(pbf)))
+    fit_notes += _held_blocks_note(split, nmf)
     evb = ev_mod.analyse(pb, base, sd)
     eva = ev_mod.analyse(pbf, final, sd)
     evidence = ev_mod.describe(evb, pb, sd, floor, base)

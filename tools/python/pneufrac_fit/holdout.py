@@ -20,12 +20,15 @@ lacks (a sweep's highest frequencies).
 Held-out blocks must be long against the noise's correlation: a fit that
 absorbs a slow noise wander in a fit block partly predicts the same wander
 across the edge into the held-out block, for about one correlation time.
-With blocks of at least MIN_HELD samples, AR(1) noise of lag-1 correlation
-0.95 (correlation under 0.1 after 45 samples) touches at most 9 % of a
-block from its two edges, 0.99 (230 samples) at most 46 %. Noise that is
-correlated at every scale (1/f) has no such length: the tail split has the
-same leak at its one edge. A record too short for SECTIONS blocks of
-MIN_HELD samples gets fewer, longer blocks; one block is the tail split.
+MIN_HELD samples is 20 correlation times (1/e) of AR(1) noise of lag-1
+correlation up to 0.96 (correlation time 24.5 samples): the correlated
+edges, one correlation time at each end, cover at most 10 % of a block.
+For a stronger correlation the report says that the held-out error may be
+optimistic (diagnose.py, from the final residual's noise model). Noise
+that is correlated at every scale (1/f) has no such length: the tail split
+has the same leak at its one edge. A record too short for SECTIONS blocks
+of MIN_HELD samples gets fewer, longer blocks; one block is the tail
+split.
 """
 from __future__ import annotations
 
@@ -33,7 +36,7 @@ from dataclasses import dataclass
 
 FIT_FRACTION = 0.7       # the fit part's share of the record (and of each section)
 SECTIONS = 3             # sections, each with its held-out block at its end
-MIN_HELD = 1000          # samples of one held-out block (see above)
+MIN_HELD = 500           # samples of one held-out block (see above)
 MODES = ("blocks", "tail")
 
 

@@ -47,6 +47,14 @@ class NoiseModel:
         h = lfilter([1.0], self.a, np.r_[1.0, np.zeros(4095)])
         return float(h @ h)
 
+    def correlation_time(self) -> int:
+        """Samples until the process's autocorrelation first falls under
+        1/e (1 for white noise; at most the 4096 samples computed)."""
+        h = lfilter([1.0], self.a, np.r_[1.0, np.zeros(4095)])
+        acf = np.correlate(h, h, "full")[h.size - 1:] / float(h @ h)
+        below = np.flatnonzero(acf < math.exp(-1.0))
+        return int(below[0]) if below.size else h.size
+
     def describe(self) -> str:
         if self.order == 0:
             return "white (no AR term earns its place by BIC)"
