@@ -121,3 +121,22 @@ def test_sweep_second_effect_found_with_blocks():
                           rec.truth["config"], jobs=2, progress=False)
     assert len(d.split.held) == 3
     assert not check(rec, d), check(rec, d)
+
+
+def test_input_resting_in_every_held_out_block_falls_back_to_the_tail():
+    """Steps only inside the fit parts: the held-out blocks would test
+    nothing, so the record is validated on its last 30 % (where a step
+    falls), and the report says so."""
+    n, fs = 5000, 1000.0
+    blocks = holdout.layout(n)
+    e = np.zeros(n)
+    for k in (300, 800, 2000, 3600, 4000):      # all inside fit parts
+        assert not any(a - 1 <= k < b for a, b in blocks.held)
+        e[k:] += 1.0 if k % 400 else -0.7
+    rng = np.random.default_rng(1)
+    pc = np.convolve(e, np.full(20, 0.05))[:n] + 1e-3 * rng.normal(size=n)
+    rec = data.make_record(np.arange(n) / fs, e, pc, "steps-in-fit-parts")
+    split, why = data.split_for(rec)
+    assert split == holdout.layout(n, "tail")
+    assert "held-out blocks refused" in why and "last 30 %" in why
+    assert data.split_for(rec, "tail") == (split, None)

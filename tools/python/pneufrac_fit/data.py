@@ -146,7 +146,7 @@ def make_record(t, e, pc, source: str = "<data>") -> Record:
     _levels(rec)
     _operating_point(rec)
     _check_excitation(rec)
-    check_parts(rec, holdout.layout(rec.n))
+    split_for(rec)
     return rec
 
 
@@ -221,6 +221,27 @@ def _check_excitation(rec: Record) -> None:
     pspan = float(np.max(pc) - np.min(pc))
     if pspan <= 1e-12 * max(float(np.max(np.abs(pc))), 1e-300) or pspan == 0.0:
         raise DataError(f"{rec.source}: the output pc is constant: nothing to fit")
+
+
+def split_for(rec: Record, mode: str = "blocks"):
+    """(split, note): the split of the record into fit parts and held-out
+    blocks (holdout.layout) whose parts both see the input and the output
+    move. An input that rests through every held-out block (a setpoint
+    sequence whose moves all fall in the fit parts) falls back to the tail
+    split, with a note saying so; DataError when that does not hold
+    either."""
+    split = holdout.layout(rec.n, mode)
+    try:
+        check_parts(rec, split)
+        return split, None
+    except DataError as exc:
+        tail = holdout.layout(rec.n, "tail")
+        if tail == split:
+            raise
+        check_parts(rec, tail)
+        why = str(exc).split(": ", 1)[-1]
+        return tail, (f"held-out blocks refused ({why}): validated on the last 30 % "
+                      "of the record instead")
 
 
 def check_parts(rec: Record, split) -> None:

@@ -13,7 +13,6 @@ import numpy as np
 from . import baseline as base_mod
 from . import evidence as ev_mod
 from . import data, fit, model, noise, selection, signals
-from . import holdout as holdout_mod
 from .fit import FitResult, Problem
 
 
@@ -124,8 +123,9 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
     if seed < 0:
         raise ValueError("seed must be a non-negative integer")
     m = model.auto_oversample(rec.fs) if oversample is None else int(oversample)
-    split = holdout_mod.layout(rec.n, holdout)
-    data.check_parts(rec, split)
+    split, why = data.split_for(rec, holdout)
+    if why:
+        rec.notes.append(why)
     pb = Problem.from_record(rec, config, fixes, order, m, split)
     pb.user_fixed = dict(fixes or {})
     notes_nm = _noise_from_rest(rec, pb)
