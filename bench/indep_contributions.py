@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 """How much each true effect of an independent-simulator record moves its
 sampled output on top of the others, in the part pneufrac-fit fits on and
-in the parts it validates on (its default held-out blocks,
+in the part it validates on (its default split,
 pneufrac_fit.holdout.layout), over the noise sd.
 
     PYTHONPATH=tests/python .venv/bin/python bench/indep_contributions.py NAME SEED

@@ -12,7 +12,7 @@ from pneufrac_fit import baseline, candidates, data, diagnose, fit, holdout, mod
 
 @pytest.mark.parametrize("n", [200, 1000, 4999, 5000, 6000, 9999, 10000, 20000, 100003])
 def test_layout(n):
-    s = holdout.layout(n)
+    s = holdout.layout(n, "blocks")
     held = s.held_slices()
     fitp = s.fit_slices()
     # every sample is in exactly one part, in time order
@@ -33,7 +33,7 @@ def test_layout(n):
         for j, (a, b) in enumerate(s.held):
             assert j * n // k <= a < b <= (j + 1) * n // k
     assert s.held[0][0] == s.first_end > 0
-    assert holdout.layout(n, "tail").held == ((int(holdout.FIT_FRACTION * n), n),)
+    assert holdout.layout(n).held == ((int(holdout.FIT_FRACTION * n), n),)   # the default
 
 
 def test_layout_refuses_an_unknown_mode():
@@ -42,7 +42,7 @@ def test_layout_refuses_an_unknown_mode():
 
 
 def test_window_and_scaled_keep_held_samples_out():
-    s = holdout.layout(20000)
+    s = holdout.layout(20000, "blocks")
     w = s.window(12000)
     assert w.n == 12000 and all(b <= 12000 for _, b in w.held)
     d = 7
@@ -88,7 +88,7 @@ def test_held_out_outputs_never_reach_the_fit():
     the record's) leaves the baseline and an extended fit unchanged to the
     last bit, while the held-out error sees the corruption."""
     ds = cases.make("p", "lag", 3, n=12000)
-    split = holdout.layout(ds.e.size)
+    split = holdout.layout(ds.e.size, "blocks")
     assert len(split.held) == 3
     bad = ds.pc.copy()
     rng = np.random.default_rng(11)
@@ -118,7 +118,7 @@ def test_sweep_second_effect_found_with_blocks():
     from test_diagnose_indep import check
     rec = make("two-backlash-saturation", 4)
     d = diagnose.diagnose(data.make_record(rec.t, rec.e, rec.pc, "indepsim"),
-                          rec.truth["config"], jobs=2, progress=False)
+                          rec.truth["config"], jobs=2, progress=False, holdout="blocks")
     assert len(d.split.held) == 3
     assert not check(rec, d), check(rec, d)
 
@@ -128,7 +128,7 @@ def test_input_resting_in_every_held_out_block_falls_back_to_the_tail():
     nothing, so the record is validated on its last 30 % (where a step
     falls), and the report says so."""
     n, fs = 5000, 1000.0
-    blocks = holdout.layout(n)
+    blocks = holdout.layout(n, "blocks")
     e = np.zeros(n)
     for k in (300, 800, 2000, 3600, 4000):      # all inside fit parts
         assert not any(a - 1 <= k < b for a, b in blocks.held)
@@ -136,7 +136,7 @@ def test_input_resting_in_every_held_out_block_falls_back_to_the_tail():
     rng = np.random.default_rng(1)
     pc = np.convolve(e, np.full(20, 0.05))[:n] + 1e-3 * rng.normal(size=n)
     rec = data.make_record(np.arange(n) / fs, e, pc, "steps-in-fit-parts")
-    split, why = data.split_for(rec)
+    split, why = data.split_for(rec, "blocks")
     assert split == holdout.layout(n, "tail")
     assert "held-out blocks refused" in why and "last 30 %" in why
     assert data.split_for(rec, "tail") == (split, None)

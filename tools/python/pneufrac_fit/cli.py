@@ -85,10 +85,10 @@ def _parser():
     d.add_argument("--order", type=int, default=8, help="Oustaloup order N (default 8)")
     d.add_argument("--seed", type=_seed, default=0,
                    help="seed of the fresh starts (a non-negative integer)")
-    d.add_argument("--holdout", default="blocks", choices=list(holdout.MODES),
-                   help="what is held out for validation: 'blocks' (default: the last 30 %% "
-                        "of each third of the record, the whole record simulated) or 'tail' "
-                        "(the last 30 %% of the record)")
+    d.add_argument("--holdout", default=holdout.DEFAULT, choices=list(holdout.MODES),
+                   help="what is held out for validation: 'tail' (default: the last 30 %% "
+                        "of the record) or 'blocks' (the last 30 %% of each third of the "
+                        "record, the whole record simulated)")
     d.add_argument("--quiet", action="store_true", help="no progress on stderr")
     g = sub.add_parser("generate", help="synthetic bump test with a hidden effect",
                        epilog=EXIT_HELP)

@@ -223,7 +223,7 @@ def _check_excitation(rec: Record) -> None:
         raise DataError(f"{rec.source}: the output pc is constant: nothing to fit")
 
 
-def split_for(rec: Record, mode: str = "blocks"):
+def split_for(rec: Record, mode: str = holdout.DEFAULT):
     """(split, note): the split of the record into fit parts and held-out
     blocks (holdout.layout) whose parts both see the input and the output
     move. An input that rests through every held-out block (a setpoint
@@ -236,7 +236,7 @@ def split_for(rec: Record, mode: str = "blocks"):
         return split, None
     except DataError as exc:
         tail = holdout.layout(rec.n, "tail")
-        if tail == split:
+        if mode == "tail" or tail == split:
             raise
         check_parts(rec, tail)
         why = str(exc).split(": ", 1)[-1]

@@ -13,6 +13,7 @@ import numpy as np
 from . import baseline as base_mod
 from . import evidence as ev_mod
 from . import data, fit, model, noise, selection, signals
+from . import holdout as holdout_mod
 from .fit import FitResult, Problem
 
 
@@ -117,7 +118,7 @@ def _held_blocks_note(split, nm) -> list:
 
 def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
              oversample: int | None = None, jobs: int | None = None, progress: bool = True,
-             seed: int = 0, holdout: str = "blocks") -> Diagnosis:
+             seed: int = 0, holdout: str = holdout_mod.DEFAULT) -> Diagnosis:
     t0 = time.monotonic()
     say = Progress(progress)
     if seed < 0:
