@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: MIT
 """How much each true effect of an independent-simulator record moves its
 sampled output on top of the others, in the part pneufrac-fit fits on and
-in the part it validates on (the last VAL_FRACTION), over the noise sd.
+in the part it validates on (its default split,
+pneufrac_fit.holdout.layout), over the noise sd.
 
     PYTHONPATH=tests/python .venv/bin/python bench/indep_contributions.py NAME SEED
 
@@ -29,6 +30,7 @@ import sys
 import numpy as np
 
 from indepsim import daq, make, simulate
+from pneufrac_fit import holdout
 from indepsim.scenarios import CATALOGUE, SEED_MAX
 
 # Each effect's fields at "off" (indepsim.effects.Effects' defaults).
@@ -68,14 +70,16 @@ def contributions(name: str, seed: int) -> dict:
     t_start = -truth["record"]["pre_roll"] - 2.0 / fs
     sd = truth["noise"]["sd"]
     t = times[0]
-    nv = int(round(t.size * make.VAL_FRACTION))
+    split = holdout.layout(t.size)
+    fit_rows = np.concatenate([np.arange(s.start, s.stop) for s in split.fit_slices()])
+    held_rows = np.concatenate([np.arange(s.start, s.stop) for s in split.held_slices()])
     full = daq.average(runs["all"][0].line, t_start, runs["all"][1], t, fs)
     out = {}
     for c in truth["causes"]:
         sim, fs_int = runs[c]
         d = full - daq.average(sim.line, t_start, fs_int, t, fs)
         out[c] = {part: float(np.sqrt(np.mean(x ** 2)) / sd) if sd > 0 else None
-                  for part, x in (("fit", d[:-nv]), ("val", d[-nv:]))}
+                  for part, x in (("fit", d[fit_rows]), ("val", d[held_rows]))}
     return out
 
 

@@ -13,9 +13,10 @@ import numpy as np
 import pytest
 from scipy.signal import lfilter
 
-from pneufrac_fit import guards, model, noise, selection
+from pneufrac_fit import guards, holdout, model, noise, selection
 
 N_FIT, N_VAL = 2000, 3000
+TAIL = holdout.Split(N_FIT + N_VAL, ((N_FIT, N_FIT + N_VAL),))   # fit, then held out
 
 
 def _test(effect, resid, passes=True, nrmse=0.1, k=9, explains=True):
@@ -25,7 +26,7 @@ def _test(effect, resid, passes=True, nrmse=0.1, k=9, explains=True):
     ref = SimpleNamespace(effects=(), nrmse_val=1.0)      # the linear model, far worse
     return SimpleNamespace(effect=effect, model=fr, ref=ref, passes=passes, excludes=explains,
                            val_gain=0.1 if explains else -0.1,
-                           nm=noise.fit(np.zeros(0)), pb=SimpleNamespace(nfit=N_FIT, burn=0))
+                           nm=noise.fit(np.zeros(0)), pb=SimpleNamespace(split=TAIL, burn=0))
 
 
 def _residuals(scale_b, seed=1):
@@ -193,7 +194,7 @@ def test_when_both_are_rejected_vuong_decides():
 
 
 def _lof_case(resid, e):
-    pb = SimpleNamespace(nm=None, counted=slice(10, e.size), e_abs=e)
+    pb = SimpleNamespace(nm=None, burn=10, fit_pieces=lambda r: [r[10:]], e_abs=e)
     return guards.inadequate(pb, SimpleNamespace(residual=lambda _pb: resid))
 
 
@@ -296,7 +297,7 @@ def _pairs_with(monkeypatch, inadequate, passing, scales, worse_alone=()):
     monkeypatch.setattr(guards, "test", test)
     current = SimpleNamespace(effects=(), effect="none", dead=0)
     notes, sets = [], []
-    got = selection.pairs(SimpleNamespace(nfit=N_FIT, burn=0), current, tests,
+    got = selection.pairs(SimpleNamespace(split=TAIL, burn=0), current, tests,
                           lambda s: None, notes, sets)
     return got, notes, sets
 

@@ -55,11 +55,11 @@ def test_forked_worker_makes_its_own_threads():
 def test_no_effect_is_the_model_without_it(effect):
     pb = _problem()
     v = {**model.nominal_groups("p"), "e0": pb.e0_default()}
-    plain, K, _, _ = fit.model_output(pb, (), v, 0, pb.nfit)
+    plain, K, _, _ = fit.model_output(pb, (), v, 0, pb.nsim)
     w = {**v, **candidates.no_effect(pb, effect)}
     if effect == "saturation":            # K is searched, not solved, with it
         w["K"] = K
-    with_it, _, _, _ = fit.model_output(pb, (effect,), w, 0, pb.nfit)
+    with_it, _, _, _ = fit.model_output(pb, (effect,), w, 0, pb.nsim)
     span = np.ptp(plain)
     tol = 2e-3 if effect == "lag" else 1e-9   # the lag's bound is a fiftieth of a sample
     assert np.max(np.abs(with_it - plain)) <= tol * span

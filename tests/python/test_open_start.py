@@ -49,6 +49,6 @@ def test_start_terms_take_the_free_response():
     vals["e0"] = 0.0                     # the generator's operating point
     out, _, _, coef = fit.model_output(pb, (), vals)
     assert coef.size == len(fit.start_taus(pb)) > 0
-    early = slice(pb.burn, pb.burn + pb.nfit // 10)
+    early = slice(pb.burn, pb.burn + pb.split.n_fit // 10)
     r = (pb.y - out)[early]
     assert float(np.sqrt(np.mean(r * r))) < 1.3 * ds.noise_sd

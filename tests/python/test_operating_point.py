@@ -5,7 +5,7 @@ on e, data.change_points), and the verdict must not depend on it."""
 import numpy as np
 import pytest
 
-from pneufrac_fit import baseline, data, diagnose, fit, generate, lib, model
+from pneufrac_fit import baseline, data, diagnose, fit, generate, holdout, lib, model
 
 E0, PC0, E_NOISE = 0.5, 9.0, 1e-4
 
@@ -72,7 +72,7 @@ def test_pid_w_is_what_is_simulated():
     is clamped between the fit and the library."""
     setup = model.Setup("pid", 1000.0, 3.0)
     pb = fit.Problem(np.zeros(10), np.zeros(10), setup, {},
-                     list(model.CONFIG_GROUPS["pid"]), nfit=10)
+                     list(model.CONFIG_GROUPS["pid"]), split=holdout.Split(10, ()))
     sp = fit.specs(pb, ())
     assert dict((n, tr) for n, tr, _, _ in sp)["w"] == "wnu"
     rng = np.random.default_rng(0)
@@ -89,7 +89,7 @@ def test_pid_w_is_what_is_simulated():
         lib.Controller("pid", p, {}, 1000.0)
     # w held: nu is bounded by it
     pb2 = fit.Problem(np.zeros(10), np.zeros(10), setup, {"w": 0.7},
-                      [g for g in model.CONFIG_GROUPS["pid"] if g != "w"], nfit=10)
+                      [g for g in model.CONFIG_GROUPS["pid"] if g != "w"], split=holdout.Split(10, ()))
     assert dict((n, h) for n, _, _, h in fit.specs(pb2, ()))["nu"] == 0.7
 
 

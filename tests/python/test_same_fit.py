@@ -56,12 +56,12 @@ def test_a_fit_better_only_on_fewer_samples_is_not_kept():
     controller follows, as the slow start of a sweep was where the model
     of the seed-4 record fitted worst): the whole-part fit is kept."""
     pb = _problem()
-    k = np.arange(pb.nfit // 2)
+    k = np.arange(pb.split.n_fit // 2)
     pb.y = pb.y.copy()
     pb.y[k] += 0.2 * np.ptp(pb.y) * np.sin(np.pi * k / k.size) ** 2
     whole = _fit(pb, (), _start(pb))
     late = copy.copy(pb)
-    late.burn = pb.nfit // 2
+    late.burn = pb.split.n_fit // 2
     half = _fit(late, (), {**whole.groups, **whole.values})
     # the premise: on its own samples it is the better fit, clearly
     assert selection._bic(late, half) < selection._bic(late, whole) - 10 * selection.SAME_FIT_DBIC

@@ -8,7 +8,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from pneufrac_fit import fit, model, selection
+from pneufrac_fit import fit, holdout, model, selection
 
 
 def test_every_start_names_every_free_group():
@@ -19,7 +19,7 @@ def test_every_start_names_every_free_group():
     ext = SimpleNamespace(groups=groups, values={k: groups[k] for k in free})
     setup = model.Setup("dd", 1000.0, 3.0)
     pb = fit.Problem(np.zeros(10), np.zeros(10), setup,
-                     {g: v for g, v in groups.items() if g not in free}, list(free), nfit=10)
+                     {g: v for g, v in groups.items() if g not in free}, list(free), split=holdout.Split(10, ()))
     sp = fit.specs(pb, ())
     for label, st in selection.confirm_starts(ext, current, current):
         th = fit.to_theta(sp, st, pb)           # raised KeyError: 'L' before

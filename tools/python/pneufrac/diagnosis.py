@@ -45,7 +45,7 @@ def diagnose(data, config: str, *, columns: dict | None = None, fixes: dict | No
     fixes: {group: value}, groups held at a value (K, L, tau, rho, beta,
         q, RC, nu, w, RCd, RCi_ratio); e0, pc0: the operating point, both
         or neither (default: from the record); progress: progress lines on
-        stderr; options: order, oversample, jobs, seed, as the CLI's
+        stderr; options: order, oversample, jobs, seed, holdout, as the CLI's
         options of those names (their defaults too).
 
     Raises pneufrac_fit.data.DataError (a ValueError) for a record that
@@ -65,7 +65,7 @@ def diagnose(data, config: str, *, columns: dict | None = None, fixes: dict | No
     rec = _record(data, columns)
     if e0 is not None:
         data_mod.set_operating_point(rec, float(e0), float(pc0))
-    known = ("order", "oversample", "jobs", "seed")
+    known = ("order", "oversample", "jobs", "seed", "holdout")
     bad = [k for k in options if k not in known]
     if bad:
         raise ValueError(f"unknown option '{bad[0]}' (options: {', '.join(known)})")

@@ -104,7 +104,7 @@ def unstick(pb, best, say, notes: list):
             st[name] = _moved_inside(name, side, bound, k)
             runs.append(fit.lm_fit(work, (), st, 0, budget, f"unstick {name} {k}"))
         r = search.best(runs)
-        sig2 = cost / max(work.nfit - work.burn, 1)
+        sig2 = cost / max(work.n_counted, 1)
         if r.cost < cost - VISIBLE * sig2 and not any(e[0] == name for e in _at_bounds(work, r)):
             notes.append(f"The first baseline fit ended with {name} at its {side} bound; a "
                          f"restart with {name} moved inside found a better optimum "
@@ -151,7 +151,7 @@ def prune(pb, best, say, reasons: dict):
     """Hold groups the record does not determine, worst first."""
     nom = model.nominal_groups(pb.setup.config)
     while True:
-        nm = noise.fit(best.residual(pb)[pb.counted])
+        nm = noise.fit(pb.fit_pieces(best.residual(pb)))
         fit.uncertainty(pb, best)
         sp = fit.full_specs(pb, best)
         worst, worst_ratio = None, 1.0
@@ -217,7 +217,7 @@ def starts(pb, rng, label=""):
 def premise_ratio(pb, fr) -> float:
     """The whitened residual's variance over the measured noise model's
     innovation variance (about 1 when the residual is that noise)."""
-    n = max(pb.nfit - pb.burn - pb.nm.order, 1)
+    n = max(pb.fit_white(pb.y).size, 1)
     return fr.cost / n / max(pb.nm.sigma2, 1e-300)
 
 

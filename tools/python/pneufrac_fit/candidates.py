@@ -108,7 +108,7 @@ def _kind_told(pb_a, a, pb_b, b) -> bool:
     two explanations apart (guards.distinguishable), residuals whitened by
     the AR model of a's (if a is the explanation, its residual is the
     noise)."""
-    ta = guards.Test("saturation", a, None, nm=noise.fit(a.residual(pb_a)[pb_a.counted]))
+    ta = guards.Test("saturation", a, None, nm=noise.fit(pb_a.fit_pieces(a.residual(pb_a))))
     tb = guards.Test("saturation", b, None)
     ta.pb, tb.pb = pb_a, pb_b
     return guards.distinguishable(ta, tb)
@@ -205,15 +205,18 @@ def scan_dead(pb, effects, vals: dict, dmax: int) -> list[tuple[float, int]]:
         g["K"] = 1.0
     ev = dict(vals)
     ev["dead"] = 0
-    n = pb.nfit
+    n = pb.nsim
     raw = pb.setup.simulate(g, pb.e_abs[:n] - g["e0"],
                             tuple(x for x in effects if x != "dead_time"), ev, internal=True)
     A = pb.nm.a if pb.nm is not None else np.array([1.0])
     o = A.size - 1
-    lo, hi = pb.counted.start + o, pb.counted.stop
+    # the whitened samples counted: each fit part's from its (o+1)-th on,
+    # where the filter reads that part only
+    spans = [(s.start + o, s.stop) for s in pb.fit_parts if s.stop > s.start + o]
+    rows = np.concatenate([np.arange(a, b) for a, b in spans]) if spans else np.zeros(0, int)
     y = pb.y[:n] - (pb.pc0 if pb.pc0 is not None else 0.0)
-    wy = lfilter(A, [1.0], y)[lo:hi]
-    w1 = lfilter(A, [1.0], np.ones(n))[lo:hi] if pb.pc0 is None else None
+    wy = lfilter(A, [1.0], y)[rows]
+    w1 = lfilter(A, [1.0], np.ones(n))[rows] if pb.pc0 is None else None
     yy = float(wy @ wy)
     b1 = float(w1 @ w1) if w1 is not None else 0.0
     y1 = float(wy @ w1) if w1 is not None else 0.0
@@ -228,11 +231,12 @@ def scan_dead(pb, effects, vals: dict, dmax: int) -> list[tuple[float, int]]:
             d = q * m + p
             if d > dmax:
                 break
-            a0, a1 = lo - q + qmax, hi - q + qmax
-            ws = fw[a0:a1]
-            ss = c2[a1] - c2[a0]
+            sh = qmax - q
+            ws = fw[rows + sh]
+            ss = sum(c2[b + sh] - c2[a + sh] for a, b in spans)
             sy = float(ws @ wy)
-            s1 = (c1[a1] - c1[a0]) * (w1[-1] if w1 is not None else 0.0)
+            s1 = (sum(c1[b + sh] - c1[a + sh] for a, b in spans)
+                  * (w1[-1] if w1 is not None and w1.size else 0.0))
             if sK:
                 if w1 is None:
                     if not ss > 0:
@@ -259,15 +263,16 @@ def scan_dead(pb, effects, vals: dict, dmax: int) -> list[tuple[float, int]]:
 
 def _dead_candidates(pb, effects, base) -> list[int]:
     m = pb.setup.oversample
-    dmax = int(min(DEAD_MAX, pb.nfit // 20)) * m
+    dmax = int(min(DEAD_MAX, pb.split.n_fit // 20)) * m
     scan = scan_dead(pb, effects, {**base.groups, **base.values}, dmax)
     top = [d for _, d in scan[:3] if d >= 1]
     # The data's own answer: the relay passes 1/rho of a step at once, so
     # the output's increments correlate with the input's at the delay.
-    n = pb.nfit
-    dy = np.diff(pb.y[:n])
-    de = np.diff(pb.e_abs[:n])
-    cc = [abs(float(dy[k:] @ de[:de.size - k])) for k in range(0, dmax // m + 1)]
+    # over the fit parts only: no held-out output reaches the fit's choices
+    dys = [np.diff(pb.y[s]) for s in pb.fit_parts]
+    des = [np.diff(pb.e_abs[s]) for s in pb.fit_parts]
+    cc = [abs(sum(float(dy[k:] @ de[:de.size - k]) for dy, de in zip(dys, des) if de.size > k))
+          for k in range(0, dmax // m + 1)]
     d_cc = int(np.argmax(cc)) * m
     cand = set(top)
     if d_cc >= 1:
@@ -281,7 +286,7 @@ def profile_dead(pb, effects, b):
     dynamics), so the delay is scanned again with b's shape and refitted
     where it points, until it stays put, then its neighbours are tried."""
     fits = [b]
-    dmax = int(min(DEAD_MAX, pb.nfit // 20)) * pb.setup.oversample
+    dmax = int(min(DEAD_MAX, pb.split.n_fit // 20)) * pb.setup.oversample
     for _ in range(8):
         scan = scan_dead(pb, effects, {**b.groups, **b.values}, dmax)
         d_new = next((dd for _, dd in scan if dd >= 1), b.dead)

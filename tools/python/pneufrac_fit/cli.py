@@ -22,7 +22,7 @@ from pathlib import Path
 
 from pneufrac._cli import UsageError, finite_number, parser_class
 
-from . import model, sensor
+from . import holdout, model, sensor
 
 EXIT_USAGE = 2
 EXIT_LIBRARY = 3
@@ -85,6 +85,10 @@ def _parser():
     d.add_argument("--order", type=int, default=8, help="Oustaloup order N (default 8)")
     d.add_argument("--seed", type=_seed, default=0,
                    help="seed of the fresh starts (a non-negative integer)")
+    d.add_argument("--holdout", default=holdout.DEFAULT, choices=list(holdout.MODES),
+                   help="what is held out for validation: 'tail' (default: the last 30 %% "
+                        "of the record) or 'blocks' (the last 30 %% of each third of the "
+                        "record, the whole record simulated)")
     d.add_argument("--quiet", action="store_true", help="no progress on stderr")
     g = sub.add_parser("generate", help="synthetic bump test with a hidden effect",
                        epilog=EXIT_HELP)
@@ -220,7 +224,7 @@ def cmd_diagnose(a) -> int:
         data.set_operating_point(rec, a.e0, a.pc0)
     out = _out_dir(a.out) if a.out else None      # before the (long) fit
     d = diagnose.diagnose(rec, a.config, fixes, order=a.order, oversample=a.oversample,
-                          jobs=jobs, progress=not a.quiet, seed=a.seed)
+                          jobs=jobs, progress=not a.quiet, seed=a.seed, holdout=a.holdout)
     if out is not None:
         try:
             path = output.write_report(d, out)

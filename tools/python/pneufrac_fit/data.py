@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import signals, timebase
+from . import holdout, signals, timebase
 
 MIN_SAMPLES = 200
 
@@ -146,6 +146,7 @@ def make_record(t, e, pc, source: str = "<data>") -> Record:
     _levels(rec)
     _operating_point(rec)
     _check_excitation(rec)
+    split_for(rec)
     return rec
 
 
@@ -216,21 +217,59 @@ def _check_excitation(rec: Record) -> None:
         raise DataError(f"{rec.source}: the input e is flat (span {span:.3g} is within "
                         f"{signals.STEP_SIGMAS:g}x its noise {rec.sig_e:.3g}): it cannot "
                         "excite the model")
-    split = int(0.7 * rec.n)
-    if np.ptp(e[:split]) < 0.05 * span or np.ptp(e[split - 1:]) < 0.05 * span:
-        raise DataError(f"{rec.source}: the input must move in both the first 70 % (fit) "
-                        "and the last 30 % (validation) of the record")
     pc = rec.pc
     pspan = float(np.max(pc) - np.min(pc))
     if pspan <= 1e-12 * max(float(np.max(np.abs(pc))), 1e-300) or pspan == 0.0:
         raise DataError(f"{rec.source}: the output pc is constant: nothing to fit")
-    # The output must move in both parts too: a validation part with a
-    # constant output has no spread to normalise the error by.
-    for part, name in ((pc[:split], "the first 70 % (fit)"),
-                       (pc[split:], "the last 30 % (validation)")):
-        if np.ptp(part) < 0.05 * pspan:
+
+
+def split_for(rec: Record, mode: str = holdout.DEFAULT):
+    """(split, note): the split of the record into fit parts and held-out
+    blocks (holdout.layout) whose parts both see the input and the output
+    move. An input that rests through every held-out block (a setpoint
+    sequence whose moves all fall in the fit parts) falls back to the tail
+    split, with a note saying so; DataError when that does not hold
+    either."""
+    split = holdout.layout(rec.n, mode)
+    try:
+        check_parts(rec, split)
+        return split, None
+    except DataError as exc:
+        tail = holdout.layout(rec.n, "tail")
+        if mode == "tail" or tail == split:
+            raise
+        check_parts(rec, tail)
+        why = str(exc).split(": ", 1)[-1]
+        return tail, (f"held-out blocks refused ({why}): validated on the last 30 % "
+                      "of the record instead")
+
+
+def check_parts(rec: Record, split) -> None:
+    """The input and the output must move in both the fit part and the
+    held-out part of the split (holdout.Split): a part where the input
+    rests tests nothing, and a held-out part with a constant output has no
+    spread to normalise the error by."""
+    e, pc = rec.e, rec.pc
+    span = float(np.max(e) - np.min(e))
+    pspan = float(np.max(pc) - np.min(pc))
+    tail = len(split.held) == 1 and split.held[0][1] == split.n
+    fit_name = "the first 70 % (fit)" if tail else "the fit parts"
+    held_name = "the last 30 % (validation)" if tail else "the held-out blocks (validation)"
+
+    def moves(x, parts, edge):
+        # the input's range over each part, from the sample before it (the
+        # step into a part is a move of that part)
+        return max((float(np.ptp(x[max(s.start - edge, 0):s.stop])) for s in parts),
+                   default=0.0)
+    if (moves(e, split.fit_slices(), 0) < 0.05 * span
+            or moves(e, split.held_slices(), 1) < 0.05 * span):
+        raise DataError(f"{rec.source}: the input must move in both {fit_name} and "
+                        f"{held_name} of the record")
+    for parts, name in ((split.fit_slices(), fit_name), (split.held_slices(), held_name)):
+        rng = float(np.ptp(np.concatenate([pc[s] for s in parts])))
+        if rng < 0.05 * pspan:
             raise DataError(f"{rec.source}: the output pc does not move in {name} of the "
-                            f"record (range {np.ptp(part):.3g}, under 5 % of its span "
+                            f"record (range {rng:.3g}, under 5 % of its span "
                             f"{pspan:.3g}): it must respond in both parts")
 
 

@@ -12,7 +12,8 @@ import numpy as np
 
 from . import baseline as base_mod
 from . import evidence as ev_mod
-from . import fit, model, noise, selection, signals
+from . import data, fit, model, noise, selection, signals
+from . import holdout as holdout_mod
 from .fit import FitResult, Problem
 
 
@@ -33,7 +34,7 @@ class Diagnosis:
     config: str
     fs: float
     n: int
-    nfit: int
+    split: object                # holdout.Split: the fit parts and held-out blocks
     baseline: FitResult
     extended: FitResult
     causes: list                # effect names, most important first
@@ -93,32 +94,48 @@ def _floor(rec, pb, final) -> tuple[float, str]:
     the opening rest stretch when it is long enough to show the noise's
     colour (a direct measurement), else from the final model's residual
     (an upper bound: any model error left counts as noise)."""
-    sy = float(np.std(pb.y[pb.nfit:]))
+    sy = float(np.std(pb.held_of(pb.y)))
     if rec.rest >= 200:
         v = float(noise.fit(rec.pc[:rec.rest]).var)
         return math.sqrt(v) / sy, f"the opening rest stretch ({rec.rest} samples)"
-    r = final.residual(pb)[pb.counted]
+    r = pb.fit_of(final.residual(pb))
     return float(np.std(r)) / sy, ("the final model's residual (an upper bound: model "
                                    "error left counts as noise)")
 
 
+def _held_blocks_note(split, nm) -> list:
+    """A held-out block shorter than 20 of the noise's correlation times
+    (holdout.py): its edges' noise correlates with the fit parts' beside
+    them, and the held-out error may be optimistic."""
+    tc = nm.correlation_time()
+    h = min(b - a for a, b in split.held)
+    if len(split.held) < 2 or 20 * tc <= h:
+        return []
+    return [f"The residual's noise stays correlated for {tc} samples, more than a "
+            f"twentieth of the shortest held-out block ({h} samples): the held-out "
+            "error may be optimistic (--holdout tail holds out one block)."]
+
+
 def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
              oversample: int | None = None, jobs: int | None = None, progress: bool = True,
-             seed: int = 0) -> Diagnosis:
+             seed: int = 0, holdout: str = holdout_mod.DEFAULT) -> Diagnosis:
     t0 = time.monotonic()
     say = Progress(progress)
     if seed < 0:
         raise ValueError("seed must be a non-negative integer")
     m = model.auto_oversample(rec.fs) if oversample is None else int(oversample)
-    pb = Problem.from_record(rec, config, fixes, order, m)
+    split, why = data.split_for(rec, holdout)
+    if why:
+        rec.notes.append(why)
+    pb = Problem.from_record(rec, config, fixes, order, m, split)
     pb.user_fixed = dict(fixes or {})
     notes_nm = _noise_from_rest(rec, pb)
     if jobs is None:
         jobs = min(2, os.cpu_count() or 1)
     fit.set_threads(jobs)
     rng = np.random.default_rng(seed)
-    say(f"{rec.n} samples at {rec.fs:g} Hz, config {config}; fit on the first "
-        f"{pb.nfit}, validate on the last {rec.n - pb.nfit}; simulated at {m}x")
+    say(f"{rec.n} samples at {rec.fs:g} Hz, config {config}; {split.describe(rec.fs)}; "
+        f"simulated at {m}x")
     weighted = pb.nm is not None
     base, identified, reasons, fit_notes, nm0 = base_mod.fit_baseline(pb, rng, say)
     if not (weighted and pb.nm is None):     # else the baseline's note says why it is not
@@ -132,8 +149,8 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
     causes = _ordered(final, checks)
     sd = noise_estimate(pb.y, pb.e_abs)
     floor, src = _floor(rec, pb, final)
-    r = final.residual(pbf)[pbf.counted]
-    nmf = noise.fit(r)
+    nmf = noise.fit(pbf.fit_pieces(final.residual(pbf)))
+    fit_notes += _held_blocks_note(split, nmf)
     evb = ev_mod.analyse(pb, base, sd)
     eva = ev_mod.analyse(pbf, final, sd)
     evidence = ev_mod.describe(evb, pb, sd, floor, base)
@@ -141,7 +158,7 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
     why = ev_mod.verdict(causes, base, final, tests, checks, evb, eva, pbf, floor,
                          ambiguous)
     say("causes: " + (", ".join(causes) if causes else "none"))
-    d = Diagnosis(config, rec.fs, rec.n, pb.nfit, base, final, causes, tests, rounds, checks,
+    d = Diagnosis(config, rec.fs, rec.n, split, base, final, causes, tests, rounds, checks,
                   identified, reasons, evidence, why, evb, eva, sd, nmf, floor, src,
                   list(rec.notes), fit_notes, pb.e_abs, pb.y, rec.t,
                   float(final.e0), float(final.values["pc0"]), m, pb=pbf)
@@ -161,13 +178,14 @@ def _noise_from_rest(rec, pb) -> list:
     it (the output's likelihood under that noise), and the guards compare
     models under it. Without one, the fits are plain output error and each
     comparison whitens with the extended model's residual."""
-    if rec.rest < MIN_NOISE_REST:
+    rest = min(rec.rest, pb.split.first_end)     # no held-out output reaches the fit
+    if rest < MIN_NOISE_REST:
         return []
-    nm = noise.fit(rec.pc[:rec.rest])
+    nm = noise.fit(rec.pc[:rest])
     if nm.order == 0:
-        return [f"The noise, measured on the opening {rec.rest} samples at rest, is white."]
+        return [f"The noise, measured on the opening {rest} samples at rest, is white."]
     pb.nm = nm
-    return [f"The noise, measured on the opening {rec.rest} samples at rest, is "
+    return [f"The noise, measured on the opening {rest} samples at rest, is "
             f"{nm.describe()}: every fit minimises the residual whitened by it (the "
             "output's likelihood under that noise), and the guards compare models under it."]
 

@@ -47,7 +47,7 @@ def analyse(pb, fr, sd: float) -> dict:
     acf = xcorr(r, r, lags)
     de = np.diff(e, prepend=e[0])
     clag = np.arange(-MAXLAG, MAXLAG + 1)
-    nm = noise.fit(r[pb.counted])
+    nm = noise.fit(pb.fit_pieces(r))
     rw = np.concatenate([np.zeros(nm.order), nm.whiten(r)])
     ccf = xcorr(rw, de, clag)
     bound = Z99 / math.sqrt(n)

@@ -28,11 +28,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import least_squares
 
-from . import lib, model, noise
+from . import holdout, lib, model, noise
 
-SPLIT = 0.7          # fit on the first 70 %, validate on the rest
 NOZZLE_BIAS = (-0.5, 3.0)   # the fitted range of the nozzle's bias point
-BURN = 0.02          # without an opening rest (of at least this much): the first 2 % of the fit part is not counted
+BURN = 0.02          # without an opening rest (of at least this much): 2 % of the fit part's samples, at the start, not counted
 DIFF_STEP = 1e-4     # relative finite-difference step (transformed parameters)
 
 _pool = None
@@ -64,14 +63,16 @@ class _Budget(Exception):
 
 @dataclass
 class Problem:
-    """One record, one configuration: data, split and what is held fixed."""
+    """One record, one configuration: data, split and what is held fixed.
+    The split (holdout.Split) says which samples the fit counts (from burn
+    on) and which are held out; nothing else does."""
     e_abs: np.ndarray            # measured input
     y: np.ndarray                # measured output
     setup: model.Setup
     fixed: dict = field(default_factory=dict)      # group -> value (user or pruned)
     free: list = field(default_factory=list)       # groups fitted ("e0" included when fitted)
-    nfit: int = 0                # samples simulated for the fit part
-    burn: int = 0                # first sample counted in the cost
+    split: holdout.Split = None  # fit parts and held-out blocks
+    burn: int = 0                # first sample counted in the cost (in the first fit part)
     pc0: float | None = None     # output offset given (None: solved)
     span_e: float = 1.0
     amp_e: float = 1.0
@@ -84,9 +85,10 @@ class Problem:
     open_start: bool = False     # the state at the first sample is unknown (no opening rest)
 
     @classmethod
-    def from_record(cls, rec, config, fixed=None, order=8, oversample=1):
+    def from_record(cls, rec, config, fixed=None, order=8, oversample=1, split=None):
         n = rec.n
-        nfit = int(SPLIT * n)
+        split = split or holdout.layout(n)
+        nfit = split.n_fit
         fixed = dict(fixed or {})
         if rec.e0 is not None:
             fixed["e0"] = rec.e0
@@ -107,12 +109,14 @@ class Problem:
                              f"{BURN:.0%} of the fit part: it does not show that the "
                              "controller was at rest, so its state at the start is "
                              "estimated too (a decaying free response)")
-        burn = 0 if at_rest else max(1, int(BURN * nfit))
+        burn = 0 if at_rest else min(max(1, int(BURN * nfit)), split.first_end // 2)
         pc0 = rec.pc0 if getattr(rec, "op_given", False) else None
         e = rec.e - (rec.e0 if rec.e0 is not None else float(np.median(rec.e[:10])))
-        yd = rec.pc - (rec.pc0 if rec.pc0 is not None else float(np.median(rec.pc[:10])))
+        # the output's range over the fit parts: no held-out output reaches the fit
+        yd = (np.concatenate([rec.pc[s] for s in split.fit_slices()])
+              - (rec.pc0 if rec.pc0 is not None else float(np.median(rec.pc[:10]))))
         return cls(np.asarray(rec.e, float), np.asarray(rec.pc, float), setup, fixed, free,
-                   nfit, burn, pc0, float(np.ptp(rec.e)), float(np.max(np.abs(e))),
+                   split, burn, pc0, float(np.ptp(rec.e)), float(np.max(np.abs(e))),
                    float(np.min(yd)), float(np.max(yd)), open_start=burn > 0)
 
     def e0_default(self) -> float:
@@ -124,12 +128,48 @@ class Problem:
         """The same problem fitted on its first n samples only."""
         import copy
         w = copy.copy(self)
-        w.nfit = int(min(self.nfit, n))
+        w.split = self.split.window(n)
         return w
 
     @property
-    def counted(self) -> slice:
-        return slice(self.burn, self.nfit)
+    def nsim(self) -> int:
+        """Samples the fit simulates (to the end of its last part)."""
+        return self.split.end
+
+    @property
+    def fit_parts(self) -> list:
+        """The samples the fit counts: slices from burn on."""
+        return self.split.fit_slices(self.burn)
+
+    @property
+    def held_parts(self) -> list:
+        return self.split.held_slices()
+
+    @property
+    def n_counted(self) -> int:
+        return sum(s.stop - s.start for s in self.fit_parts)
+
+    def fit_of(self, x: np.ndarray) -> np.ndarray:
+        """x's samples in the fit parts, concatenated."""
+        return noise.whiten_parts(None, x, self.fit_parts)
+
+    def held_of(self, x: np.ndarray) -> np.ndarray:
+        """x's samples in the held-out parts, concatenated."""
+        return noise.whiten_parts(None, x, self.held_parts)
+
+    def fit_pieces(self, x: np.ndarray) -> list:
+        """x's samples in each fit part, one array per part (what a noise
+        model of the residual is fitted to: noise.fit pairs no samples
+        across a held-out block)."""
+        return [x[s] for s in self.fit_parts]
+
+    def fit_white(self, x: np.ndarray, nm=False) -> np.ndarray:
+        """x over the fit parts, each whitened on its own by nm (default:
+        the problem's noise model; None: not whitened)."""
+        return noise.whiten_parts(self.nm if nm is False else nm, x, self.fit_parts)
+
+    def held_white(self, x: np.ndarray, nm) -> np.ndarray:
+        return noise.whiten_parts(nm, x, self.held_parts)
 
 
 @dataclass
@@ -314,11 +354,6 @@ def simulate_raw(pb: Problem, effects, vals: dict, dead: int = 0, n: int | None 
     return pb.setup.simulate(g, e - g["e0"], effects, ev, oversample)
 
 
-def whiten(pb: Problem, x: np.ndarray) -> np.ndarray:
-    """x filtered by the problem's noise model (unchanged without one)."""
-    return x if pb.nm is None else pb.nm.whiten(x)
-
-
 # ------------------------------------------------------- the unknown start
 # A record that does not open at rest opens in the middle of a response:
 # the controller's state at its first sample holds the past input, which
@@ -337,10 +372,10 @@ def whiten(pb: Problem, x: np.ndarray) -> np.ndarray:
 # the offset pc0, so they are solved inside every evaluation with K and
 # pc0 (the initial conditions of output-error identification as free
 # linear parameters). Time constants: from a third of the default burn
-# (BURN of the fit part) up to a ninth of the fit part (START_SPAN), a
+# (BURN of the fit part) up to a ninth of the first fit part (START_SPAN), a
 # factor START_STEP apart: every term has died away (to e^-9) by the end
-# of the fit part, so none can stand in for a trend or a slow noise across
-# it. With terms up to a third of the fit part, 1/f sensor noise (whose
+# of the first fit part, before the first held-out sample, so none can
+# stand in for a trend or a slow noise across the record. With terms up to a third of the fit part, 1/f sensor noise (whose
 # slow wander looks like a decay over the fit part) let the slow groups
 # move for it: on two own-generator pid records with 1/f noise the held-out
 # NRMSE went from 0.044 to 0.17 and from 0.037 to 0.078. A time constant whose exponential has fallen below
@@ -359,8 +394,8 @@ def start_taus(pb: Problem) -> tuple:
     when the record opens at rest (the state is known: rest)."""
     if not pb.open_start:
         return ()
-    t, out = max(BURN * pb.nfit, 1.0) / START_STEP, []
-    while t <= pb.nfit / START_SPAN:
+    t, out = max(BURN * pb.split.n_fit, 1.0) / START_STEP, []
+    while t <= pb.split.first_end / START_SPAN:
         if math.exp(-pb.burn / t) >= START_GONE:
             out.append(t)
         t *= START_STEP
@@ -374,25 +409,26 @@ def start_basis(taus, n: int) -> np.ndarray:
     return np.exp(-i / taus[None, :]) if taus.size else np.zeros((n, 0))
 
 
-def _fixed_regressors(pb: Problem, sl: slice):
+def _fixed_regressors(pb: Problem, parts: list):
     """The regressors that do not depend on the parameters (the constant,
-    when pc0 is solved, then the start's basis), whitened over sl: their
-    orthonormal basis Q and triangular factor R, and the whitened output
-    with pc0 (when given) removed. Cached: they are the same for every
-    evaluation of a problem."""
+    when pc0 is solved, then the start's basis), whitened over the parts:
+    their orthonormal basis Q and triangular factor R, and the whitened
+    output with pc0 (when given) removed. Cached: they are the same for
+    every evaluation of a problem."""
     taus = start_taus(pb)
-    key = (id(pb.y), pb.y.size, sl.start, sl.stop, pb.pc0, _nm_key(pb), taus)
+    key = (id(pb.y), pb.y.size, tuple((x.start, x.stop) for x in parts), pb.pc0,
+           _nm_key(pb), taus)
     hit = _CONSTANTS.get(key)
     if hit is not None and hit[0] is pb.y:
         return hit[1]
-    y = pb.y[sl] - (pb.pc0 if pb.pc0 is not None else 0.0)
-    yw = whiten(pb, y)
-    cols = [start_basis(taus, sl.stop)[sl]]
+    end = parts[-1].stop if parts else 0
+    yw = noise.whiten_parts(pb.nm, pb.y - (pb.pc0 if pb.pc0 is not None else 0.0), parts)
+    cols = [start_basis(taus, end)]
     if pb.pc0 is None:
-        cols.insert(0, np.ones((y.size, 1)))
+        cols.insert(0, np.ones((end, 1)))
     F = np.hstack(cols)
     if F.shape[1]:
-        Q, R = np.linalg.qr(whiten(pb, F))
+        Q, R = np.linalg.qr(noise.whiten_parts(pb.nm, F, parts))
     else:
         Q, R = np.zeros((yw.size, 0)), np.zeros((0, 0))
     out = (Q, R, yw)
@@ -400,17 +436,17 @@ def _fixed_regressors(pb: Problem, sl: slice):
     return out
 
 
-def project(pb: Problem, s: np.ndarray, solve_K: bool, K: float, sl: slice):
+def project(pb: Problem, s: np.ndarray, solve_K: bool, K: float, parts: list):
     """(K, c, a): the gain (when solved), the output offset (when not
     given) and the start's free-response coefficients a (an empty array
     when the record opens at rest) that fit y ~ K s + c + B a over the
-    samples sl, in the whitened criterion when there is a noise model; K
-    must be positive."""
+    parts (slices), in the whitened criterion when there is a noise model;
+    K must be positive."""
     if not pb.open_start:
-        K, c = _project_rest(pb, s, solve_K, K, sl)
+        K, c = _project_rest(pb, s, solve_K, K, parts)
         return K, c, np.zeros(0)
-    Q, R, yw = _fixed_regressors(pb, sl)
-    sw = whiten(pb, s[sl])
+    Q, R, yw = _fixed_regressors(pb, parts)
+    sw = noise.whiten_parts(pb.nm, s, parts)
     if solve_K:
         sp = sw - Q @ (Q.T @ sw)
         yp = yw - Q @ (Q.T @ yw)
@@ -425,23 +461,25 @@ def project(pb: Problem, s: np.ndarray, solve_K: bool, K: float, sl: slice):
     return K, float(coef[0]), coef[1:]
 
 
-def _project_rest(pb: Problem, s: np.ndarray, solve_K: bool, K: float, sl: slice):
+def _project_rest(pb: Problem, s: np.ndarray, solve_K: bool, K: float, parts: list):
     """project() for a record that opens at rest: K and c only."""
-    y = pb.y[sl]
-    ss = s[sl]
+    def w(x):
+        return noise.whiten_parts(pb.nm, x, parts)
+    y = pb.y[:s.size]
     if pb.pc0 is not None:
         c = pb.pc0
         if solve_K:
-            a, b = whiten(pb, ss), whiten(pb, y - c)
+            a, b = w(s), w(y - c)
             den = float(a @ a)
             K = float(a @ b) / den if den > 0 else math.nan
         return K, c
-    one = np.ones_like(ss)
+    one = np.ones_like(s)
     if not solve_K:
-        a, b = whiten(pb, one), whiten(pb, y - K * ss)
+        a, b = w(one), w(y - K * s)
         den = float(a @ a)
-        return K, (float(a @ b) / den if den > 0 else float(np.mean(y - K * ss)))
-    return solve2(whiten(pb, ss), whiten(pb, one), whiten(pb, y))
+        return K, (float(a @ b) / den if den > 0 else
+                   float(np.mean(noise.whiten_parts(None, y - K * s, parts))))
+    return solve2(w(s), w(one), w(y))
 
 
 def _nm_key(pb: Problem):
@@ -479,9 +517,9 @@ def offset(pb: Problem, fr, n: int | None = None) -> np.ndarray | float:
 
 
 def model_output(pb: Problem, effects, vals: dict, dead: int = 0, n: int | None = None,
-                 sl: slice | None = None, oversample: int | None = None):
+                 parts: list | None = None, oversample: int | None = None):
     """Absolute model output over the first n samples, with K, pc0 and the
-    start's free response solved on sl (default: the counted fit samples).
+    start's free response solved on the parts (default: the fit parts).
     Returns (out, K, c, a)."""
     sK = solves_K(pb, effects)
     v = dict(vals)
@@ -489,10 +527,10 @@ def model_output(pb: Problem, effects, vals: dict, dead: int = 0, n: int | None 
         v["K"] = 1.0
     s = simulate_raw(pb, effects, v, dead, n, oversample)
     if sK:
-        K, c, a = project(pb, s, True, 1.0, sl or pb.counted)
+        K, c, a = project(pb, s, True, 1.0, parts or pb.fit_parts)
         out = K * s + c
     else:
-        K, c, a = project(pb, s, False, 1.0, sl or pb.counted)   # s already carries K
+        K, c, a = project(pb, s, False, 1.0, parts or pb.fit_parts)   # s already carries K
         out = s + c
         K = _groups(pb, vals)["K"]
     if a.size:
@@ -508,10 +546,10 @@ class _Objective:
     def __init__(self, pb, sp, effects, dead, budget):
         self.pb, self.sp, self.effects, self.dead = pb, sp, effects, dead
         self.budget, self.calls = budget, 0
-        sl = pb.counted
-        self.scale = max(float(np.std(whiten(pb, pb.y[sl]))), 1e-300)
+        yw = pb.fit_white(pb.y)
+        self.scale = max(float(np.std(yw)), 1e-300)
         self.best = (math.inf, None)
-        self.n = sl.stop - sl.start - (pb.nm.order if pb.nm is not None else 0)
+        self.n = yw.size
 
     def __call__(self, th):
         self.calls += 1
@@ -523,8 +561,8 @@ class _Objective:
         pb = self.pb
         vals = from_theta(self.sp, th, pb)
         try:
-            out, K, _, _ = model_output(pb, self.effects, vals, self.dead, pb.nfit)
-            r = whiten(pb, out[pb.counted] - pb.y[pb.counted]) / self.scale
+            out, K, _, _ = model_output(pb, self.effects, vals, self.dead, pb.nsim)
+            r = pb.fit_white(out - pb.y[:out.size]) / self.scale
             ok = math.isfinite(K) and K > 0
         except lib.ModelError:
             ok = False
@@ -594,7 +632,7 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
             pass
     if _TRACE:
         import sys
-        print(f"[lm] {label:14s} {'+'.join(effects) or 'none':18s} n={pb.nfit} p={th0.size} "
+        print(f"[lm] {label:14s} {'+'.join(effects) or 'none':18s} n={pb.n_counted} p={th0.size} "
               f"sims={obj.calls} status={status} cost {obj.best[0]:.6g}", file=sys.stderr)
     if not th0.size:             # nothing to search: the start is the answer
         obj.eval(th0)
@@ -608,7 +646,7 @@ def finish(pb: Problem, effects, sp, th, dead: int, cost: float, label: str = ""
     vals = from_theta(sp, th, pb)
     if "saturation" in effects:          # the placement simulated (candidates.with_kind)
         vals.update(sat_kind=pb.setup.sat_kind, sat_kind_told=pb.setup.sat_kind_told)
-    out, K, c, a = model_output(pb, effects, vals, dead, pb.nfit)
+    out, K, c, a = model_output(pb, effects, vals, dead, pb.nsim)
     vals["K"] = K
     vals["pc0"] = c
     g = _groups(pb, vals)
@@ -627,19 +665,17 @@ def finish(pb: Problem, effects, sp, th, dead: int, cost: float, label: str = ""
 
 def evaluate(pb: Problem, fr: FitResult) -> None:
     """Whole-record simulation (K and pc0 from the fit part), NRMSE on the
-    fit and validation parts, BIC on the counted fit samples."""
+    fit and held-out parts, BIC on the counted fit samples."""
     v = dict(fr.values)
     if fr.K_solved:
         v["K"] = 1.0
         fr.sim = fr.values["K"] * simulate_raw(pb, fr.effects, v, fr.dead) + offset(pb, fr)
     else:
         fr.sim = simulate_raw(pb, fr.effects, v, fr.dead) + offset(pb, fr)
-    n = pb.nfit
     r = pb.y - fr.sim
-    sl = pb.counted
-    fr.nrmse_fit = nrmse(r[sl], pb.y[sl])
-    fr.nrmse_val = nrmse(r[n:], pb.y[n:])
-    rc = whiten(pb, r[sl])
+    fr.nrmse_fit = nrmse(pb.fit_of(r), pb.fit_of(pb.y))
+    fr.nrmse_val = nrmse(pb.held_of(r), pb.held_of(pb.y))
+    rc = pb.fit_white(r)
     rss = float(rc @ rc)
     m = rc.size
     fr.cost = rss
@@ -664,11 +700,11 @@ def full_specs(pb: Problem, fr: FitResult):
 
 
 def jacobian(pb: Problem, fr: FitResult) -> tuple[list, np.ndarray]:
-    """d model output / d parameter (transformed) over the counted fit
-    samples, K and pc0 included as plain parameters."""
+    """d model output / d parameter (transformed) over the samples the fit
+    simulates (rows: samples 0..nsim-1), K and pc0 included as plain
+    parameters."""
     sp = full_specs(pb, fr)
     th = to_theta(sp, fr.values, pb)
-    sl = pb.counted
 
     def out(t):
         v = from_theta(sp, t, pb)
@@ -677,9 +713,9 @@ def jacobian(pb: Problem, fr: FitResult) -> tuple[list, np.ndarray]:
         if solves_K(pb, fr.effects):
             vv = dict(v)
             vv["K"] = 1.0
-            s = simulate_raw(pb, fr.effects, vv, fr.dead, pb.nfit)
-            return (K * s + c)[sl]
-        return (simulate_raw(pb, fr.effects, v, fr.dead, pb.nfit) + c)[sl]
+            s = simulate_raw(pb, fr.effects, vv, fr.dead, pb.nsim)
+            return K * s + c
+        return simulate_raw(pb, fr.effects, v, fr.dead, pb.nsim) + c
 
     f0 = out(th)
     lo, hi = bounds(sp)
@@ -718,12 +754,12 @@ def uncertainty(pb: Problem, fr: FitResult) -> None:
     # The start's coefficients are parameters too (nuisance ones): by Frisch
     # and Waugh, the other parameters' covariance is that of their Jacobian
     # with the part the start's basis reproduces removed.
-    B = start_basis(start_taus(pb), pb.nfit)[pb.counted]
-    fr.jac = _without(J, B)
-    r = fr.residual(pb)[pb.counted]
-    Jw = whiten(pb, J)
-    cov = noise.sandwich(_without(Jw, whiten(pb, B)) if B.shape[1] else Jw,
-                         noise.fit(whiten(pb, r)))
+    B = start_basis(start_taus(pb), pb.nsim)
+    fr.jac = _without(pb.fit_of(J), pb.fit_of(B))
+    r = fr.residual(pb)
+    Jw = pb.fit_white(J)
+    cov = noise.sandwich(_without(Jw, pb.fit_white(B)) if B.shape[1] else Jw,
+                         noise.fit(pb.fit_white(r)))
     se = np.sqrt(np.clip(np.diag(cov), 0, np.inf))
     th = to_theta(sp, fr.values, pb)
     fr.se, fr.ci = {}, {}
@@ -790,11 +826,11 @@ def start_cost(pb: Problem, effects, vals: dict, dead: int = 0) -> float:
     """RSS of a start over the counted fit samples (K, pc0 solved where they
     can be): how fresh starts are ranked."""
     try:
-        out, K, _, _ = model_output(pb, effects, vals, dead, pb.nfit)
+        out, K, _, _ = model_output(pb, effects, vals, dead, pb.nsim)
     except lib.ModelError:
         return math.inf
     if not (math.isfinite(K) and K > 0):
         return math.inf
-    r = whiten(pb, out[pb.counted] - pb.y[pb.counted])
+    r = pb.fit_white(out - pb.y[:out.size])
     c = float(r @ r)
     return c if math.isfinite(c) else math.inf

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import excite, lib, model, sensor
+from . import excite, holdout, lib, model, sensor
 
 
 def bump_input(n: int, fs: float, rng: np.random.Generator, amp: float = 1.0,
@@ -44,13 +44,15 @@ class Dataset:
 
     @property
     def noise_floor(self) -> float:
-        """NRMSE on the validation part (last 30 %) of a perfect model whose
-        output offset is fitted on the rest: what every disturbance the
-        sensor added (noise, drift, quantisation) leaves."""
-        s = int(0.7 * self.e.size)
+        """NRMSE on the held-out part (holdout.layout) of a perfect model
+        whose output offset is fitted on the fit part: what every
+        disturbance the sensor added (noise, drift, quantisation) leaves."""
+        split = holdout.layout(self.e.size)
         dist = self.pc - self.clean
-        r = dist[s:] - float(np.mean(dist[:s]))
-        return float(np.sqrt(np.mean(r * r))) / float(np.std(self.pc[s:]))
+        fit_d = np.concatenate([dist[s] for s in split.fit_slices()])
+        r = np.concatenate([dist[s] for s in split.held_slices()]) - float(np.mean(fit_d))
+        held_pc = np.concatenate([self.pc[s] for s in split.held_slices()])
+        return float(np.sqrt(np.mean(r * r))) / float(np.std(held_pc))
 
     def comments(self) -> list[str]:
         fx = ", ".join(f"{k}={v:.6g}" for k, v in self.effect_params.items()) or "-"
@@ -169,12 +171,14 @@ def draw_effect(effect: str, config: str, rng: np.random.Generator, fs: float,
         return {"nozzle_xh": (1.5 + 2.5 * u) * amp,
                 "nozzle_bias": float(rng.uniform(-0.3, 1.0))}
     if effect == "saturation":
-        # Limits inside the range that both the fit part (first 70 %) and the
-        # validation part reach, so that both see the clipping.
+        # Limits inside the range that both the fit part and the held-out
+        # part (holdout.layout) reach, so that both see the clipping.
         y = linear_output(config, e, fs, params=params)
-        s = int(0.7 * y.size)
-        top = min(float(np.max(y[:s])), float(np.max(y[s:])))
-        bot = max(float(np.min(y[:s])), float(np.min(y[s:])))
+        split = holdout.layout(y.size)
+        parts = [np.concatenate([y[s] for s in split.fit_slices()]),
+                 np.concatenate([y[s] for s in split.held_slices()])]
+        top = min(float(np.max(p)) for p in parts)
+        bot = max(float(np.min(p)) for p in parts)
         f_hi = 0.6 + 0.3 * u
         f_lo = 0.6 + 0.3 * rng.uniform()
         return {"sat_lo": f_lo * bot, "sat_hi": f_hi * top}

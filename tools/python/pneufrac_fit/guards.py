@@ -153,16 +153,14 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
     diagnosis predict worse than before it."""
     pb_ref = pb_ref or pb
     t = Test(effect, fr, ref)
-    sl = pb.counted
-    n = pb.nfit
     r1 = fr.residual(pb)
     r0 = ref.residual(pb_ref)
     # the record's noise model when it was measured at rest, else the
     # extended model's residual's (under "no effect" both residuals agree;
     # under "effect" that residual is the noise)
-    nm = pb.nm if pb.nm is not None else noise.fit(r1[sl])
+    nm = pb.nm if pb.nm is not None else noise.fit(pb.fit_pieces(r1))
     t.nm = nm
-    w1, w0 = nm.whiten(r1[sl]), nm.whiten(r0[sl])
+    w1, w0 = pb.fit_white(r1, nm), pb.fit_white(r0, nm)
     m = w1.size
     rss1, rss0 = float(w1 @ w1), float(w0 @ w0)
     t.dbic = m * math.log(max(rss1, 1e-300) / max(rss0, 1e-300)) + (fr.k - ref.k) * math.log(m)
@@ -170,16 +168,18 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
     # weighs the fast part of the error (where a coloured noise is weak);
     # an effect that only helps there, and not in the error as measured, is
     # fitting the model's own discretisation at the input's fast changes.
-    v1, v0 = nm.whiten(r1[n:]), nm.whiten(r0[n:])
+    v1, v0 = pb.held_white(r1, nm), pb.held_white(r0, nm)
     mse1, mse0 = float(v1 @ v1), float(v0 @ v0)
     gw = 1.0 - mse1 / mse0 if mse0 > 0 else 0.0
-    p1, p0 = r1[n:] - np.mean(r1[n:]), r0[n:] - np.mean(r0[n:])
+    h1, h0 = pb.held_of(r1), pb.held_of(r0)
+    p1, p0 = h1 - np.mean(h1), h0 - np.mean(h0)
     mp1, mp0 = float(p1 @ p1), float(p0 @ p0)
     gp = 1.0 - mp1 / mp0 if mp0 > 0 else 0.0
     t.val_gain = min(gw, gp)
     if so_far is not None and so_far is not ref:
-        rs = so_far.residual(pb_ref)[n:]
-        vs, ps = nm.whiten(rs), rs - np.mean(rs)
+        rs = so_far.residual(pb_ref)
+        vs, hs = pb.held_white(rs, nm), pb.held_of(rs)
+        ps = hs - np.mean(hs)
         ms, mps = float(vs @ vs), float(ps @ ps)
         t.val_gain = min(t.val_gain, 1.0 - mse1 / ms if ms > 0 else 0.0,
                          1.0 - mp1 / mps if mps > 0 else 0.0)
@@ -187,12 +187,13 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
     d = fr.sim - ref.sim
     sd = math.sqrt(max(nm.var, 1e-300))
     t.peak = float(np.max(np.abs(d))) / sd
-    dw = nm.whiten(d[sl] - np.mean(d[sl]))
+    d_mean = float(np.mean(pb.fit_of(d)))
+    dw = pb.fit_white(d - d_mean, nm)
     t.snr = float(dw @ dw) / max(nm.sigma2, 1e-300)
-    a = approximation_error(pb_ref, ref)[sl]
-    dc = d[sl] - np.mean(d[sl])
+    a = pb.fit_of(approximation_error(pb_ref, ref))
+    dc = pb.fit_of(d) - d_mean
     t.approx = float(dc @ dc) / max(float(a @ a), 1e-300)
-    b = input_timing_error(pb_ref, ref)[sl]
+    b = pb.fit_of(input_timing_error(pb_ref, ref))
     t.timing = float(dc @ dc) / max(float(b @ b), 1e-300)
     fs = pb.setup.fs
     if effect == "lag":
@@ -200,8 +201,8 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
     elif effect == "dead_time":
         t.timing_ok = fr.dead / pb.setup.oversample >= MIN_TIMING
     if effect == "saturation":
-        t.interval, t.excludes = _interval(pb, fr, effect, (float(np.min(off[sl])),
-                                                             float(np.max(off[sl]))))
+        t.interval, t.excludes = _interval(pb, fr, effect, (float(np.min(pb.fit_of(off))),
+                                                             float(np.max(pb.fit_of(off)))))
     else:
         t.interval, _ = _interval(pb, fr, effect, None)
     # The profile-likelihood interval: the no-effect value (the reference
@@ -338,10 +339,17 @@ def j_t(w: np.ndarray, x: np.ndarray) -> float:
 
 
 def _whitened(a: Test, b: Test, nm):
-    """(first sample counted, a's and b's residuals whitened by nm from it)."""
+    """a's and b's residuals over every part (fit and held out, in time
+    order) from the later of their first counted samples, each part
+    whitened by nm on its own, and which whitened samples are the fit's."""
     ra, rb = a.model.residual(a.pb), b.model.residual(b.pb)
-    k = max(a.pb.burn, b.pb.burn)
-    return k, nm.whiten(ra[k:]), nm.whiten(rb[k:])
+    pb = a.pb if a.pb.burn >= b.pb.burn else b.pb
+    parts = pb.split.parts(pb.burn)
+    fa = noise.whiten_parts(nm, ra, [s for s, _ in parts])
+    fb = noise.whiten_parts(nm, rb, [s for s, _ in parts])
+    is_fit = np.concatenate([np.full(max(s.stop - s.start - nm.order, 0), f)
+                             for s, f in parts])
+    return is_fit, fa, fb
 
 
 def better(a: Test, b: Test, nm) -> float:
@@ -350,9 +358,9 @@ def better(a: Test, b: Test, nm) -> float:
     differences under nm with a's whitened variance on the fit part,
     summed, less Vuong's BIC correction, over the sum's long-run sd
     (hac_t)."""
-    k, fa, fb = _whitened(a, b, nm)
-    m = max(a.pb.nfit - k, 1)
-    var = max(float(fa[:m] @ fa[:m]) / m, 1e-300)
+    is_fit, fa, fb = _whitened(a, b, nm)
+    m = max(int(np.count_nonzero(is_fit)), 1)
+    var = max(float(fa[is_fit] @ fa[is_fit]) / m, 1e-300)
     d = (fb * fb - fa * fa) / (2 * var)
     return hac_t(d, (a.model.k - b.model.k) * math.log(max(m, 2)) / 2)
 
@@ -361,9 +369,8 @@ def rejects(a: Test, b: Test, nm) -> tuple[bool, bool]:
     """(whether the held-out part rejects "b is the explanation" in favour
     of a, and "a is the explanation" in favour of b): the J tests, both
     residuals whitened by nm."""
-    k, fa, fb = _whitened(a, b, nm)
-    m = max(a.pb.nfit - k, 0)
-    va, vb = fa[m:], fb[m:]
+    is_fit, fa, fb = _whitened(a, b, nm)
+    va, vb = fa[~is_fit], fb[~is_fit]
     return j_t(vb, vb - va) > Z95, j_t(va, va - vb) > Z95
 
 
@@ -395,8 +402,8 @@ def inadequate(pb, fr) -> tuple[bool, float]:
     from scipy.stats import norm
     from . import evidence
     r = fr.residual(pb)
-    nm = pb.nm if pb.nm is not None else noise.fit(r[pb.counted])
-    k = pb.counted.start
+    nm = pb.nm if pb.nm is not None else noise.fit(pb.fit_pieces(r))
+    k = pb.burn
     rw = nm.whiten(r[k:])
     de = np.diff(pb.e_abs, prepend=pb.e_abs[0])[r.size - rw.size:]
     lags = np.arange(-evidence.MAXLAG, evidence.MAXLAG + 1)

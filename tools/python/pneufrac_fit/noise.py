@@ -47,6 +47,14 @@ class NoiseModel:
         h = lfilter([1.0], self.a, np.r_[1.0, np.zeros(4095)])
         return float(h @ h)
 
+    def correlation_time(self) -> int:
+        """Samples until the process's autocorrelation first falls under
+        1/e (1 for white noise; at most the 4096 samples computed)."""
+        h = lfilter([1.0], self.a, np.r_[1.0, np.zeros(4095)])
+        acf = np.correlate(h, h, "full")[h.size - 1:] / float(h @ h)
+        below = np.flatnonzero(acf < math.exp(-1.0))
+        return int(below[0]) if below.size else h.size
+
     def describe(self) -> str:
         if self.order == 0:
             return "white (no AR term earns its place by BIC)"
@@ -72,20 +80,27 @@ def _stabilise(a: np.ndarray) -> np.ndarray:
     return a * lam ** np.arange(a.size)
 
 
-def fit(r: np.ndarray, p_max: int = P_MAX) -> NoiseModel:
+def fit(r, p_max: int = P_MAX) -> NoiseModel:
     """AR model of a residual, order 0..p_max by BIC: the autocorrelation
     (Yule-Walker) equations solved for every order at once by the Levinson-
-    Durbin recursion, the autocorrelation from one FFT."""
-    r = np.asarray(r, float)
-    r = r - float(np.mean(r)) if r.size else r
-    n = r.size
+    Durbin recursion, the autocorrelation from one FFT per piece. r is one
+    array or a list of pieces (a record's fit parts): products never pair
+    samples of two pieces, whose time apart is not their distance here."""
+    pieces = [np.asarray(x, float) for x in (r if isinstance(r, (list, tuple)) else [r])]
+    n = sum(x.size for x in pieces)
+    mean = float(sum(np.sum(x) for x in pieces)) / n if n else 0.0
+    pieces = [x - mean for x in pieces]
     p_max = int(min(p_max, max(0, n // 20)))
-    var = float(r @ r) / max(n, 1)
+    var = float(sum(x @ x for x in pieces)) / max(n, 1)
     if p_max == 0 or not var > 0:
         return NoiseModel(np.array([1.0]), var, var, n)
-    nf = 1 << int(np.ceil(np.log2(2 * n)))
-    f = np.fft.rfft(r, nf)
-    acov = np.fft.irfft(f * np.conj(f), nf)[:p_max + 1] / n
+    acov = np.zeros(p_max + 1)
+    for x in pieces:
+        nf = 1 << int(np.ceil(np.log2(2 * max(x.size, 1))))
+        f = np.fft.rfft(x, nf)
+        c = np.fft.irfft(f * np.conj(f), nf)[:min(p_max + 1, x.size)]
+        acov[:c.size] += c
+    acov /= n
     a = np.array([1.0])
     err = acov[0]
     best = (n * math.log(max(err, 1e-300)), a, err)
@@ -99,9 +114,23 @@ def fit(r: np.ndarray, p_max: int = P_MAX) -> NoiseModel:
         if bic < best[0]:
             best = (bic, a.copy(), err)
     a = _stabilise(best[1])
-    e = lfilter(a, [1.0], r)[a.size - 1:]
+    e = np.concatenate([lfilter(a, [1.0], x)[a.size - 1:] for x in pieces])
     s2 = float(e @ e) / max(e.size, 1)
     return NoiseModel(a, s2, var, n)
+
+
+def whiten_parts(nm: NoiseModel | None, x: np.ndarray, parts) -> np.ndarray:
+    """x's samples in parts (slices), each whitened by nm on its own (the
+    filter restarts at every part's first sample: no whitened value mixes
+    two parts), concatenated; without a noise model, the samples as they
+    are. x may be a matrix (rows are samples)."""
+    if nm is None:
+        pieces = [x[s] for s in parts]
+    else:
+        pieces = [nm.whiten(x[s]) for s in parts]
+    if not pieces:
+        return x[:0]
+    return np.concatenate(pieces)
 
 
 def white(var: float, n: int) -> NoiseModel:

@@ -135,7 +135,8 @@ def to_dict(d) -> dict:
                    "min_timing_samples": guards.MIN_TIMING,
                    "over_input_timing": guards.TIMING_RATIO,
                    "distinguish_z": guards.Z_DIFFERENT},
-        "record": {"n": d.n, "n_fit": d.nfit, "fs": d.fs, "e0": d.e0, "pc0": d.pc0,
+        "record": {"n": d.n, "n_fit": d.split.n_fit,
+                   "held_out": [[a, b] for a, b in d.split.held], "fs": d.fs, "e0": d.e0, "pc0": d.pc0,
                    "oversample": d.oversample,
                    "noise_sd": _num(d.noise_sd), "noise_floor_val": _num(d.noise_floor_val),
                    "notes": list(d.record_notes)},
@@ -182,8 +183,7 @@ def write_report(d, out: Path) -> Path:
     w("")
     w(f"![overview]({figs['overview']})\n")
     w("## Data\n")
-    w(f"- {d.n} samples at {d.fs:g} Hz; fit on the first {d.nfit} "
-      f"({d.nfit / d.fs:.3g} s), validation on the last {d.n - d.nfit}; the model is "
+    w(f"- {d.n} samples at {d.fs:g} Hz; {d.split.describe(d.fs)}; the model is "
       f"simulated at {d.oversample}x the data rate.")
     for note in d.record_notes:
         w(f"- {note}")

@@ -20,11 +20,19 @@ def _subplots(*grid, figsize):
     return fig, fig.subplots(*grid)
 
 
+def _mark_held(ax, d, t, label: bool = False) -> None:
+    """Shade the held-out (validation) blocks."""
+    for i, (a, b) in enumerate(d.split.held):
+        ax.axvspan(t[a], t[b - 1], color="0.85", lw=0, zorder=0)
+        if label and i == 0:
+            ax.text(t[a], ax.get_ylim()[1], " held out", va="top", fontsize=8)
+
+
 def _zoom(d, width: int):
-    """A window in the validation part that holds a few steps."""
-    n0 = d.nfit
+    """A window in the held-out part that holds a few steps."""
+    n0 = d.split.held[0][0]
     k, _ = ev_mod.steps(d.e)
-    k = k[k > n0 + 5]
+    k = k[[any(a + 5 < x < b for a, b in d.split.held) for x in k]] if k.size else k
     a = int(k[0]) - width // 10 if k.size else n0
     a = max(0, min(a, d.n - width))
     return a, min(d.n, a + width)
@@ -42,8 +50,7 @@ def overview(d) -> Figure:
     ax[0].plot(t, yb, lw=0.8, color="C3", label="baseline")
     if d.causes:
         ax[0].plot(t, ye, lw=0.8, color="C0", label=f"extended ({named})")
-    ax[0].axvline(t[d.nfit], color="k", ls="--", lw=0.8)
-    ax[0].text(t[d.nfit], ax[0].get_ylim()[1], " validation", va="top", fontsize=8)
+    _mark_held(ax[0], d, t, label=True)
     ax[0].set_ylabel("p_c")
     ax[0].legend(loc="lower left", fontsize=8, ncol=3)
     ax[0].set_title(f"config {d.config}: verdict {named}; validation NRMSE "
@@ -67,7 +74,7 @@ def overview(d) -> Figure:
     s = float(np.sqrt(d.noise_model.var)) if d.noise_model is not None else d.noise_sd
     ax[2].axhline(2.576 * s, color="k", lw=0.6, ls=":")
     ax[2].axhline(-2.576 * s, color="k", lw=0.6, ls=":", label="±2.58 noise sd")
-    ax[2].axvline(t[d.nfit], color="k", ls="--", lw=0.8)
+    _mark_held(ax[2], d, t)
     ax[2].set_xlabel("t (s)")
     ax[2].set_ylabel("residual")
     ax[2].legend(loc="lower left", fontsize=8, ncol=3)
@@ -81,7 +88,7 @@ def residuals(d, ev: dict, fr, title: str) -> Figure:
     fig.suptitle(title, fontsize=11)
     a = ax[0, 0]
     a.plot(t, ev["r"], lw=0.5)
-    a.axvline(t[d.nfit], color="k", ls="--", lw=0.8)
+    _mark_held(a, d, t)
     a.set_title("residual vs time")
     a.set_xlabel("t (s)")
     a = ax[0, 1]

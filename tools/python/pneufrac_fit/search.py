@@ -37,9 +37,9 @@ def _budget(pb, effects, iters: int) -> int:
 def explorer(pb):
     """The exploration copy of pb, or None when pb is small enough."""
     D = max(1, int(pb.setup.fs // F_EXPLORE))
-    if D == 1 and pb.nfit <= 1.3 * N_EXPLORE:
+    if D == 1 and pb.nsim <= 1.3 * N_EXPLORE:
         return None
-    take = int(min(pb.nfit // D, N_EXPLORE))
+    take = int(min(pb.nsim // D, N_EXPLORE))
     n = take * D
     q = copy.copy(pb)
     q.e_abs = pb.e_abs[:n].reshape(take, D).mean(axis=1)
@@ -47,8 +47,8 @@ def explorer(pb):
     fs = pb.setup.fs / D
     m = model.auto_oversample(fs)
     q.setup = model.Setup(pb.setup.config, fs, take / fs, pb.setup.order, m)
-    q.nfit = take
-    q.burn = min(pb.burn // D, take // 2)
+    q.split = pb.split.scaled(D, take)
+    q.burn = min(pb.burn // D, max(q.split.first_end // 2, 0))
     q.nm = None if D > 1 else pb.nm     # a noise model is of one sampling rate
     return q
 

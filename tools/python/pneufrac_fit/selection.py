@@ -55,11 +55,11 @@ def play_start_unknown(pb):
     the input's first reversal (and 2 % of the fit part more, for the
     difference to die away): the same samples for both."""
     import copy
-    k = signals.first_reversal(pb.e_abs[:pb.nfit]) + int(fit.BURN * pb.nfit)
+    k = signals.first_reversal(pb.e_abs[:pb.nsim]) + int(fit.BURN * pb.split.n_fit)
     if k <= pb.burn:
         return pb
     q = copy.copy(pb)
-    q.burn = int(min(k, pb.nfit // 2))
+    q.burn = int(min(k, pb.split.first_end // 2))
     return q
 
 
@@ -270,7 +270,7 @@ def _bic(pb, fr) -> float:
     fit criterion, with fr's own count of parameters); K, pc0 and the
     start's terms solved on those samples (fit.start_cost)."""
     pb = candidates.for_model(pb, fr)
-    m = max(pb.nfit - pb.burn, 1)
+    m = max(pb.n_counted, 1)
     c = fit.start_cost(pb, fr.effects, {**fr.groups, **fr.values}, fr.dead)
     return m * math.log(max(c, 1e-300) / m) + fr.k * math.log(m) if math.isfinite(c) else math.inf
 
