@@ -8,11 +8,13 @@ library run at 10x the data rate (the fit: 2 kHz) with Oustaloup order 5
 group held at the paper's value hands the fit the truth."""
 from __future__ import annotations
 
+import json
+import math
 import os
 
 import numpy as np
 
-from pneufrac_fit import data, diagnose, excite, generate
+from pneufrac_fit import data, diagnose, excite, fit, generate, model, output
 
 FS = 1000.0
 N = 5000          # 5 s bump test at 1 kHz
@@ -97,6 +99,43 @@ def check(ds, d) -> list[str]:
                     bad.append(f"{k} {p[k]:.4g}, true {t[k]:.4g} (span {span:.4g})")
     if truth:
         bad += not_halfway(d, ds.noise_floor)
+    return bad + bound_faults(d)
+
+
+# A group this close to a bound (a fraction of its range, log for positive
+# groups) is "at the bound", as baseline.REPORT_EDGE states.
+NEAR_BOUND = 0.01
+
+
+def near_bound(setup, name: str, v: float) -> bool:
+    lo, hi = setup.bounds(name)
+    log = fit.transform_of(name) == "log"
+    f = math.log if log else float
+    v = min(max(v, lo), hi)
+    span = f(hi) - f(lo)
+    return f(v) - f(lo) < NEAR_BOUND * span or f(hi) - f(v) < NEAR_BOUND * span
+
+
+def bound_faults(d) -> list[str]:
+    """Issue 8's reporting rule, checked from the groups' ranges: a baseline
+    group at a bound is not called identified, is listed under `at_bound`
+    with the bound as one end of its interval, and no reported interval of
+    a group leaves the group's range."""
+    bad = []
+    j = json.loads(output.to_json(d))
+    setup = d.pb.setup
+    for g in d.baseline.free_groups:
+        if g in model.GROUPS and g != "K" and near_bound(setup, g, d.baseline.groups[g]):
+            c = j["at_bound"].get(g)
+            if j["identified"].get(g) or c is None or c["bound"] not in c["interval95"]:
+                bad.append(f"baseline {g} = {d.baseline.groups[g]:.4g} at a bound: "
+                           f"identified {j['identified'].get(g)}, at_bound {c}")
+    for part in ("baseline", "extended"):
+        for g, (lo, hi) in j[part]["ci95"].items():
+            if g in model.GROUPS and g != "K":
+                blo, bhi = setup.bounds(g)
+                if any(x is not None and not blo <= x <= bhi for x in (lo, hi)):
+                    bad.append(f"{part} {g} interval [{lo}, {hi}] leaves [{blo}, {bhi}]")
     return bad
 
 

@@ -55,7 +55,7 @@ def check(rec, d) -> list[str]:
                     bad.append(f"{k} {p[k]:.4g}, true {tp[k]:.4g} (range {span:.4g})")
     if truth:
         bad += cases.not_halfway(d, t["noise"]["noise_floor_val"])
-    return bad
+    return bad + cases.bound_faults(d)
 
 
 @pytest.mark.parametrize("scenario,seed", CASES)

@@ -62,6 +62,7 @@ class Diagnosis:
     elapsed: float = 0.0
     pb: object = None
     ambiguous: list = field(default_factory=list)   # sets of effects the record cannot tell apart
+    corners: dict = field(default_factory=dict)     # baseline groups left at a bound (baseline.corners)
 
     @property
     def cause(self) -> str:
@@ -146,6 +147,7 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
     final, pbf, rounds, checks = selection.forward(pb, base, seed * 1000 + 17, jobs, say,
                                                    ambiguous, sets)
     base = _best_baseline(pb, base, rounds, fit_notes)
+    identified, corners = base_mod.report_corners(pb, base, identified)
     causes = _ordered(final, checks)
     sd = noise_estimate(pb.y, pb.e_abs)
     floor, src = _floor(rec, pb, final)
@@ -163,6 +165,7 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
                   list(rec.notes), fit_notes, pb.e_abs, pb.y, rec.t,
                   float(final.e0), float(final.values["pc0"]), m, pb=pbf)
     d.ambiguous = sets
+    d.corners = corners
     d.elapsed = time.monotonic() - t0
     return d
 

@@ -31,12 +31,23 @@ def _params(d, fr) -> dict:
     return out
 
 
-def _ci(fr) -> dict:
+def _in_range(d, name, lo, hi):
+    """A group's interval cut to the group's range: beyond a bound it says
+    nothing (a group at its bound has a one-sided interval, baseline.corners)."""
+    if name not in model.GROUPS or name == "K" or d.pb is None:
+        return lo, hi
+    blo, bhi = d.pb.setup.bounds(name)
+    return (None if lo is None else min(max(lo, blo), bhi),
+            None if hi is None else min(max(hi, blo), bhi))
+
+
+def _ci(d, fr) -> dict:
     """95 % intervals in report units (nozzle_k -> nozzle_xh; saturation
-    limits absolute)."""
+    limits absolute; groups within their ranges)."""
     out = {}
     pc0 = fr.values.get("pc0", 0.0)
     for name, (lo, hi) in fr.ci.items():
+        lo, hi = _in_range(d, name, lo, hi)
         if name == "nozzle_k":
             name = "nozzle_xh"
             lo, hi = ((1 / hi if hi and hi > 0 else None), (1 / lo if lo and lo > 0 else None))
@@ -50,7 +61,7 @@ def _model(d, fr) -> dict:
     return {
         "effects": list(fr.effects),
         "params": _params(d, fr),
-        "ci95": _ci(fr),
+        "ci95": _ci(d, fr),
         "fitted": [("nozzle_xh" if n == "nozzle_k" else n) for n in fr.names]
                   + (["K"] if fr.K_solved else []) + (["pc0"] if fr.pc0_solved else [])
                   + (["dead_time"] if "dead_time" in fr.effects else []),
@@ -82,7 +93,7 @@ def _cause(d, name) -> dict:
     t = next((t for t in d.checks if t.effect == name), None)
     p = _effect_params(d, d.extended)
     keys = model.EFFECT_PARAMS[name] + (["dead_time_samples"] if name == "dead_time" else [])
-    ci = _ci(d.extended)
+    ci = _ci(d, d.extended)
     out = {
         "name": name,
         "place": model.PLACE[name],
@@ -122,6 +133,8 @@ def to_dict(d) -> dict:
         "verdict": list(d.why),
         "identified": {g: bool(v) for g, v in d.identified.items()},
         "held": dict(d.fixed_reason),
+        "at_bound": {g: {k: (_num(v) if isinstance(v, float) else v) for k, v in c.items()}
+                     for g, c in d.corners.items()},
         "fit_notes": list(d.fit_notes),
         "noise": {"white_sd": _num(d.noise_sd),
                   "model": nm.describe() if nm is not None else None,
@@ -201,10 +214,18 @@ def write_report(d, out: Path) -> Path:
     w("|---|---|---|---|---|")
     for g in model.CONFIG_GROUPS[d.config]:
         v = d.baseline.groups[g]
-        lo, hi = d.baseline.ci.get(g, (None, None))
-        ci = (f"[{model.fmt_value(g, lo)}, {model.fmt_value(g, hi)}]"
-              if lo is not None and hi is not None else "-")
-        status = "identified" if d.identified.get(g) else d.fixed_reason.get(g, "held")
+        lo, hi = j["baseline"]["ci95"].get(g, [None, None])
+        corner = d.corners.get(g)
+        if corner:
+            lo, hi = corner["interval95"]
+            far = lo if corner["side"] == "upper" else hi
+            ci = ("-" if far is None else
+                  (">= " if corner["side"] == "upper" else "<= ") + model.fmt_value(g, far))
+            status = corner["words"]
+        else:
+            ci = (f"[{model.fmt_value(g, lo)}, {model.fmt_value(g, hi)}]"
+                  if lo is not None and hi is not None else "-")
+            status = "identified" if d.identified.get(g) else d.fixed_reason.get(g, "held")
         w(f"| {g} | {model.GROUPS[g][3]} | {model.fmt_value(g, v)} | {ci} | {status} |")
     w("")
     for s in d.fit_notes:
