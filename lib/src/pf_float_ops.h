@@ -27,17 +27,28 @@ static inline PF_T PF_FN(op_state_)(const PF_OPI *S, PF_T *sf)
 static inline PF_T PF_FN(op_update_)(PF_OPI *S, PF_T u, PF_T sf)
 {
     const PF_OPC *c = S->c;
-    PF_T y = c->d * u + sf, sum = 0;
+    PF_T y = c->d * u + sf, sum0 = 0, sum1 = 0;
     int k;
     /* Leaky form: the state moves toward u by lam of the distance, so a pole
      * at 1 - 1e-7 costs no precision in lam itself. The branch sum the next
-     * sample needs is formed here, while each new state is at hand. */
-    for (k = 0; k < c->n_sec; k++) {
-        PF_T sk = S->s[k] + c->lam[k] * (u - S->s[k]);
-        S->s[k] = sk;
-        sum += c->G[k] * sk;
+     * sample needs is formed here, while each new state is at hand, in two
+     * interleaved partial sums (even and odd branches) so that the adds do
+     * not wait on one another: the sum's chain of dependent adds was the
+     * longest path of a step (bench/bench_speed.c). */
+    for (k = 0; k + 1 < c->n_sec; k += 2) {
+        PF_T s0 = S->s[k] + c->lam[k] * (u - S->s[k]);
+        PF_T s1 = S->s[k + 1] + c->lam[k + 1] * (u - S->s[k + 1]);
+        S->s[k] = s0;
+        S->s[k + 1] = s1;
+        sum0 += c->G[k] * s0;
+        sum1 += c->G[k + 1] * s1;
     }
-    S->sum = sum;
+    if (k < c->n_sec) {
+        PF_T s0 = S->s[k] + c->lam[k] * (u - S->s[k]);
+        S->s[k] = s0;
+        sum0 += c->G[k] * s0;
+    }
+    S->sum = sum0 + sum1;
     for (k = 0; k < (c->n_int < 0 ? -c->n_int : c->n_int); k++) {
         PF_T yk = c->int_d * y + S->si[k];
         PF_T si = (c->int_rho > 0 ? S->si[k] : -S->si[k]) + c->int_k * y;
