@@ -11,6 +11,7 @@
 #define PF_CI pf_ctrl_f32
 #define PF_BIG 1e30f
 #define PF_EPS 1.1920929e-07f /* FLT_EPSILON */
+#define PF_SUM_LANES 1 /* one running sum: see pf_float_ops.h, op_update */
 #include "pf_float_ops.h"
 #include "pf_ctrl_float.inc"
 

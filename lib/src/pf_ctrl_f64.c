@@ -11,6 +11,7 @@
 #define PF_CI pf_ctrl_f64
 #define PF_BIG 1e300
 #define PF_EPS 2.220446049250313e-16 /* DBL_EPSILON */
+#define PF_SUM_LANES 2 /* two partial sums: see pf_float_ops.h, op_update */
 #include "pf_float_ops.h"
 #include "pf_ctrl_float.inc"
 

@@ -7,6 +7,7 @@
 #define PF_OPC pf_fracop_coeffs_f32
 #define PF_OPI pf_fracop_f32
 #define PF_BIG 1e30f
+#define PF_SUM_LANES 1 /* one running sum: see pf_float_ops.h, op_update */
 #include "pf_float_ops.h"
 #include "pf_fracop_float.inc"
 

@@ -7,6 +7,7 @@
 #define PF_OPC pf_fracop_design
 #define PF_OPI pf_fracop_f64
 #define PF_BIG 1e300
+#define PF_SUM_LANES 2 /* two partial sums: see pf_float_ops.h, op_update */
 #include "pf_float_ops.h"
 #include "pf_fracop_float.inc"
 
