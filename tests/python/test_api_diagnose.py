@@ -105,6 +105,8 @@ def test_data_forms(record, dx):
     ({"config": "dd", "fixes": {"k1": 1.0}}, "fixes: k1"),
     ({"config": "dd", "fixes": {"tau": -1.0}}, "fixes: tau"),
     ({"config": "dd", "e0": 0.0}, "e0 and pc0"),
+    ({"config": "dd", "holdout": "middle"}, "holdout: 'middle'"),
+    ({"config": "dd", "holdout": None}, "holdout: None"),
 ])
 def test_bad_options(record, kw, match):
     with pytest.raises(ValueError, match=match):

@@ -51,7 +51,7 @@ def diagnose(data, config: str, *, columns: dict | None = None, fixes: dict | No
     Raises pneufrac_fit.data.DataError (a ValueError) for a record that
     cannot be analysed, ValueError for bad options.
     """
-    from pneufrac_fit import cli, data as data_mod, diagnose as diag_mod
+    from pneufrac_fit import cli, data as data_mod, diagnose as diag_mod, holdout
     if (e0 is None) != (pc0 is None):
         raise ValueError("e0 and pc0 go together (the operating point of input and output)")
     fix_args = [f"{k}={float(v)!r}" for k, v in (fixes or {}).items()]
@@ -62,13 +62,16 @@ def diagnose(data, config: str, *, columns: dict | None = None, fixes: dict | No
         raise ValueError(str(exc).replace("--fix ", "fixes: ")) from None
     if fixed is None:
         raise ValueError(f"config: '{config}' (known: p, dd, id, pid)")
-    rec = _record(data, columns)
-    if e0 is not None:
-        data_mod.set_operating_point(rec, float(e0), float(pc0))
     known = ("order", "oversample", "jobs", "seed", "holdout")
     bad = [k for k in options if k not in known]
     if bad:
         raise ValueError(f"unknown option '{bad[0]}' (options: {', '.join(known)})")
+    # checked before the record is read, so that a typo is named as such
+    if options.get("holdout", holdout.DEFAULT) not in holdout.MODES:
+        raise ValueError(f"holdout: {options['holdout']!r} (known: {', '.join(holdout.MODES)})")
+    rec = _record(data, columns)
+    if e0 is not None:
+        data_mod.set_operating_point(rec, float(e0), float(pc0))
     raw = diag_mod.diagnose(rec, config, fixed, progress=progress, **options)
     return Diagnosis(raw, rec)
 
