@@ -105,12 +105,12 @@ def _floor(rec, pb, final) -> tuple[float, str]:
 
 
 def _held_blocks_note(split, nm) -> list:
-    """A held-out block shorter than 20 of the noise's correlation times
-    (holdout.py): its edges' noise correlates with the fit parts' beside
+    """A held-out block shorter than holdout.CORR_TIMES of the noise's
+    correlation times: its edges' noise correlates with the fit parts' beside
     them, and the held-out error may be optimistic."""
     tc = nm.correlation_time()
     h = min(b - a for a, b in split.held)
-    if len(split.held) < 2 or 20 * tc <= h:
+    if len(split.held) < 2 or holdout_mod.CORR_TIMES * tc <= h:
         return []
     return [f"The residual's noise stays correlated for {tc} samples, more than a "
             f"twentieth of the shortest held-out block ({h} samples): the held-out "

@@ -36,7 +36,8 @@ from dataclasses import dataclass
 
 FIT_FRACTION = 0.7       # the fit part's share of the record (and of each section)
 SECTIONS = 3             # sections, each with its held-out block at its end
-MIN_HELD = 500           # samples of one held-out block (see above)
+CORR_TIMES = 20          # a held-out block's length in noise correlation times (see above)
+MIN_HELD = 500           # samples of one held-out block: CORR_TIMES x 24.5 (see above)
 MODES = ("blocks", "tail")
 # The default stays the tail split: on the independent simulator's seeds
 # 4-5 the blocks named three more two-effect records right but two records
