@@ -6,7 +6,7 @@ measures and prints, it never fails on the scores or on time.
 
     .venv/bin/python bench/bench_diagnose_indep.py [--scenarios PATTERN[,PATTERN]]
         [--seeds 1|1-3|1,4] [--jobs 2] [--tool-jobs 1] [--timeout 900]
-        [--tool PATH] [--keep DIR]
+        [--tool PATH] [--keep DIR] [--holdout tail|blocks]
 
 Default: every scenario, seed 1, two records at a time (about 20 minutes on
 the shared 2-core machine).
@@ -17,7 +17,8 @@ of them and nothing else; missed, none; wrong, a cause that is not in the
 record (on a clean record: a false effect). Parameter
 errors are relative to the true value; saturation limits relative to the
 record's output range. "halfway" is the issue's criterion: the validation
-NRMSE after is at most halfway from before to the true noise floor. The
+NRMSE after is at most halfway from before to the true noise floor (over
+the samples the tool held out, `--holdout` passed to it when given). The
 effect size next to the true causes is the rms change the effects make to
 the sampled output over the noise sd (an upper bound on what a fit can
 attribute to them); with several effects, each one's on top of the others
@@ -48,6 +49,8 @@ sys.path.insert(0, str(ROOT / "tests" / "python"))
 
 import numpy as np  # noqa: E402
 
+from indepsim.make import tool_floor  # noqa: E402
+from pneufrac_fit import holdout  # noqa: E402
 from indepsim.scenarios import CATALOGUE, SEED_MAX  # noqa: E402
 from seedlist import seed_list  # noqa: E402
 
@@ -156,7 +159,7 @@ def _last_line(err: str) -> str:
     return (err.strip().splitlines() or ["(no message)"])[-1][:160].replace("|", "/")
 
 
-def one(name: str, seed: int, tool: str, tool_jobs: int, timeout: float, keep: str,
+def one(name: str, seed: int, tool: str, tool_args: list[str], timeout: float, keep: str,
         procs: Procs) -> dict:
     row = {"scenario": name, "seed": seed, "class": CATALOGUE[name].get("cls"), "config": "?",
            "expected": CATALOGUE[name].get("expected"), "truth": [], "named": None,
@@ -176,7 +179,7 @@ def one(name: str, seed: int, tool: str, tool_jobs: int, timeout: float, keep: s
     if len(truth["causes"]) >= 2:
         row["parts"] = parts_of(name, seed, timeout, env, procs)
     cmd = [tool, "diagnose", f"{stem}.csv", "--config", truth["config"], "--json", "--quiet",
-           "--jobs", str(tool_jobs)]
+           *tool_args]
     t0 = time.monotonic()
     rc, out, err = procs.run(cmd, timeout)
     row["time"] = time.monotonic() - t0
@@ -196,13 +199,23 @@ def one(name: str, seed: int, tool: str, tool_jobs: int, timeout: float, keep: s
     row["params"] = param_errors(truth, named, float(np.ptp(pc)) or 1.0)
     gain, recd = js.get("gain") or {}, js.get("record") or {}
     before, after = _num(gain.get("nrmse_val_before")), _num(gain.get("nrmse_val_after"))
-    floor_true = truth["noise"]["noise_floor_val"]
+    floor_true = true_floor(stem, pc, truth, recd)
     row["nrmse"] = (before, after)
     row["floor"] = (_num(recd.get("noise_floor_val")), floor_true)
     row["noise"] = (_num(recd.get("noise_sd")), truth["noise"]["realised_sd"])
     if before is not None and after is not None and truth["causes"]:
         row["halfway"] = after <= 0.5 * (before + floor_true)
     return row
+
+
+def true_floor(stem: Path, pc: np.ndarray, truth: dict, recd: dict) -> float:
+    """The true noise floor over the samples the tool held out (its JSON
+    record.held_out)."""
+    try:
+        noise = np.loadtxt(f"{stem}.noise.csv", ndmin=1)
+    except (OSError, ValueError):
+        noise = None
+    return tool_floor(pc, noise, truth, recd.get("held_out"), recd.get("n"))
 
 
 def parts_of(name: str, seed: int, timeout: float, env: dict, procs: Procs) -> dict:
@@ -323,6 +336,8 @@ def main() -> int:
     ap.add_argument("--timeout", type=float, default=900.0, help="per record, s")
     ap.add_argument("--tool", default=None, help="pneufrac-fit executable")
     ap.add_argument("--keep", default=None, help="write the records here (else a temp dir)")
+    ap.add_argument("--holdout", choices=list(holdout.MODES), default=None,
+                    help="pneufrac-fit --holdout (default: the tool's own default)")
     a = ap.parse_args()
     try:
         names = pick_scenarios(a.scenarios)
@@ -367,7 +382,8 @@ def sweep(a, names: list[str], seeds: list[int], tool: str, keep: str) -> int:
     signal.signal(signal.SIGTERM, _interrupt)
     ex = cf.ThreadPoolExecutor(max_workers=a.jobs)
     try:
-        futs = {ex.submit(one, n, s, tool, a.tool_jobs, a.timeout, keep, procs): (n, s)
+        tool_args = ["--jobs", str(a.tool_jobs)] + (["--holdout", a.holdout] if a.holdout else [])
+        futs = {ex.submit(one, n, s, tool, tool_args, a.timeout, keep, procs): (n, s)
                 for n, s in jobs}
         for f in cf.as_completed(futs):
             n, s = futs[f]

@@ -16,7 +16,7 @@ from .effects import Effects, U0_INFLECTION, nozzle_F
 from .scenarios import CATALOGUE, SEED_MAX, Recipe, config_for
 
 OVERSAMPLE = 8
-VAL_FRACTION = 0.3   # pneufrac-fit validates on the last 30 % (docs/analysis.md)
+VAL_FRACTION = 0.3   # pneufrac-fit's default held-out part: the last 30 % (docs/analysis.md)
 
 
 @dataclass
@@ -25,6 +25,31 @@ class Record:
     e: np.ndarray
     pc: np.ndarray
     truth: dict
+    noise: np.ndarray   # what the DAQ added to pc: measured minus noise-free sampled output
+
+
+def floor_over(pc: np.ndarray, noise: np.ndarray, held) -> float:
+    """The true noise floor of a held-out NRMSE: the noise's rms over the
+    std of the measured output, both over the held-out samples taken
+    together (pneufrac-fit's `record.held_out` [start, stop) pairs), as the
+    tool computes its own NRMSE. Needed because the held-out part is not
+    always the last 30 % (`--holdout blocks`)."""
+    idx = np.concatenate([np.arange(a, b) for a, b in held]) if len(held) else np.arange(0)
+    if idx.size < 2 or idx[-1] >= pc.size:
+        raise ValueError("held-out samples outside the record")
+    return float(np.sqrt(np.mean(noise[idx] ** 2)) / np.std(pc[idx]))
+
+
+def tool_floor(pc: np.ndarray, noise: np.ndarray | None, truth: dict, held, n_tool) -> float:
+    """floor_over the tool's held-out samples; the last 30 %'s floor when
+    the tool's record does not line up with this one sample for sample (a
+    resampled or trimmed record) or its held-out part is unknown."""
+    if noise is not None and held and n_tool == pc.size:
+        try:
+            return floor_over(pc, noise, held)
+        except ValueError:
+            pass
+    return truth["noise"]["noise_floor_val"]
 
 
 def _rng(name: str, seed: int) -> np.random.Generator:
@@ -177,7 +202,7 @@ def make(name: str, seed: int) -> Record:
                   "realised_sd": float(np.std(resid)),
                   "realised_sd_val": float(np.std(resid[val])),
                   "effect_rms": eff_rms, "effect_rms_over_sd": eff_rms / sd if sd else None,
-                  "noise_floor_val": float(np.sqrt(np.mean(resid[val] ** 2)) / np.std(pc[val]))},
+                  "noise_floor_val": floor_over(pc, resid, [(val.start, val.stop)])},
         "simulator": {"approximation": "diffusive quadrature of s^-alpha",
                       "nodes_per_decade": NODES_PER_DECADE,
                       "band": list(controller.band_for(fs_int, span_t)),
@@ -185,11 +210,12 @@ def make(name: str, seed: int) -> Record:
                                         "internal samples (FOH)",
                       "oversample": OVERSAMPLE},
     }
-    return Record(t, e, pc, truth)
+    return Record(t, e, pc, truth, resid)
 
 
 def write(rec: Record, out_dir, stem: str) -> tuple[str, str]:
-    """DIR/STEM.csv (t,e,pc) and DIR/STEM.truth.json."""
+    """DIR/STEM.csv (t,e,pc), DIR/STEM.truth.json, and DIR/STEM.noise.csv
+    (the noise added to pc, one value per line, for floor_over)."""
     import json
     from pathlib import Path
     d = Path(out_dir)
@@ -202,4 +228,5 @@ def write(rec: Record, out_dir, stem: str) -> tuple[str, str]:
     with open(js, "w") as f:
         json.dump(rec.truth, f, indent=1, sort_keys=False)
         f.write("\n")
+    np.savetxt(d / f"{stem}.noise.csv", rec.noise, fmt="%.10g")
     return str(csv), str(js)
