@@ -19,7 +19,7 @@ from scipy.signal import welch
 from indepsim import controller, daq, excitation, noise, reference, simulate
 from indepsim.diffusive import frac_integrator, response
 from indepsim.effects import U0_INFLECTION, Effects, nozzle
-from indepsim.make import make
+from indepsim.make import floor_over, make, tool_floor
 from indepsim.plant import PAPER
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -249,6 +249,20 @@ def test_cli_list_and_make(tmp_path):
     data = np.loadtxt(csv, delimiter=",", skiprows=1)
     assert data.shape == (20000, 3)
     assert truth["causes"] == ["lag"] and truth["effects"][0]["params"]["lag"] > 0
+    # The noise written beside the record gives back the truth's floor over
+    # the last 30 %, and another held-out part gives another floor.
+    nz = np.loadtxt(tmp_path / "out" / "marginal-lag-3.noise.csv")
+    assert nz.shape == (20000,) and 0 < np.std(nz) < np.std(data[:, 2])
+    tail = [(20000 - 6000, 20000)]
+    assert floor_over(data[:, 2], nz, tail) == pytest.approx(truth["noise"]["noise_floor_val"],
+                                                             rel=1e-6)
+    blocks = [(4667, 6667), (11333, 13333), (18000, 20000)]
+    assert tool_floor(data[:, 2], nz, truth, blocks, 20000) == floor_over(data[:, 2], nz, blocks)
+    assert floor_over(data[:, 2], nz, blocks) != floor_over(data[:, 2], nz, tail)
+    # A tool record that does not line up sample for sample: the tail's floor.
+    assert tool_floor(data[:, 2], nz, truth, blocks, 19999) == truth["noise"]["noise_floor_val"]
+    with pytest.raises(ValueError):
+        floor_over(data[:, 2], nz, [(19000, 20001)])
 
 
 @pytest.mark.parametrize("args", [("make", "no-such", "--seed", "1", "--out", "x"),
