@@ -294,24 +294,27 @@ def advanced_half(e: np.ndarray) -> np.ndarray:
 
 
 def input_timing(pb, best, rng, say, notes: list):
-    """Which of the two converter conventions the record follows, chosen
-    once for every model. The model holds each input sample over the period
-    after its stamp; a converter that averages each channel over the period
-    before its stamp (an integrating or delta-sigma ADC, a DAQ's boxcar
-    mean) makes the held input half a sample late against the averaged
-    output. The fitted dynamics absorb a steady delay only where the
-    response is slow: at the fast edges of a derivative-acting controller
-    every model, the true one included, then misses each input change by
-    tens of noise sd (the independent simulator's nozzle-real seed 5: the
-    true model's error 2.8 noise sd rms, 0.59x that with the input half a
-    sample earlier), and the output-error criterion trades every group, and
-    every effect's size, for those edges. The input advanced by half a
-    sample (advanced_half) gets the baseline's whole search; it is kept when the
-    fit part's criterion (whitened as every fit is) falls by a BIC of more
-    than guards.MIN_DBIC ("very strong", as in the guards), the choice
-    counted as one parameter. Only the input's timing changes, never what
-    is held out. It moves every model earlier, so it cannot stand in for a
-    dead time or a lag, which move it later."""
+    """Which of two input timings the record follows, chosen once for every
+    model. The model holds each input sample over the period after its stamp.
+    That is right when the input changes at the stamps (a setpoint written on
+    the recorder's clock; the own generator). A physical input changes anywhere
+    within a period: sampled at the stamp, an edge is seen on average half a
+    period after it happened, and a converter that averages each channel over
+    the period before its stamp (an integrating or delta-sigma ADC, a DAQ's
+    boxcar mean) gives the same half sample against the averaged output. The
+    fitted dynamics absorb a steady delay only where the response is slow: at
+    the fast edges of a derivative-acting controller every model, the true one
+    included, then misses each input change by tens of noise sd (the
+    independent simulator's nozzle-real seed 5: the true model's error 2.8
+    noise sd rms, 1.5 with the input half a sample earlier), and the
+    output-error criterion trades every group, and every effect's size, for
+    those edges. The input advanced by half a sample (advanced_half) gets the
+    baseline's whole search; it is kept when the fit part's criterion (whitened
+    as every fit is) falls by a BIC of more than guards.MIN_DBIC ("very
+    strong", as in the guards), the choice counted as one parameter. Only the
+    input's timing changes, never what is held out. It moves every model
+    earlier, so it cannot stand in for a dead time or a lag, which move it
+    later."""
     e_adv = advanced_half(pb.e_abs)
     if not np.any(e_adv != pb.e_abs):
         return best
@@ -329,9 +332,10 @@ def input_timing(pb, best, rng, say, notes: list):
     say(f"baseline: the input taken half a sample earlier fits better (BIC {dbic:+.1f})")
     notes.append("The input is taken half a sample earlier than its time stamps (each sample "
                  "the mean of itself and the next): the output follows it better so (BIC "
-                 f"{dbic:+.1f}, RSS {best.cost:.4g} -> {r.cost:.4g}), as when the converters "
-                 "average each channel over the period before its stamp. Every model of the "
-                 "record, with or without an effect, reads this input.")
+                 f"{dbic:+.1f}, RSS {best.cost:.4g} -> {r.cost:.4g}), as when the input changes "
+                 "within the sample periods rather than at the stamps, or the converters "
+                 "average each period. Every model of the record, with or without an effect, "
+                 "reads this input.")
     return r
 
 
