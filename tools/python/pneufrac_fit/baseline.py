@@ -17,12 +17,11 @@ paper's value if moving it changes nothing the record shows.
 """
 from __future__ import annotations
 
-import copy
 import math
 
 import numpy as np
 
-from . import fit, guards, model, noise, search
+from . import fit, model, noise, search
 
 ID_LOG = math.log(2.0)
 ID_LIN = 0.15
@@ -284,61 +283,6 @@ def weigh_or_not(pb, best, rng, say, notes: list):
     return _multistart(pb, rng, [("weighted fit", dict(best.values))])
 
 
-def advanced_half(e: np.ndarray) -> np.ndarray:
-    """The input half a sample earlier: the mean of each sample and the next
-    (the last sample kept). What a held sample is when the converter
-    averages the input over the period that ends at its stamp, as the
-    output's converter does."""
-    e = np.asarray(e, float)
-    return np.r_[0.5 * (e[:-1] + e[1:]), e[-1:]]
-
-
-def input_timing(pb, best, rng, say, notes: list):
-    """Which of two input timings the record follows, chosen once for every
-    model. The model holds each input sample over the period after its stamp.
-    That is right when the input changes at the stamps (a setpoint written on
-    the recorder's clock; the own generator). A physical input changes anywhere
-    within a period: sampled at the stamp, an edge is seen on average half a
-    period after it happened, and a converter that averages each channel over
-    the period before its stamp (an integrating or delta-sigma ADC, a DAQ's
-    boxcar mean) gives the same half sample against the averaged output. The
-    fitted dynamics absorb a steady delay only where the response is slow: at
-    the fast edges of a derivative-acting controller every model, the true one
-    included, then misses each input change by tens of noise sd (the
-    independent simulator's nozzle-real seed 5: the true model's error 2.8
-    noise sd rms, 1.5 with the input half a sample earlier), and the
-    output-error criterion trades every group, and every effect's size, for
-    those edges. The input advanced by half a sample (advanced_half) gets the
-    baseline's whole search; it is kept when the fit part's criterion (whitened
-    as every fit is) falls by a BIC of more than guards.MIN_DBIC ("very
-    strong", as in the guards), the choice counted as one parameter. Only the
-    input's timing changes, never what is held out. It moves every model
-    earlier, so it cannot stand in for a dead time or a lag, which move it
-    later."""
-    e_adv = advanced_half(pb.e_abs)
-    if not np.any(e_adv != pb.e_abs):
-        return best
-    shifted = copy.copy(pb)
-    shifted.e_abs = e_adv
-    # the same search as the first, from the same fresh starts (a copy of
-    # the generator: the rest of the diagnosis draws what it drew before)
-    # and from the fit as stamped
-    r = _multistart(shifted, copy.deepcopy(rng), [("input as stamped", dict(best.values))])
-    m = max(pb.n_counted, 1)
-    dbic = m * math.log(max(r.cost, 1e-300) / max(best.cost, 1e-300)) + math.log(m)
-    if not dbic < -guards.MIN_DBIC:
-        return best
-    pb.e_abs = e_adv
-    say(f"baseline: the input taken half a sample earlier fits better (BIC {dbic:+.1f})")
-    notes.append("The input is taken half a sample earlier than its time stamps (each sample "
-                 "the mean of itself and the next): the output follows it better so (BIC "
-                 f"{dbic:+.1f}, RSS {best.cost:.4g} -> {r.cost:.4g}), as when the input changes "
-                 "within the sample periods rather than at the stamps, or the converters "
-                 "average each period. Every model of the record, with or without an effect, "
-                 "reads this input.")
-    return r
-
-
 def corners(pb, fr) -> dict:
     """group -> what the report says of every group that the baseline fit
     `fr` leaves free within REPORT_EDGE of a bound (issue 8: such a group
@@ -392,9 +336,6 @@ def fit_baseline(pb, rng, say):
     say(f"baseline: {len(pb.free)} parameters free ({', '.join(pb.free)}), multi-start")
     notes: list[str] = []
     best = _multistart(pb, rng)
-    # the input's timing first: the model's error at misplaced input edges
-    # is fast, and whitening amplifies fast errors (weigh_or_not's premise)
-    best = input_timing(pb, best, rng, say, notes)
     best = weigh_or_not(pb, best, rng, say, notes)
     reasons = {g: "fixed by --fix" for g in pb.user_fixed}
     best = unstick(pb, best, say, notes)
