@@ -107,8 +107,15 @@ def check(ds, d) -> list[str]:
 NEAR_BOUND = 0.01
 
 
-def near_bound(setup, name: str, v: float) -> bool:
+def near_bound(setup, name: str, v: float, groups: dict | None = None) -> bool:
+    """v within NEAR_BOUND of the range the fit searches. pid's w is
+    searched from nu to 1 (fit.specs: w = nu + (1 - nu) s), not over its
+    static range: w = nu is at its bound whatever nu is."""
     lo, hi = setup.bounds(name)
+    if setup.config == "pid" and name == "w" and groups is not None:
+        lo = groups["nu"]
+        if not hi > lo:
+            return True
     log = fit.transform_of(name) == "log"
     f = math.log if log else float
     v = min(max(v, lo), hi)
@@ -124,8 +131,9 @@ def bound_faults(d) -> list[str]:
     bad = []
     j = json.loads(output.to_json(d))
     setup = d.pb.setup
+    groups = d.baseline.groups
     for g in d.baseline.free_groups:
-        if g in model.GROUPS and g != "K" and near_bound(setup, g, d.baseline.groups[g]):
+        if g in model.GROUPS and g != "K" and near_bound(setup, g, groups[g], groups):
             c = j["at_bound"].get(g)
             if j["identified"].get(g) or c is None or c["bound"] not in c["interval95"]:
                 bad.append(f"baseline {g} = {d.baseline.groups[g]:.4g} at a bound: "
