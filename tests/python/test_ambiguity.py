@@ -221,6 +221,8 @@ def _forward_with(scale_b, on_top, monkeypatch, ref_lag=1.0):
                         lambda pb, cur, eff, seed, jobs, say, prev: rounds[cur.effect])
     monkeypatch.setattr(selection, "backward", lambda pb, fr, say: (fr, pb, []))
     monkeypatch.setattr(selection, "pairs", lambda *a: None)
+    # the scripted fits are the rounds' last word: no refit from a rival's optimum
+    monkeypatch.setattr(selection, "refit_rivals", lambda pb, cur, tests, seed, say: tests)
     base = SimpleNamespace(effects=(), effect="none", nrmse_val=1.0)
     notes = []
     final, _, _, _ = selection.forward("pb", base, 0, 1, lambda s: None, notes)
@@ -336,3 +338,26 @@ def test_a_member_that_predicts_worse_alone_is_still_paired(monkeypatch):
     got, notes, _ = _pairs_with(monkeypatch, True, {"dead_time+saturation"}, scales,
                                 worse_alone=("dead_time",))
     assert got is not None and got[0].effects == ("dead_time", "saturation") and notes == []
+
+
+def test_evidence_that_contradicts_itself_names_neither():
+    """The held-out part rejects b and not a (a at the noise there, b
+    missing a little), but over the whole record b is significantly more
+    likely (a misses much more on the fit part): the record says
+    opposite things, and neither is named over the other. Without the fit
+    part's misses a is named (the J test alone decides then)."""
+    rng = np.random.default_rng(11)
+    n = N_FIT + N_VAL
+    noise_ = rng.normal(size=n)
+    held = np.zeros(n)
+    held[N_FIT:] = 0.3 * _events(np.random.default_rng(12), n, 0.0, 0.3)[N_FIT:]
+    fit_miss = np.zeros(n)
+    fit_miss[:N_FIT] = 3.0 * _events(np.random.default_rng(13), n, 0.0, 0.3)[:N_FIT]
+    b = _test("lag", noise_ + held)
+    a_told = _test("dead_time", noise_)
+    a = _test("dead_time", noise_ + fit_miss)
+    assert guards.rejects(a, b, a.nm) == (True, False)
+    assert guards.better(b, a, a.nm) > guards.Z_DIFFERENT
+    assert not guards.distinguishable(a, b)
+    assert not guards.distinguishable(b, a)
+    assert guards.distinguishable(a_told, b)

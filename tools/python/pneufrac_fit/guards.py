@@ -244,6 +244,9 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
 # record significantly better (Vuong's comparison of two misspecified
 # models). Under "b is the explanation" a is chosen only if the J test
 # rejects b, so the level is the J test's, however the second test goes.
+# When the held-out part rejects b alone but the whole record (Vuong, fit
+# and held-out parts) significantly prefers b, the evidence contradicts
+# itself and a is not told from b: a stricter rule, at no higher a level.
 #
 # The J test of "b is the explanation" against a: if b is the explanation,
 # its residual, whitened by the noise model, is the noise, and it does not
@@ -378,12 +381,19 @@ def distinguishable(a: Test, b: Test) -> bool:
     """Whether the record says that a, not b, is the explanation, both
     residuals whitened by a's noise model (as in the guards: if a is the
     explanation, its residual is the noise): the held-out part rejects b
-    and not a (J tests); or it rejects both, and a explains the whole
-    record significantly better (Vuong, Z_DIFFERENT)."""
+    and not a (J tests), and the whole record does not significantly
+    prefer b; or it rejects both, and a explains the whole record
+    significantly better (Vuong, Z_DIFFERENT)."""
     not_b, not_a = rejects(a, b, a.nm)
     if not not_b:
         return False
-    return not not_a or better(a, b, a.nm) > Z_DIFFERENT
+    if not_a:
+        return better(a, b, a.nm) > Z_DIFFERENT
+    # the held-out part rejects b alone; the whole record must not say the
+    # opposite (b significantly more likely over the fit part and the
+    # held-out part together): evidence that contradicts itself names
+    # neither
+    return not better(b, a, a.nm) > Z_DIFFERENT
 
 
 # Lack of fit: a model is inadequate when its residual, whitened by the
