@@ -33,9 +33,21 @@ static PF_T PF_FN(nozzle_)(PF_T x, PF_T xh_inv, PF_T u0, PF_T f0, PF_T g)
         u = 0;
         d = -u0;
     }
+
     /* Far open, F(u) < 1e-16 is below f0's last digit (f0 >= 1/(1+u0^2),
      * u0 <= 11): the curve's limit, where u * u could overflow. */
     if (u > (PF_T)1e8)
         return g * f0;
     return (g * f0) * d * (u + u0) / (1 + u * u);
+}
+
+/* The nozzle curve's slope dh/dx = g |F'(u)| / x_1/2 (0 where the gap is
+ * closed), for the loop solve's Newton steps. */
+static PF_T PF_FN(nozzle_slope_)(PF_T x, PF_T xh_inv, PF_T u0, PF_T g)
+{
+    PF_T u = u0 + x * xh_inv, q;
+    if (u < 0)
+        return 0;
+    q = 1 + u * u;
+    return g * xh_inv * 2 * u / (q * q);
 }
