@@ -40,14 +40,3 @@ static PF_T PF_FN(nozzle_)(PF_T x, PF_T xh_inv, PF_T u0, PF_T f0, PF_T g)
         return g * f0;
     return (g * f0) * d * (u + u0) / (1 + u * u);
 }
-
-/* The nozzle curve's slope dh/dx = g |F'(u)| / x_1/2 (0 where the gap is
- * closed), for the loop solve's Newton steps. */
-static PF_T PF_FN(nozzle_slope_)(PF_T x, PF_T xh_inv, PF_T u0, PF_T g)
-{
-    PF_T u = u0 + x * xh_inv, q;
-    if (u < 0)
-        return 0;
-    q = 1 + u * u;
-    return g * xh_inv * 2 * u / (q * q);
-}
