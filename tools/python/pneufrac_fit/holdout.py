@@ -43,8 +43,9 @@ MODES = ("blocks", "tail")
 # 4-5 the blocks named three more two-effect records right but two records
 # with a wrong cause (docs/analysis-bench.md, "Held-out blocks"). The
 # selection's rules for explanations that imitate each other remove both
-# (analysis-bench.md, "Explanations that imitate each other"), but the
-# blocks' full sweeps on seeds 4-5 and 1-2 were not completed with them.
+# (analysis-bench.md, "Explanations that imitate each other"); with them,
+# seeds 1-2 gave a false effect on a clean record with the blocks (a dead
+# band on clean-p-real-2; analysis-bench.md, "The merged tool of stop 21").
 DEFAULT = "tail"
 
 
