@@ -34,8 +34,9 @@ static PF_T PF_FN(nozzle_)(PF_T x, PF_T xh_inv, PF_T u0, PF_T f0, PF_T g)
         d = -u0;
     }
 
-    /* Far open, F(u) < 1e-16 is below f0's last digit (f0 >= 1/(1+u0^2),
-     * u0 <= 11): the curve's limit, where u * u could overflow. */
+    /* Far open, F(u) < 1e-16 against f0 >= 1/(1+u0^2) (u0 <= 11): the
+     * limit is within about 1e-14 relative of the curve, and u * u stays
+     * finite. */
     if (u > (PF_T)1e8)
         return g * f0;
     return (g * f0) * d * (u + u0) / (1 + u * u);

@@ -261,8 +261,11 @@ def test_cli_list_and_make(tmp_path):
     assert floor_over(data[:, 2], nz, blocks) != floor_over(data[:, 2], nz, tail)
     # A tool record that does not line up sample for sample: the tail's floor.
     assert tool_floor(data[:, 2], nz, truth, blocks, 19999) == truth["noise"]["noise_floor_val"]
-    with pytest.raises(ValueError):
-        floor_over(data[:, 2], nz, [(19000, 20001)])
+    for bad in ([(19000, 20001)], [(-5, 100)], []):
+        with pytest.raises(ValueError):
+            floor_over(data[:, 2], nz, bad)
+    with pytest.raises(ValueError):   # an output that does not move has no floor
+        floor_over(np.ones(100), np.zeros(100), [(0, 50)])
 
 
 @pytest.mark.parametrize("args", [("make", "no-such", "--seed", "1", "--out", "x"),

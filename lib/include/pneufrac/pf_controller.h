@@ -24,11 +24,15 @@
  *  - restrictor: r = (1/RC) s^-nu (p_c - r), likewise;
  *  - main loop: affine in x, one multiplication by a precomputed reciprocal.
  * With backlash, nozzle curve or saturation on, the main loop equation
- * g(x) = 0 has slope 1 + L0 s, with L0 the in-sample loop gain and s in
- * [0, 1] the effects' slope (all three are monotone with slope at most 1),
- * so it is strictly increasing whenever 1 + min(0, L0) > 0, which the
- * design ensures, and has exactly one root. One evaluation brackets it;
- * false position (Illinois) then converges; see pf_ctrl_float.inc.
+ * g(x) = 0 has slope 1 + L0 s, with L0 the in-sample loop gain and s >= 0
+ * the effects' slope (all three are monotone; backlash and saturation
+ * have s in [0, 1], as has the nozzle at its inflection), so it is
+ * strictly increasing whenever 1 + min(0, L0) > 0, which the design
+ * ensures, and has exactly one root. A nozzle biased off its inflection
+ * is steeper than 1 on part of its curve; with L0 < 0 that part can bend
+ * g back, and the solve then finds a root of its bracket without the
+ * uniqueness. Newton steps, then false position (Anderson-Bjorck); see
+ * pf_ctrl_float.inc.
  */
 #ifndef PNEUFRAC_PF_CONTROLLER_H
 #define PNEUFRAC_PF_CONTROLLER_H

@@ -35,9 +35,12 @@ def floor_over(pc: np.ndarray, noise: np.ndarray, held) -> float:
     tool computes its own NRMSE. Needed because the held-out part is not
     always the last 30 % (`--holdout blocks`)."""
     idx = np.concatenate([np.arange(a, b) for a, b in held]) if len(held) else np.arange(0)
-    if idx.size < 2 or idx[-1] >= pc.size:
+    if idx.size < 2 or idx.min() < 0 or idx.max() >= min(pc.size, noise.size):
         raise ValueError("held-out samples outside the record")
-    return float(np.sqrt(np.mean(noise[idx] ** 2)) / np.std(pc[idx]))
+    sd = float(np.std(pc[idx]))
+    if not sd > 0:
+        raise ValueError("the output does not move over the held-out samples")
+    return float(np.sqrt(np.mean(noise[idx] ** 2)) / sd)
 
 
 def tool_floor(pc: np.ndarray, noise: np.ndarray | None, truth: dict, held, n_tool) -> float:

@@ -92,7 +92,8 @@ def try_effect(pb, current, effect: str, seed: int, hint: dict | None = None,
     rng = np.random.default_rng(seed)
     pb = candidates.for_model(pb, current)   # saturation where the model so far has it
     pbx = problem_for(pb, (effect,))
-    fr = fitted or candidates.fit_extended(pbx, current, effect, rng, hint)
+    fr = fitted if fitted is not None else candidates.fit_extended(pbx, current, effect, rng,
+                                                                    hint)
     if rival is not None:
         fr = search.best([fr, from_rival(candidates.for_model(pbx, fr), current, effect, fr,
                                          rival)])
