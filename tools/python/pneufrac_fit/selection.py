@@ -79,24 +79,25 @@ def problem_for(pb, new_effects):
     return pbx
 
 
-def try_effect(pb, current, effect: str, seed: int, hint: dict | None = None,
-               rival=None, fitted=None):
+def _problem_of(pb, current, effect: str):
+    """The problem a test of current + effect fits: saturation where the
+    model so far has it, the effect's own options."""
+    return problem_for(candidates.for_model(pb, current), (effect,))
+
+
+def try_effect(pb, current, effect: str, seed: int, hint: dict | None = None, fitted=None):
     """Fit current + effect, its reference, and the guards. Groups the
     baseline held because they were entangled with others, or because they
     sat at a bound, are freed again (the missing effect may be what
     entangled them or pushed them there); the reference gets the same
-    freedoms. rival: another test of the same round, whose optimum is one
-    more start of this fit (from_rival); fitted: this effect's fit from
-    its own starts, when a round already made it."""
+    freedoms. fitted: this effect's fit, when a round already made it (from
+    its own starts, or from a rival's optimum: rival_fit)."""
     t0 = time.monotonic()
     rng = np.random.default_rng(seed)
-    pb = candidates.for_model(pb, current)   # saturation where the model so far has it
-    pbx = problem_for(pb, (effect,))
+    pbx = _problem_of(pb, current, effect)
+    pb = candidates.for_model(pb, current)   # the reference's problem, for the guards
     fr = fitted if fitted is not None else candidates.fit_extended(pbx, current, effect, rng,
                                                                     hint)
-    if rival is not None:
-        fr = search.best([fr, from_rival(candidates.for_model(pbx, fr), current, effect, fr,
-                                         rival)])
     pbx = candidates.for_model(pbx, fr)      # saturation where the fit placed it
     if fr.cost < fit.start_cost(pbx, current.effects, {**current.groups, **current.values},
                                 current.dead) * (1 - 1e-6):
@@ -110,6 +111,12 @@ def try_effect(pb, current, effect: str, seed: int, hint: dict | None = None,
     t.pb = pbx
     t.elapsed = time.monotonic() - t0
     return t
+
+
+def rival_fit(pb, current, effect, fr, rival):
+    """from_rival on the problem try_effect fits current + effect on."""
+    pbx = _problem_of(pb, current, effect)
+    return from_rival(candidates.for_model(pbx, fr), current, effect, fr, rival)
 
 
 def from_rival(pb, current, effect, fr, rival):
@@ -384,8 +391,11 @@ def refit_rivals(pb, current, tests, seed, say):
         for i in todo:
             t = tests[i]
             done.add((t.effect, win.effect))
+            fr2 = rival_fit(pb, current, t.effect, t.model, win)
+            if not fr2.cost < t.model.cost * (1 - 1e-6):
+                continue    # no better fit: the test stands, and its guards need no rerun
             t2 = try_effect(pb, current, t.effect, seed + 101 * (model.CAUSES.index(t.effect) + 1),
-                            rival=win, fitted=t.model)
+                            fitted=fr2)
             if t2.model.cost < t.model.cost * (1 - 1e-6):
                 say(f"  {t.effect} refitted from the {win.effect} fit's optimum: val NRMSE "
                     f"{t.model.nrmse_val:.4f} -> {t2.model.nrmse_val:.4f} -> "
