@@ -263,18 +263,11 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None, _tried=None):
             current, cur_pb = _ambiguous(rounds[-2], current, lost, before, say, notes,
                                          sets)
             break
-        ok = [t for t in tests if t.passes]
-        without = best_without(tests, current)
-        if ok and without.nrmse_val <= min(t.model.nrmse_val for t in ok):
-            say(f"round {len(rounds)}: the model without a new effect, refitted with another "
-                f"test's freedoms, predicts the held-out part as well (NRMSE "
-                f"{without.nrmse_val:.4f}): no effect added")
-            ok = []
-        if not ok:
+        if not _passing(tests, current, len(rounds), say):
             break
         tests = refit_rivals(cur_pb, current, tests, seed + 7 * len(rounds) + 5, say)
         rounds[-1] = tested_on[id(current)] = tests
-        ok = [t for t in tests if t.passes]
+        ok = _passing(tests, current, len(rounds), say)   # refits bring new references
         if not ok:
             break
         win = min(ok, key=lambda t: t.model.nrmse_val)
@@ -364,6 +357,20 @@ def best_same_fit(tests, current, cur_pb):
         if b < score - SAME_FIT_DBIC and r.nrmse_val <= current.nrmse_val:
             score, best = b, (r, p, t.effect)
     return best
+
+
+def _passing(tests, current, n_round: int, say) -> list:
+    """The round's tests that pass, or none when the model without a new
+    effect (best_without) predicts the held-out part as well as the best
+    of them."""
+    ok = [t for t in tests if t.passes]
+    without = best_without(tests, current)
+    if ok and without.nrmse_val <= min(t.model.nrmse_val for t in ok):
+        say(f"round {n_round}: the model without a new effect, refitted with another "
+            f"test's freedoms, predicts the held-out part as well (NRMSE "
+            f"{without.nrmse_val:.4f}): no effect added")
+        return []
+    return ok
 
 
 def refit_rivals(pb, current, tests, seed, say):
