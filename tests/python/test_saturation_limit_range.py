@@ -11,12 +11,18 @@ import cases
 from pneufrac_fit import baseline, candidates, data, fit, model, search
 
 
-def test_a_limit_left_off_the_range_is_brought_back():
-    ds = cases.make("p", "saturation", 1)
+def _fitted(n: int = cases.N):
+    """A p record with saturation, its problem with the limits clipping
+    p_c, and its baseline."""
+    ds = cases.make("p", "saturation", 1, n=n)
     rec = data.make_record(ds.t, ds.e, ds.pc, "synthetic")
     pb = fit.Problem.from_record(rec, "p", None, 8, model.auto_oversample(rec.fs))
     base = baseline.fit_baseline(pb, np.random.default_rng(5), lambda m: None)[0]
-    pk = candidates.with_kind(pb, model.SAT_CLIP)
+    return ds, pb, candidates.with_kind(pb, model.SAT_CLIP), base
+
+
+def test_a_limit_left_off_the_range_is_brought_back():
+    ds, pb, pk, base = _fitted()
     effects = ("saturation",)
     span = pb.y_hi - pb.y_lo
     inner = candidates.effect_inits(pk, "saturation")[1]
@@ -36,11 +42,7 @@ def test_a_limit_left_off_the_range_is_brought_back():
 
 
 def test_limits_inside_the_range_are_left_alone():
-    ds = cases.make("p", "saturation", 1, n=2000)
-    rec = data.make_record(ds.t, ds.e, ds.pc, "synthetic")
-    pb = fit.Problem.from_record(rec, "p", None, 8, model.auto_oversample(rec.fs))
-    base = baseline.fit_baseline(pb, np.random.default_rng(5), lambda m: None)[0]
-    pk = candidates.with_kind(pb, model.SAT_CLIP)
+    _, pb, pk, base = _fitted(2000)
     st = candidates._sat_start(pk, base, {**base.groups, **base.values,
                                           **candidates.effect_inits(pk, "saturation")[1]})
     b = search.refine(pk, ("saturation",), [("inside", st)], dead=base.dead, iters=2)
