@@ -71,12 +71,19 @@ def no_effect(pb, effect: str) -> dict:
     return {}
 
 
+def _sat_shift(pb, base) -> float:
+    """The record's output deviation minus the simulated one, at the same
+    output: saturation's limits on the simulated deviation are the
+    record's, less this."""
+    return base.values.get("pc0", 0.0) - (pb.y[:10].mean() if pb.pc0 is None else pb.pc0)
+
+
 def _sat_start(pb, base, st: dict) -> dict:
     """Saturation's limits are on the simulated deviation, before the
     offset: move the starts by the base's offset, and give K (searched,
     not solved, with saturation) the base's value."""
     st = dict(st)
-    c = base.values.get("pc0", 0.0) - (pb.y[:10].mean() if pb.pc0 is None else pb.pc0)
+    c = _sat_shift(pb, base)
     if "sat_lo" in st:
         st["sat_lo"] -= c
         st["sat_hi"] -= c
@@ -132,12 +139,35 @@ def _fit_saturation(pb, base, rng, hint):
         b = search.explore_refine(pk, effects,
                                   _starts(pk, effects, "saturation", base, rngs[kind], hint),
                                   dead=base.dead)
+        b = _limits_back_in_range(pk, effects, base, b)
         fits.append((_not_worse(pk, effects, "saturation", base, b), pk, kind))
     fits.sort(key=lambda f: f[0].cost)
     win, pw, _ = fits[0]
     told = all(_kind_told(pw, win, pl, lose) for lose, pl, _ in fits[1:])
     win.values["sat_kind_told"] = 1.0 if told else 0.0
     return win
+
+
+def _limits_back_in_range(pb, effects, base, b):
+    """A limit that the search left beyond the record's output range never
+    binds, so the cost does not depend on it (zero gradient): no search
+    can bring it back, however much better a binding limit would fit. The
+    way there is a matter of the starts (a change in the last digits of
+    the model so far sends the same start to either side). Such a limit
+    is put back inside the range, at the inner effect size of
+    effect_inits, the other parameters as fitted, and refined from there;
+    the better fit is kept (a limit that should not bind goes out again)."""
+    c = _sat_shift(pb, base)
+    inner = effect_inits(pb, "saturation")[1]
+    st = dict(b.values)
+    off = {"sat_lo": st["sat_lo"] + c < pb.y_lo, "sat_hi": st["sat_hi"] + c > pb.y_hi}
+    if not any(off.values()):
+        return b
+    for k, out in off.items():
+        if out:
+            st[k] = inner[k] - c
+    alt = search.refine(pb, effects, [("limit back in range", st)], dead=base.dead)
+    return search.best([b, alt])
 
 
 def with_freed(pb, groups: list):

@@ -1,0 +1,51 @@
+# SPDX-License-Identifier: MIT
+"""A saturation limit that a search leaves beyond the record's output
+range never binds: the cost does not depend on it, so no refinement moves
+it back, however much better a binding limit fits. The saturation test
+puts such a limit back inside the range and refines from there
+(candidates._limits_back_in_range), so that which side of the range a
+start's path ends on does not decide the verdict."""
+import numpy as np
+
+import cases
+from pneufrac_fit import baseline, candidates, data, fit, model, search
+
+
+def _fitted(n: int = cases.N):
+    """A p record with saturation, its problem with the limits clipping
+    p_c, and its baseline."""
+    ds = cases.make("p", "saturation", 1, n=n)
+    rec = data.make_record(ds.t, ds.e, ds.pc, "synthetic")
+    pb = fit.Problem.from_record(rec, "p", None, 8, model.auto_oversample(rec.fs))
+    base = baseline.fit_baseline(pb, np.random.default_rng(5), lambda m: None)[0]
+    return ds, pb, candidates.with_kind(pb, model.SAT_CLIP), base
+
+
+def test_a_limit_left_off_the_range_is_brought_back():
+    ds, pb, pk, base = _fitted()
+    effects = ("saturation",)
+    span = pb.y_hi - pb.y_lo
+    inner = candidates.effect_inits(pk, "saturation")[1]
+    off = pb.y_lo - 0.5 * span                # the low limit far below the output
+    st = candidates._sat_start(pk, base, {**base.groups, **base.values,
+                                          "sat_lo": off, "sat_hi": inner["sat_hi"]})
+    stuck = search.refine(pk, effects, [("low limit off the range", st)], dead=base.dead)
+    # the premise: off the range the low limit has no gradient and stays put
+    assert stuck.values["sat_lo"] == st["sat_lo"]
+    back = candidates._limits_back_in_range(pk, effects, base, stuck)
+    assert back.cost < stuck.cost
+    truth = ds.effects["saturation"]
+    c = candidates._sat_shift(pk, base)
+    rec_span = float(np.ptp(ds.pc))
+    for k in ("sat_lo", "sat_hi"):
+        assert abs(back.values[k] + c - truth[k]) <= cases.SAT_TOL * rec_span, (k, back.values)
+
+
+def test_limits_inside_the_range_are_left_alone():
+    _, pb, pk, base = _fitted(2000)
+    st = candidates._sat_start(pk, base, {**base.groups, **base.values,
+                                          **candidates.effect_inits(pk, "saturation")[1]})
+    b = search.refine(pk, ("saturation",), [("inside", st)], dead=base.dead, iters=2)
+    c = candidates._sat_shift(pk, base)
+    assert pb.y_lo <= b.values["sat_lo"] + c and b.values["sat_hi"] + c <= pb.y_hi
+    assert candidates._limits_back_in_range(pk, ("saturation",), base, b) is b
