@@ -291,9 +291,16 @@ def scan_dead(pb, effects, vals: dict, dmax: int) -> list[tuple[float, int]]:
     return out
 
 
+def dead_max(pb) -> int:
+    """The longest dead time scanned, in simulation samples: DEAD_MAX data
+    samples, and at most a twentieth of the fit part (a delay must leave
+    the fit part most of its samples)."""
+    return int(min(DEAD_MAX, pb.split.n_fit // 20)) * pb.setup.oversample
+
+
 def _dead_candidates(pb, effects, base) -> list[int]:
     m = pb.setup.oversample
-    dmax = int(min(DEAD_MAX, pb.split.n_fit // 20)) * m
+    dmax = dead_max(pb)
     scan = scan_dead(pb, effects, {**base.groups, **base.values}, dmax)
     top = [d for _, d in scan[:3] if d >= 1]
     # The data's own answer: the relay passes 1/rho of a step at once, so
@@ -316,7 +323,7 @@ def profile_dead(pb, effects, b):
     dynamics), so the delay is scanned again with b's shape and refitted
     where it points, until it stays put, then its neighbours are tried."""
     fits = [b]
-    dmax = int(min(DEAD_MAX, pb.split.n_fit // 20)) * pb.setup.oversample
+    dmax = dead_max(pb)
     for _ in range(8):
         scan = scan_dead(pb, effects, {**b.groups, **b.values}, dmax)
         d_new = next((dd for _, dd in scan if dd >= 1), b.dead)

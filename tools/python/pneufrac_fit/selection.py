@@ -134,8 +134,7 @@ def from_rival(pb, current, effect, fr, rival):
     st.update({k: v for k, v in {**rival.model.groups, **rival.model.values}.items()
                if k not in own and k in st})
     if effect == "dead_time":
-        dmax = int(min(candidates.DEAD_MAX, pb.split.n_fit // 20)) * pb.setup.oversample
-        scan = candidates.scan_dead(pb, effects, st, dmax)
+        scan = candidates.scan_dead(pb, effects, st, candidates.dead_max(pb))
         d = next((dd for _, dd in scan if dd >= 1), fr.dead)
         r = search.refine(pb, effects, [("from " + rival.effect, st)], dead=d)
         return candidates.profile_dead(pb, effects, r)
