@@ -20,7 +20,8 @@ Each record is made (bench/blindsim), diagnosed with
   data samples, lag, dead band and nozzle x_1/2 relative, nozzle bias
   absolute, saturation limits relative to the record's output span;
 - held-out NRMSE: baseline -> final, against the true noise floor (the
-  noise's rms over the sd of the measured held-out output), and whether
+  noise's rms over the sd of the measured output, over the samples the
+  tool held out), and whether
   the final is at least halfway from the baseline to the floor.
 
 Every result is appended to --results as one JSON line as soon as it is
@@ -41,12 +42,16 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
+
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "bench"))
+sys.path.insert(0, str(ROOT / "tests" / "python"))
 
 from blindsim.__main__ import write  # noqa: E402
 from blindsim.catalogue import SCENARIOS  # noqa: E402
 from seedlist import seed_arg  # noqa: E402
+from indepsim.make import load_noise, tool_floor  # noqa: E402
 
 SECTION = "## Scoreboard on a third, blind simulator"
 MARKER = "blind"
@@ -142,8 +147,8 @@ def score(name: str, seed: int, records: Path, tool: Path, timeout: float) -> di
     if not js.exists():  # records are deterministic: made ones are reused (the truth is written last)
         csv, js = write(name, seed, records)
     truth = json.loads(js.read_text())
-    pcs = [float(line.split(",")[2]) for line in csv.read_text().splitlines()[2:]]
-    pc_span = max(pcs) - min(pcs)
+    pcs = np.array([float(line.split(",")[2]) for line in csv.read_text().splitlines()[2:]])
+    pc_span = float(np.ptp(pcs))
     out, err, wall = diagnose(tool, csv, truth, timeout)
     row = {"record": f"{name}-{seed}", "name": name, "seed": seed, "class": truth["class"],
            "when": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
@@ -156,12 +161,16 @@ def score(name: str, seed: int, records: Path, tool: Path, timeout: float) -> di
         return row
     (records / f"{name}-{seed}.diagnosis.json").write_text(json.dumps(out, indent=1) + "\n")
     named = named_causes(out)
+    recd = out.get("record", {})
+    # The true floor over the samples the tool held out (its split may not be the tail).
+    row["floor"] = tool_floor(pcs, load_noise(records / f"{name}-{seed}.noise.csv"),
+                              recd.get("held_out"), recd.get("n"), truth["floor_val"])
     before = out["baseline"]["nrmse_val"]
     after = out["extended"]["nrmse_val"]
     row.update(
         verdict=verdict(named, truth), named=named, nrmse_before=before, nrmse_after=after,
         tool_floor=out.get("noise", {}).get("floor_val"),
-        halfway=after <= before - 0.5 * (before - truth["floor_val"]) + 1e-12,
+        halfway=after <= before - 0.5 * (before - row["floor"]) + 1e-12,
         params=param_errors(out, truth, pc_span),
         tool_line=(out.get("verdict") or [""])[0],
         notes=out.get("record", {}).get("notes", []))

@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: MIT
 """python -m blindsim list | make NAME [NAME ...] --seed S [--noise KIND] --out DIR
 
-`make` writes DIR/NAME-S.csv (the record) and DIR/NAME-S.json (its truth).
+`make` writes DIR/NAME-S.csv (the record), DIR/NAME-S.noise.csv (the noise
+added to pc, one value per line) and DIR/NAME-S.json (its truth).
 """
 from __future__ import annotations
 
@@ -11,6 +12,8 @@ import json
 import os
 import sys
 from pathlib import Path
+
+import numpy as np
 
 from .catalogue import SCENARIOS, build
 from .sensors import NOISE_KINDS
@@ -31,6 +34,9 @@ def write(name: str, seed: int, out: Path, noise: str | None = None) -> tuple[Pa
         for t, e, pc in zip(cols["t"], cols["e"], cols["pc"]):
             f.write(f"{t:.7f},{e:.9g},{pc:.9g}\n")
     os.replace(str(csv) + tmp, csv)
+    noise = out / f"{name}-{seed}.noise.csv"
+    np.savetxt(str(noise) + tmp, cols["noise"], fmt="%.10g")
+    os.replace(str(noise) + tmp, noise)
     Path(str(js) + tmp).write_text(json.dumps(truth, indent=1) + "\n")
     os.replace(str(js) + tmp, js)
     return csv, js

@@ -247,4 +247,6 @@ def build(name: str, seed: int, noise: str | None = None) -> tuple[dict, dict]:
         "remake": (f"PYTHONPATH=bench .venv/bin/python -m blindsim make {name} --seed {seed}"
                    + (f" --noise {noise}" if noise else "") + " --out DIR"),
     }
-    return {"t": tk, "e": e_meas, "pc": pc_meas}, truth
+    # The noise the sensors added (quantisation included), for the floor
+    # over whichever samples the tool holds out.
+    return {"t": tk, "e": e_meas, "pc": pc_meas, "noise": pc_meas - pc0 - pc_true}, truth

@@ -85,3 +85,18 @@ def test_nozzle_unit_slope_and_pneufrac_equivalent():
     assert abs((noz(dx) - noz(-dx)) / (2 * dx) - 1) < 1e-3
     xh, bias, misfit = noz.equivalent(-0.3, 0.3)
     assert misfit < 1e-3 * 0.6 and -0.5 <= bias < 0  # closed gap: before the inflection
+
+
+def test_written_noise_gives_the_truths_floor(tmp_path):
+    """The noise file written beside a record is what the sensors added:
+    over the last 30 % it gives the truth's floor_val, so the scoreboard's
+    floor over any other held-out split (bench_blind) rests on it."""
+    from blindsim.__main__ import write
+    from indepsim.make import floor_over, load_noise
+    csv, js = write("clean-p-5s-prbs", 1, tmp_path)
+    pc = np.loadtxt(csv, delimiter=",", skiprows=2)[:, 2]
+    noise = load_noise(tmp_path / "clean-p-5s-prbs-1.noise.csv")
+    assert noise is not None and noise.shape == pc.shape
+    n = pc.size
+    got = floor_over(pc, noise, [(int(0.7 * n), n)])
+    assert got == pytest.approx(json.loads(js.read_text())["floor_val"], rel=1e-6)

@@ -54,7 +54,8 @@ def check(rec, d) -> list[str]:
                 if tp.get(k) is not None and not abs(p[k] - tp[k]) <= cases.SAT_TOL * span:
                     bad.append(f"{k} {p[k]:.4g}, true {tp[k]:.4g} (range {span:.4g})")
     if truth:
-        bad += cases.not_halfway(d, tool_floor(rec.pc, rec.noise, t, d.split.held, d.n))
+        bad += cases.not_halfway(d, tool_floor(rec.pc, rec.noise, d.split.held, d.n,
+                                                t["noise"]["noise_floor_val"]))
     return bad + cases.bound_faults(d)
 
 

@@ -43,16 +43,27 @@ def floor_over(pc: np.ndarray, noise: np.ndarray, held) -> float:
     return float(np.sqrt(np.mean(noise[idx] ** 2)) / sd)
 
 
-def tool_floor(pc: np.ndarray, noise: np.ndarray | None, truth: dict, held, n_tool) -> float:
-    """floor_over the tool's held-out samples; the last 30 %'s floor when
-    the tool's record does not line up with this one sample for sample (a
-    resampled or trimmed record) or its held-out part is unknown."""
+def load_noise(path) -> np.ndarray | None:
+    """The noise file a simulator wrote beside its record (STEM.noise.csv),
+    or None when it is missing or unreadable (records made before it was
+    written)."""
+    try:
+        return np.loadtxt(path, ndmin=1)
+    except (OSError, ValueError):
+        return None
+
+
+def tool_floor(pc: np.ndarray, noise: np.ndarray | None, held, n_tool, fallback: float) -> float:
+    """floor_over the tool's held-out samples; `fallback` (the simulator's
+    floor over the last 30 %) when the tool's record does not line up with
+    this one sample for sample (a resampled or trimmed record) or its
+    held-out part is unknown. Shared by both simulators' benchmarks."""
     if noise is not None and held and n_tool == pc.size:
         try:
             return floor_over(pc, noise, held)
         except ValueError:
             pass
-    return truth["noise"]["noise_floor_val"]
+    return fallback
 
 
 def _rng(name: str, seed: int) -> np.random.Generator:
