@@ -262,11 +262,11 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None, _tried=None):
             current, cur_pb = _ambiguous(rounds[-2], current, lost, before, say, notes,
                                          sets)
             break
-        if not _passing(tests, current, len(rounds), say):
+        if not _passing(tests, current, cur_pb, len(rounds), say):
             break
         tests = refit_rivals(cur_pb, current, tests, seed + 7 * len(rounds) + 5, say)
         rounds[-1] = tested_on[id(current)] = tests
-        ok = _passing(tests, current, len(rounds), say)   # refits bring new references
+        ok = _passing(tests, current, cur_pb, len(rounds), say)   # refits bring new references
         if not ok:
             break
         win = min(ok, key=lambda t: t.model.nrmse_val)
@@ -341,29 +341,58 @@ def best_same_fit(tests, current, cur_pb):
             and model.canonical(t.ref.effects) == same]
     if not refs:
         return current, cur_pb, ""
-    import copy
     score = _bic(cur_pb, current)
     best = (current, cur_pb, "")
     for t in refs:
-        p = copy.copy(t.pb)          # the test's freedoms, the model so far's samples
-        p.burn = cur_pb.burn
-        p = candidates.for_model(p, t.ref)
+        p = _samples_of(t, cur_pb)
         if not _bic(p, t.ref) < score - SAME_FIT_DBIC:
             continue
-        r = search.refine(p, same, [("reference of " + t.effect,
-                                     {**t.ref.groups, **t.ref.values})], dead=t.ref.dead)
+        r = _refit_on(t, p)
         b = _bic(p, r)
         if b < score - SAME_FIT_DBIC and r.nrmse_val <= current.nrmse_val:
             score, best = b, (r, p, t.effect)
     return best
 
 
-def _passing(tests, current, n_round: int, say) -> list:
+def _samples_of(t, cur_pb):
+    """t's problem (the freedoms its test gave the model without the
+    effect) on the model so far's samples."""
+    import copy
+    p = copy.copy(t.pb)
+    p.burn = cur_pb.burn
+    return candidates.for_model(p, t.ref)
+
+
+def _ref_on_samples(t, cur_pb):
+    """t's reference (the model so far refitted with t's freedoms) on the
+    model so far's samples: as fitted when its test counted them all,
+    otherwise (a dead band's test does not count the samples before the
+    input's first reversal) refined on them from its optimum. Kept on t:
+    a round asks for it more than once."""
+    if t.pb.burn == cur_pb.burn:
+        return t.ref
+    got = getattr(t, "ref_same_samples", None)
+    if got is None or got[0] != cur_pb.burn:
+        got = (cur_pb.burn, _refit_on(t, _samples_of(t, cur_pb)))
+        t.ref_same_samples = got
+    return got[1]
+
+
+def _refit_on(t, p):
+    """t's reference refined on problem p from its optimum."""
+    return search.refine(p, model.canonical(t.ref.effects),
+                         [("reference of " + t.effect, {**t.ref.groups, **t.ref.values})],
+                         dead=t.ref.dead)
+
+
+def _passing(tests, current, cur_pb, n_round: int, say) -> list:
     """The round's tests that pass, or none when the model without a new
     effect (best_without) predicts the held-out part as well as the best
     of them."""
     ok = [t for t in tests if t.passes]
-    without = best_without(tests, current)
+    if not ok:
+        return []
+    without = best_without(tests, current, cur_pb)
     if ok and without.nrmse_val <= min(t.model.nrmse_val for t in ok):
         say(f"round {n_round}: the model without a new effect, refitted with another "
             f"test's freedoms, predicts the held-out part as well (NRMSE "
@@ -409,17 +438,24 @@ def refit_rivals(pb, current, tests, seed, say):
                 tests[i] = t2
 
 
-def best_without(tests, current):
+def best_without(tests, current, cur_pb):
     """The best predicting model without a new effect that a round found:
     the model so far, or a test's reference (the same effects refitted with
-    the freedoms and samples that test gave them). An effect whose model
-    predicts the held-out part no better than that explains nothing the
-    model so far cannot, refitted: its gain over its own reference is then
-    the freedoms', and naming it would credit an effect with what a better
-    fit of the model without it does (held-out errors compare models fairly
-    whatever their freedoms)."""
+    the freedoms that test gave them), every one fitted on the model so
+    far's samples (_ref_on_samples), the samples the effects it is compared
+    with were fitted on. An effect whose model predicts the held-out part
+    no better than that explains nothing the model so far cannot, refitted:
+    its gain over its own reference is then the freedoms', and naming it
+    would credit an effect with what a better fit of the model without it
+    does (held-out errors compare models fairly whatever their freedoms,
+    not whatever their samples: a fit that leaves out a stretch the model
+    without the effect cannot follow, as a dead band's reference leaves out
+    the samples before the input's first reversal, predicts the rest
+    better for that reason, and the stretch it left out is the evidence
+    for the effect)."""
     same = model.canonical(current.effects)
-    refs = [t.ref for t in tests if model.canonical(t.ref.effects) == same]
+    refs = [_ref_on_samples(t, cur_pb) for t in tests
+            if model.canonical(t.ref.effects) == same and t.ref is not current]
     return min([current] + refs, key=lambda r: r.nrmse_val)
 
 
