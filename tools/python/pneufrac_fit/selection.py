@@ -17,7 +17,7 @@ Three mechanisms, each used everywhere it applies:
    (_ambiguous).
 3. One search order (forward): rounds of single effects, a round's winner
    added only if it predicts better than every model without it the round
-   found (best_without), after every explanation of the round was
+   found, fitted on the same samples (models_without, winner_on), after every explanation of the round was
    refitted from the winner's optimum (refit_rivals); pairs when a round
    adds nothing and the model is inadequate (pairs); a backward check of
    every named effect against the final model without it (backward), and
@@ -341,64 +341,63 @@ def best_same_fit(tests, current, cur_pb):
             and model.canonical(t.ref.effects) == same]
     if not refs:
         return current, cur_pb, ""
+    import copy
     score = _bic(cur_pb, current)
     best = (current, cur_pb, "")
     for t in refs:
-        p = _samples_of(t, cur_pb)
+        p = copy.copy(t.pb)          # the test's freedoms, the model so far's samples
+        p.burn = cur_pb.burn
+        p = candidates.for_model(p, t.ref)
         if not _bic(p, t.ref) < score - SAME_FIT_DBIC:
             continue
-        r = _refit_on(t, p)
+        r = search.refine(p, same, [("reference of " + t.effect,
+                                     {**t.ref.groups, **t.ref.values})], dead=t.ref.dead)
         b = _bic(p, r)
         if b < score - SAME_FIT_DBIC and r.nrmse_val <= current.nrmse_val:
             score, best = b, (r, p, t.effect)
     return best
 
 
-def _samples_of(t, cur_pb):
-    """t's problem (the freedoms its test gave the model without the
-    effect) on the model so far's samples."""
-    import copy
-    p = copy.copy(t.pb)
-    p.burn = cur_pb.burn
-    return candidates.for_model(p, t.ref)
-
-
-def _ref_on_samples(t, cur_pb):
-    """t's reference (the model so far refitted with t's freedoms) on the
-    model so far's samples: as fitted when its test counted them all,
-    otherwise (a dead band's test does not count the samples before the
-    input's first reversal) refined on them from its optimum. Kept on t:
-    a round asks for it more than once."""
-    if t.pb.burn == cur_pb.burn:
-        return t.ref
-    got = getattr(t, "ref_same_samples", None)
-    if got is None or got[0] != cur_pb.burn:
-        got = (cur_pb.burn, _refit_on(t, _samples_of(t, cur_pb)))
-        t.ref_same_samples = got
-    return got[1]
-
-
-def _refit_on(t, p):
-    """t's reference refined on problem p from its optimum."""
-    return search.refine(p, model.canonical(t.ref.effects),
-                         [("reference of " + t.effect, {**t.ref.groups, **t.ref.values})],
-                         dead=t.ref.dead)
-
-
 def _passing(tests, current, cur_pb, n_round: int, say) -> list:
-    """The round's tests that pass, or none when the model without a new
-    effect (best_without) predicts the held-out part as well as the best
-    of them."""
+    """The round's tests that pass, or none when a model without a new
+    effect (models_without) predicts the held-out part as well as the best
+    of them fitted on the same samples (winner_on)."""
     ok = [t for t in tests if t.passes]
     if not ok:
         return []
-    without = best_without(tests, current, cur_pb)
-    if ok and without.nrmse_val <= min(t.model.nrmse_val for t in ok):
-        say(f"round {n_round}: the model without a new effect, refitted with another "
-            f"test's freedoms, predicts the held-out part as well (NRMSE "
-            f"{without.nrmse_val:.4f}): no effect added")
-        return []
+    best = min(ok, key=lambda t: t.model.nrmse_val)
+    for r, burn in models_without(tests, current, cur_pb):
+        w = winner_on(best, burn)
+        if r.nrmse_val <= w.nrmse_val:
+            fewer = " on the same samples" if w is not best.model else ""
+            say(f"round {n_round}: the model without a new effect, refitted with another "
+                f"test's freedoms, predicts the held-out part as well as {best.effect}"
+                f"{fewer} (NRMSE {r.nrmse_val:.4f} against {w.nrmse_val:.4f}): no effect "
+                "added")
+            return []
     return ok
+
+
+def winner_on(t, burn: int):
+    """t's model fitted on the samples a model without it was fitted on:
+    as it is when those are t's own or more (samples t's own test left
+    out stay out), otherwise refined from its optimum without the samples
+    before `burn` (a dead band's test fits its reference without the
+    samples before the input's first reversal). Kept on t: a round asks
+    for it more than once."""
+    import copy
+    if burn <= t.pb.burn:
+        return t.model
+    done = getattr(t, "on_fewer", {})
+    if burn not in done:
+        p = copy.copy(t.pb)
+        p.burn = burn
+        p = candidates.for_model(p, t.model)
+        done[burn] = search.refine(p, t.model.effects,
+                                   [("on fewer samples", {**t.model.groups, **t.model.values})],
+                                   dead=t.model.dead)
+        t.on_fewer = done
+    return done[burn]
 
 
 def refit_rivals(pb, current, tests, seed, say):
@@ -438,25 +437,25 @@ def refit_rivals(pb, current, tests, seed, say):
                 tests[i] = t2
 
 
-def best_without(tests, current, cur_pb):
-    """The best predicting model without a new effect that a round found:
-    the model so far, or a test's reference (the same effects refitted with
-    the freedoms that test gave them), every one fitted on the model so
-    far's samples (_ref_on_samples), the samples the effects it is compared
-    with were fitted on. An effect whose model predicts the held-out part
-    no better than that explains nothing the model so far cannot, refitted:
-    its gain over its own reference is then the freedoms', and naming it
-    would credit an effect with what a better fit of the model without it
-    does (held-out errors compare models fairly whatever their freedoms,
-    not whatever their samples: a fit that leaves out a stretch the model
-    without the effect cannot follow, as a dead band's reference leaves out
-    the samples before the input's first reversal, predicts the rest
-    better for that reason, and the stretch it left out is the evidence
-    for the effect)."""
+def models_without(tests, current, cur_pb) -> list:
+    """(model, the first sample its fit counted) for every model without a
+    new effect that a round found: the model so far, and each test's
+    reference (the same effects refitted with the freedoms and samples
+    that test gave them). An effect whose model predicts the held-out part
+    no better than one of them explains nothing the model so far cannot,
+    refitted: its gain over its own reference is then the freedoms', and
+    naming it would credit an effect with what a better fit of the model
+    without it does. Held-out errors compare models fairly whatever their
+    freedoms, but not whatever their samples: a fit that leaves out a
+    stretch of the record predicts the rest better when the stretch holds
+    what the model cannot follow (the effect, or a disturbance), so the
+    effect is compared with each such fit refitted on the same samples
+    (winner_on)."""
     same = model.canonical(current.effects)
-    refs = [_ref_on_samples(t, cur_pb) for t in tests
+    out = [(current, cur_pb.burn)]
+    out += [(t.ref, t.pb.burn) for t in tests
             if model.canonical(t.ref.effects) == same and t.ref is not current]
-    return min([current] + refs, key=lambda r: r.nrmse_val)
+    return out
 
 
 def explains(t) -> bool:
