@@ -17,8 +17,9 @@ Three mechanisms, each used everywhere it applies:
    (_ambiguous).
 3. One search order (forward): rounds of single effects, a round's winner
    added only if it predicts better than every model without it the round
-   found, fitted on the same samples (models_without, winner_on), after every explanation of the round was
-   refitted from the winner's optimum (refit_rivals); pairs when a round
+   found, fitted on the same samples (models_without, winner_on), after
+   every explanation of the round was refitted from the winner's optimum
+   (refit_rivals); pairs when a round
    adds nothing and the model is inadequate (pairs); a backward check of
    every named effect against the final model without it (backward), and
    rounds again on top of the model it leaves when it drops one. The
