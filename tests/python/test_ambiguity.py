@@ -225,7 +225,9 @@ def _forward_with(scale_b, on_top, monkeypatch, ref_lag=1.0):
     monkeypatch.setattr(selection, "refit_rivals", lambda pb, cur, tests, seed, say: tests)
     base = SimpleNamespace(effects=(), effect="none", nrmse_val=1.0)
     notes = []
-    final, _, _, _ = selection.forward("pb", base, 0, 1, lambda s: None, notes)
+    # every scripted test counts the same samples as the model so far
+    final, _, _, _ = selection.forward(SimpleNamespace(burn=0), base, 0, 1, lambda s: None,
+                                       notes)
     return final, notes
 
 

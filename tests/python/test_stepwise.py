@@ -17,10 +17,14 @@ def _model(effects, nrmse):
                            nrmse_val=nrmse, k=9)
 
 
+# every test's problem counts the same samples (selection.best_without)
+PB = SimpleNamespace(burn=0)
+
+
 def _test(effect, fr, passes):
     return SimpleNamespace(effect=effect, model=fr, ref=_model((), 1.0), passes=passes,
                            excludes=passes, val_gain=0.1 if passes else -0.1,
-                           reasons=[] if passes else ["stub: fails"], pb="pb")
+                           reasons=[] if passes else ["stub: fails"], pb=PB)
 
 
 def _run(monkeypatch, dead_band_on_saturation: bool):
@@ -47,7 +51,7 @@ def _run(monkeypatch, dead_band_on_saturation: bool):
     monkeypatch.setattr(selection, "backward", backward)
     monkeypatch.setattr(selection, "pairs", lambda *a, **k: None)
     monkeypatch.setattr(selection, "best_same_fit", lambda tests, cur, pb: (cur, pb, ""))
-    final, _, rounds, checks = selection.forward("pb", _model((), 1.0), 0, 1, lambda s: None)
+    final, _, rounds, checks = selection.forward(PB, _model((), 1.0), 0, 1, lambda s: None)
     return final, calls, checks
 
 

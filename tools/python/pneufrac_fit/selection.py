@@ -17,8 +17,9 @@ Three mechanisms, each used everywhere it applies:
    (_ambiguous).
 3. One search order (forward): rounds of single effects, a round's winner
    added only if it predicts better than every model without it the round
-   found (best_without), after every explanation of the round was
-   refitted from the winner's optimum (refit_rivals); pairs when a round
+   found, fitted on the same samples (models_without, winner_on), after
+   every explanation of the round was refitted from the winner's optimum
+   (refit_rivals); pairs when a round
    adds nothing and the model is inadequate (pairs); a backward check of
    every named effect against the final model without it (backward), and
    rounds again on top of the model it leaves when it drops one. The
@@ -262,11 +263,11 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None, _tried=None):
             current, cur_pb = _ambiguous(rounds[-2], current, lost, before, say, notes,
                                          sets)
             break
-        if not _passing(tests, current, len(rounds), say):
+        if not _passing(tests, current, cur_pb, len(rounds), say):
             break
         tests = refit_rivals(cur_pb, current, tests, seed + 7 * len(rounds) + 5, say)
         rounds[-1] = tested_on[id(current)] = tests
-        ok = _passing(tests, current, len(rounds), say)   # refits bring new references
+        ok = _passing(tests, current, cur_pb, len(rounds), say)   # refits bring new references
         if not ok:
             break
         win = min(ok, key=lambda t: t.model.nrmse_val)
@@ -358,18 +359,46 @@ def best_same_fit(tests, current, cur_pb):
     return best
 
 
-def _passing(tests, current, n_round: int, say) -> list:
-    """The round's tests that pass, or none when the model without a new
-    effect (best_without) predicts the held-out part as well as the best
-    of them."""
+def _passing(tests, current, cur_pb, n_round: int, say) -> list:
+    """The round's tests that pass, or none when a model without a new
+    effect (models_without) predicts the held-out part as well as the best
+    of them fitted on the same samples (winner_on)."""
     ok = [t for t in tests if t.passes]
-    without = best_without(tests, current)
-    if ok and without.nrmse_val <= min(t.model.nrmse_val for t in ok):
-        say(f"round {n_round}: the model without a new effect, refitted with another "
-            f"test's freedoms, predicts the held-out part as well (NRMSE "
-            f"{without.nrmse_val:.4f}): no effect added")
+    if not ok:
         return []
+    best = min(ok, key=lambda t: t.model.nrmse_val)
+    for r, burn in models_without(tests, current, cur_pb):
+        w = winner_on(best, burn)
+        if r.nrmse_val <= w.nrmse_val:
+            fewer = " on the same samples" if w is not best.model else ""
+            say(f"round {n_round}: the model without a new effect, refitted with another "
+                f"test's freedoms, predicts the held-out part as well as {best.effect}"
+                f"{fewer} (NRMSE {r.nrmse_val:.4f} against {w.nrmse_val:.4f}): no effect "
+                "added")
+            return []
     return ok
+
+
+def winner_on(t, burn: int):
+    """t's model fitted on the samples a model without it was fitted on:
+    as it is when those are t's own or more (samples t's own test left
+    out stay out), otherwise refined from its optimum without the samples
+    before `burn` (a dead band's test fits its reference without the
+    samples before the input's first reversal). Kept on t: a round asks
+    for it more than once."""
+    import copy
+    if burn <= t.pb.burn:
+        return t.model
+    done = getattr(t, "on_fewer", {})
+    if burn not in done:
+        p = copy.copy(t.pb)
+        p.burn = burn
+        p = candidates.for_model(p, t.model)
+        done[burn] = search.refine(p, t.model.effects,
+                                   [("on fewer samples", {**t.model.groups, **t.model.values})],
+                                   dead=t.model.dead)
+        t.on_fewer = done
+    return done[burn]
 
 
 def refit_rivals(pb, current, tests, seed, say):
@@ -409,18 +438,25 @@ def refit_rivals(pb, current, tests, seed, say):
                 tests[i] = t2
 
 
-def best_without(tests, current):
-    """The best predicting model without a new effect that a round found:
-    the model so far, or a test's reference (the same effects refitted with
-    the freedoms and samples that test gave them). An effect whose model
-    predicts the held-out part no better than that explains nothing the
-    model so far cannot, refitted: its gain over its own reference is then
-    the freedoms', and naming it would credit an effect with what a better
-    fit of the model without it does (held-out errors compare models fairly
-    whatever their freedoms)."""
+def models_without(tests, current, cur_pb) -> list:
+    """(model, the first sample its fit counted) for every model without a
+    new effect that a round found: the model so far, and each test's
+    reference (the same effects refitted with the freedoms and samples
+    that test gave them). An effect whose model predicts the held-out part
+    no better than one of them explains nothing the model so far cannot,
+    refitted: its gain over its own reference is then the freedoms', and
+    naming it would credit an effect with what a better fit of the model
+    without it does. Held-out errors compare models fairly whatever their
+    freedoms, but not whatever their samples: a fit that leaves out a
+    stretch of the record predicts the rest better when the stretch holds
+    what the model cannot follow (the effect, or a disturbance), so the
+    effect is compared with each such fit refitted on the same samples
+    (winner_on)."""
     same = model.canonical(current.effects)
-    refs = [t.ref for t in tests if model.canonical(t.ref.effects) == same]
-    return min([current] + refs, key=lambda r: r.nrmse_val)
+    out = [(current, cur_pb.burn)]
+    out += [(t.ref, t.pb.burn) for t in tests
+            if model.canonical(t.ref.effects) == same and t.ref is not current]
+    return out
 
 
 def explains(t) -> bool:
