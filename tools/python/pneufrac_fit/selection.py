@@ -27,6 +27,7 @@ Three mechanisms, each used everywhere it applies:
 """
 from __future__ import annotations
 
+import copy
 import itertools
 import math
 import time
@@ -57,7 +58,6 @@ def play_start_unknown(pb):
     with backlash in a comparison neither model counts the samples before
     the input's first reversal (and 2 % of the fit part more, for the
     difference to die away): the same samples for both."""
-    import copy
     k = signals.first_reversal(pb.e_abs[:pb.nsim]) + int(fit.BURN * pb.split.n_fit)
     if k <= pb.burn:
         return pb
@@ -342,7 +342,6 @@ def best_same_fit(tests, current, cur_pb):
             and model.canonical(t.ref.effects) == same]
     if not refs:
         return current, cur_pb, ""
-    import copy
     score = _bic(cur_pb, current)
     best = (current, cur_pb, "")
     for t in refs:
@@ -386,7 +385,6 @@ def winner_on(t, burn: int):
     before `burn` (a dead band's test fits its reference without the
     samples before the input's first reversal). Kept on t: a round asks
     for it more than once."""
-    import copy
     if burn <= t.pb.burn:
         return t.model
     done = getattr(t, "on_fewer", {})
