@@ -29,10 +29,27 @@ that is correlated at every scale (1/f) has no such length: the tail split
 has the same leak at its one edge. A record too short for SECTIONS blocks
 of MIN_HELD samples gets fewer, longer blocks; one block is the tail
 split.
+
+Levels. A held-out block's output level is the operating point
+plus the noise's wander slower than the block (drift, 1/f noise, a slow
+AR pole). An opening rest stretch of a few hundred samples cannot measure
+that wander, and the fit parts on both sides of a block carry it into the
+block: a model given room to follow it there (a slow relay mode, a dead
+band holding a state) "predicts" the block's level from its neighbours,
+an interpolation of the noise, not of the controller. So the held-out
+gains the guards count (guards.test) are taken within each block, less
+its own mean (centre_held). With the tail split that is the held-out
+part's mean, which the gain has always discounted. Nothing the library's
+effects do is a level held over a whole block without an input move in
+it: they shape the response to the input's moves within the block,
+which stays counted, and a block where the input rests shows only a
+level, which the slow noise makes as well.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
+
+import numpy as np
 
 FIT_FRACTION = 0.7       # the fit part's share of the record (and of each section)
 SECTIONS = 3             # sections, each with its held-out block at its end
@@ -97,6 +114,18 @@ class Split:
     @property
     def n_held(self) -> int:
         return sum(b - a for a, b in self.held)
+
+    def centre_held(self, x: np.ndarray) -> np.ndarray:
+        """A copy of x with each held-out block less its own mean: what
+        varies within a block. A block's level is set by the operating
+        point and by the noise's wander slower than the block, which a rest
+        stretch of a few hundred samples cannot measure and which the fit
+        parts on either side of the block carry into it (Levels, above)."""
+        y = np.array(x, dtype=float, copy=True)
+        for a, b in self.held:
+            if b > a:
+                y[a:b] -= np.mean(y[a:b])
+        return y
 
     def window(self, n: int) -> "Split":
         """The same layout over the first n samples."""
