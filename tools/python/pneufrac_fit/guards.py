@@ -21,8 +21,9 @@ It is named only when all of these hold:
    discretisation.
 3. Earns its place. Against the same-freedom reference: BIC (on the
    residuals whitened by the extended model's noise model, the same filter
-   for both) lower by more than MIN_DBIC, and the held-out whitened mean-
-   square error lower by more than MIN_VAL_GAIN.
+   for both) lower by more than MIN_DBIC, and the held-out mean-square
+   error, as measured and whitened, each held-out block less its own level
+   (holdout.py, Levels), lower by more than MIN_VAL_GAIN.
 """
 from __future__ import annotations
 

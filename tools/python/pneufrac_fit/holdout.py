@@ -62,7 +62,10 @@ MODES = ("blocks", "tail")
 # selection's rules for explanations that imitate each other remove both
 # (analysis-bench.md, "Explanations that imitate each other"); with them,
 # seeds 1-2 gave a false effect on a clean record with the blocks (a dead
-# band on clean-p-real-2; analysis-bench.md, "The merged tool of stop 21").
+# band on clean-p-real-2; analysis-bench.md, "The merged tool of stop 21"),
+# which came from the blocks' levels (Levels, above) and which the held-out
+# gain no longer counts; the sweeps with that rule were not completed
+# (analysis-bench.md, "A held-out block's level").
 DEFAULT = "tail"
 
 
