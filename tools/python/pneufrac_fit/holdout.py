@@ -39,11 +39,12 @@ band holding a state) "predicts" the block's level from its neighbours,
 an interpolation of the noise, not of the controller. So the held-out
 gains the guards count (guards.test) are taken within each block, less
 its own mean (centre_held). With the tail split that is the held-out
-part's mean, which the gain has always discounted. Nothing the library's
-effects do is a level held over a whole block without an input move in
-it: they shape the response to the input's moves within the block,
-which stays counted, and a block where the input rests shows only a
-level, which the slow noise makes as well.
+part's mean, which the gain has always discounted. What an effect does
+to the response to the input's moves within a block stays counted; what
+it does only as a level held through a whole block (an output held at a
+limit, a play's offset while the input rests) is what the slow noise
+makes as well, so it cannot tell the effect from the noise and is given
+up.
 """
 from __future__ import annotations
 
