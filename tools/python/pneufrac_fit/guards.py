@@ -21,8 +21,9 @@ It is named only when all of these hold:
    discretisation.
 3. Earns its place. Against the same-freedom reference: BIC (on the
    residuals whitened by the extended model's noise model, the same filter
-   for both) lower by more than MIN_DBIC, and the held-out whitened mean-
-   square error lower by more than MIN_VAL_GAIN.
+   for both) lower by more than MIN_DBIC, and the held-out mean-square
+   error, as measured and whitened, each held-out block less its own level
+   (holdout.py, Levels), lower by more than MIN_VAL_GAIN.
 """
 from __future__ import annotations
 
@@ -168,18 +169,19 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
     # weighs the fast part of the error (where a coloured noise is weak);
     # an effect that only helps there, and not in the error as measured, is
     # fitting the model's own discretisation at the input's fast changes.
-    v1, v0 = pb.held_white(r1, nm), pb.held_white(r0, nm)
+    # Each held-out block less its own level first (holdout.py, Levels:
+    # with the tail split, the held-out part's mean, as always).
+    c1, c0 = pb.split.centre_held(r1), pb.split.centre_held(r0)
+    v1, v0 = pb.held_white(c1, nm), pb.held_white(c0, nm)
     mse1, mse0 = float(v1 @ v1), float(v0 @ v0)
     gw = 1.0 - mse1 / mse0 if mse0 > 0 else 0.0
-    h1, h0 = pb.held_of(r1), pb.held_of(r0)
-    p1, p0 = h1 - np.mean(h1), h0 - np.mean(h0)
+    p1, p0 = pb.held_of(c1), pb.held_of(c0)
     mp1, mp0 = float(p1 @ p1), float(p0 @ p0)
     gp = 1.0 - mp1 / mp0 if mp0 > 0 else 0.0
     t.val_gain = min(gw, gp)
     if so_far is not None and so_far is not ref:
-        rs = so_far.residual(pb_ref)
-        vs, hs = pb.held_white(rs, nm), pb.held_of(rs)
-        ps = hs - np.mean(hs)
+        cs = pb.split.centre_held(so_far.residual(pb_ref))
+        vs, ps = pb.held_white(cs, nm), pb.held_of(cs)
         ms, mps = float(vs @ vs), float(ps @ ps)
         t.val_gain = min(t.val_gain, 1.0 - mse1 / ms if ms > 0 else 0.0,
                          1.0 - mp1 / mps if mps > 0 else 0.0)
