@@ -51,7 +51,7 @@ sys.path.insert(0, str(ROOT / "tests" / "python"))
 from blindsim.__main__ import write  # noqa: E402
 from blindsim.catalogue import SCENARIOS  # noqa: E402
 from seedlist import seed_arg  # noqa: E402
-from indepsim.make import load_noise, tool_floor  # noqa: E402
+from indepsim.make import load_noise, true_floor_held  # noqa: E402
 
 SECTION = "## Scoreboard on a third, blind simulator"
 MARKER = "blind"
@@ -144,7 +144,9 @@ def verdict(named: list[str], truth: dict) -> str:
 
 def score(name: str, seed: int, records: Path, tool: Path, timeout: float) -> dict:
     csv, js = records / f"{name}-{seed}.csv", records / f"{name}-{seed}.json"
-    if not js.exists():  # records are deterministic: made ones are reused (the truth is written last)
+    # Records are deterministic: made ones are reused (the truth is written
+    # last), remade when they predate the noise file the floor needs.
+    if not js.exists() or not (records / f"{name}-{seed}.noise.csv").exists():
         csv, js = write(name, seed, records)
     truth = json.loads(js.read_text())
     pcs = np.array([float(line.split(",")[2]) for line in csv.read_text().splitlines()[2:]])
@@ -163,7 +165,7 @@ def score(name: str, seed: int, records: Path, tool: Path, timeout: float) -> di
     named = named_causes(out)
     recd = out.get("record", {})
     # The true floor over the samples the tool held out (its split may not be the tail).
-    row["floor"] = tool_floor(pcs, load_noise(records / f"{name}-{seed}.noise.csv"),
+    row["floor"] = true_floor_held(pcs, load_noise(records / f"{name}-{seed}.noise.csv"),
                               recd.get("held_out"), recd.get("n"), truth["floor_val"])
     before = out["baseline"]["nrmse_val"]
     after = out["extended"]["nrmse_val"]

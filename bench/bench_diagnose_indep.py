@@ -49,7 +49,7 @@ sys.path.insert(0, str(ROOT / "tests" / "python"))
 
 import numpy as np  # noqa: E402
 
-from indepsim.make import load_noise, tool_floor  # noqa: E402
+from indepsim.make import load_noise, true_floor_held  # noqa: E402
 from pneufrac_fit import holdout  # noqa: E402
 from indepsim.scenarios import CATALOGUE, SEED_MAX  # noqa: E402
 from seedlist import seed_list  # noqa: E402
@@ -211,7 +211,7 @@ def one(name: str, seed: int, tool: str, tool_args: list[str], timeout: float, k
 def true_floor(stem: Path, pc: np.ndarray, truth: dict, recd: dict) -> float:
     """The true noise floor over the samples the tool held out (its JSON
     record.held_out)."""
-    return tool_floor(pc, load_noise(f"{stem}.noise.csv"), recd.get("held_out"), recd.get("n"),
+    return true_floor_held(pc, load_noise(f"{stem}.noise.csv"), recd.get("held_out"), recd.get("n"),
                       truth["noise"]["noise_floor_val"])
 
 

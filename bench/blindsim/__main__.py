@@ -34,9 +34,9 @@ def write(name: str, seed: int, out: Path, noise: str | None = None) -> tuple[Pa
         for t, e, pc in zip(cols["t"], cols["e"], cols["pc"]):
             f.write(f"{t:.7f},{e:.9g},{pc:.9g}\n")
     os.replace(str(csv) + tmp, csv)
-    noise = out / f"{name}-{seed}.noise.csv"
-    np.savetxt(str(noise) + tmp, cols["noise"], fmt="%.10g")
-    os.replace(str(noise) + tmp, noise)
+    noise_csv = out / f"{name}-{seed}.noise.csv"
+    np.savetxt(str(noise_csv) + tmp, cols["noise"], fmt="%.10g")
+    os.replace(str(noise_csv) + tmp, noise_csv)
     Path(str(js) + tmp).write_text(json.dumps(truth, indent=1) + "\n")
     os.replace(str(js) + tmp, js)
     return csv, js

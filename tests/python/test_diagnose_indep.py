@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 import cases
-from indepsim.make import make, tool_floor
+from indepsim.make import make, true_floor_held
 from pneufrac_fit import data, diagnose
 
 CASES = [
@@ -54,7 +54,7 @@ def check(rec, d) -> list[str]:
                 if tp.get(k) is not None and not abs(p[k] - tp[k]) <= cases.SAT_TOL * span:
                     bad.append(f"{k} {p[k]:.4g}, true {tp[k]:.4g} (range {span:.4g})")
     if truth:
-        bad += cases.not_halfway(d, tool_floor(rec.pc, rec.noise, d.split.held, d.n,
+        bad += cases.not_halfway(d, true_floor_held(rec.pc, rec.noise, d.split.held, d.n,
                                                 t["noise"]["noise_floor_val"]))
     return bad + cases.bound_faults(d)
 

@@ -19,7 +19,7 @@ from scipy.signal import welch
 from indepsim import controller, daq, excitation, noise, reference, simulate
 from indepsim.diffusive import frac_integrator, response
 from indepsim.effects import U0_INFLECTION, Effects, nozzle
-from indepsim.make import floor_over, make, tool_floor
+from indepsim.make import floor_over, make, true_floor_held
 from indepsim.plant import PAPER
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -257,10 +257,12 @@ def test_cli_list_and_make(tmp_path):
     assert floor_over(data[:, 2], nz, tail) == pytest.approx(truth["noise"]["noise_floor_val"],
                                                              rel=1e-6)
     blocks = [(4667, 6667), (11333, 13333), (18000, 20000)]
-    assert tool_floor(data[:, 2], nz, truth, blocks, 20000) == floor_over(data[:, 2], nz, blocks)
+    tail_floor = truth["noise"]["noise_floor_val"]
+    assert true_floor_held(data[:, 2], nz, blocks, 20000, tail_floor) == floor_over(data[:, 2], nz,
+                                                                                    blocks)
     assert floor_over(data[:, 2], nz, blocks) != floor_over(data[:, 2], nz, tail)
     # A tool record that does not line up sample for sample: the tail's floor.
-    assert tool_floor(data[:, 2], nz, truth, blocks, 19999) == truth["noise"]["noise_floor_val"]
+    assert true_floor_held(data[:, 2], nz, blocks, 19999, tail_floor) == tail_floor
     for bad in ([(19000, 20001)], [(-5, 100)], []):
         with pytest.raises(ValueError):
             floor_over(data[:, 2], nz, bad)

@@ -53,7 +53,7 @@ def load_noise(path) -> np.ndarray | None:
         return None
 
 
-def tool_floor(pc: np.ndarray, noise: np.ndarray | None, held, n_tool, fallback: float) -> float:
+def true_floor_held(pc: np.ndarray, noise: np.ndarray | None, held, n_tool, fallback: float) -> float:
     """floor_over the tool's held-out samples; `fallback` (the simulator's
     floor over the last 30 %) when the tool's record does not line up with
     this one sample for sample (a resampled or trimmed record) or its

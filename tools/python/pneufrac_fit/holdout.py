@@ -39,7 +39,8 @@ band holding a state) "predicts" the block's level from its neighbours,
 an interpolation of the noise, not of the controller. So the held-out
 gains the guards count (guards.test) are taken within each block, less
 its own mean (centre_held). With the tail split that is the held-out
-part's mean, which the gain has always discounted. What an effect does
+part's mean, which the gain as measured has always discounted (the
+whitened gain now too, the mean removed before whitening). What an effect does
 to the response to the input's moves within a block stays counted; what
 it does only as a level held through a whole block (an output held at a
 limit, a play's offset while the input rests) is what the slow noise

@@ -345,9 +345,7 @@ def best_same_fit(tests, current, cur_pb):
     score = _bic(cur_pb, current)
     best = (current, cur_pb, "")
     for t in refs:
-        p = copy.copy(t.pb)          # the test's freedoms, the model so far's samples
-        p.burn = cur_pb.burn
-        p = candidates.for_model(p, t.ref)
+        p = on_samples(t.pb, t.ref, cur_pb.burn)   # the test's freedoms, the model so far's samples
         if not _bic(p, t.ref) < score - SAME_FIT_DBIC:
             continue
         r = search.refine(p, same, [("reference of " + t.effect,
@@ -370,8 +368,9 @@ def _passing(tests, current, cur_pb, n_round: int, say) -> list:
         w = winner_on(best, burn)
         if r.nrmse_val <= w.nrmse_val:
             fewer = " on the same samples" if w is not best.model else ""
-            say(f"round {n_round}: the model without a new effect, refitted with another "
-                f"test's freedoms, predicts the held-out part as well as {best.effect}"
+            who = ("the model so far" if r is current else
+                   "the model without a new effect, refitted with another test's freedoms,")
+            say(f"round {n_round}: {who} predicts the held-out part as well as {best.effect}"
                 f"{fewer} (NRMSE {r.nrmse_val:.4f} against {w.nrmse_val:.4f}): no effect "
                 "added")
             return []
@@ -389,14 +388,24 @@ def winner_on(t, burn: int):
         return t.model
     done = getattr(t, "on_fewer", {})
     if burn not in done:
-        p = copy.copy(t.pb)
-        p.burn = burn
-        p = candidates.for_model(p, t.model)
-        done[burn] = search.refine(p, t.model.effects,
-                                   [("on fewer samples", {**t.model.groups, **t.model.values})],
-                                   dead=t.model.dead)
+        p = on_samples(t.pb, t.model, burn)
+        fr = search.refine(p, t.model.effects,
+                           [("on fewer samples", {**t.model.groups, **t.model.values})],
+                           dead=t.model.dead)
+        # the delay free, as in every reference (reference(), above)
+        done[burn] = (candidates.profile_dead(p, fr.effects, fr)
+                      if "dead_time" in fr.effects else fr)
         t.on_fewer = done
     return done[burn]
+
+
+def on_samples(pb, fr, burn: int):
+    """pb (its freedoms) counting the samples from `burn` on, set up for
+    fr's model (candidates.for_model): the problem on which a model is
+    refitted to be compared with one fitted on those samples."""
+    p = copy.copy(pb)
+    p.burn = burn
+    return candidates.for_model(p, fr)
 
 
 def refit_rivals(pb, current, tests, seed, say):
