@@ -35,3 +35,8 @@ void pf_ctrl_run_f64(pf_ctrl_f64 *S, const double *e, double *pc, size_t n)
 {
     ctrl_run_f64(S, e, pc, n);
 }
+
+uint32_t pf_ctrl_limited_f64(const pf_ctrl_f64 *S)
+{
+    return S != NULL ? S->limited : 0;
+}

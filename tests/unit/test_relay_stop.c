@@ -319,12 +319,80 @@ static void test_limits_every_arithmetic(void **state)
     END_SOFT();
 }
 
+/* pf_ctrl_f64.limited counts the samples on which a limit acted on the
+ * relay, and before the first of them the three placements have given the
+ * same output bit for bit (the fits share those runs between placements:
+ * pneufrac_fit.placement_share). The input of make_input with its upper
+ * stretch only reaching the upper limit: every sample before the limit is
+ * reached is compared, and the placements must part after it (the check
+ * can fail). Limits beyond the output count nothing; reset clears it. */
+static void test_limited_count(void **state)
+{
+    static double out[PF_SAT_WIND + 1][NS];
+    static uint32_t count[PF_SAT_WIND + 1][NS];
+    static pf_ctrl_coeffs_f32 cf;
+    static pf_ctrl_f32 f;
+    static const pf_topology topos[] = {PF_TOPO_P, PF_TOPO_DD, PF_TOPO_ID, PF_TOPO_PID};
+    size_t t, k;
+    (void)state;
+    make_input();
+    for (t = 0; t < sizeof topos / sizeof topos[0]; t++) {
+        const double pk = linear_peak(topos[t]);
+        size_t first = NS;
+        int kind, parted = 0;
+        for (kind = PF_SAT_CLIP; kind <= PF_SAT_WIND; kind++) {
+            design(topos[t], kind, -2.0 * pk, 0.5 * pk);
+            assert_int_equal(pf_ctrl_init_f64(&g_c, &g_d.rt, NULL, 0), PF_OK);
+            for (k = 0; k < NS; k++) {
+                out[kind][k] = pf_ctrl_step_f64(&g_c, g_e[k]);
+                count[kind][k] = g_c.limited;
+            }
+            EXPECT(g_c.limited > 0 && pf_ctrl_limited_f64(&g_c) == g_c.limited,
+                   "%s kind %d: %u samples limited", pf_topology_name(topos[t]), kind,
+                   (unsigned)g_c.limited);
+            pf_ctrl_reset_f64(&g_c);
+            EXPECT(g_c.limited == 0, "reset leaves %u", (unsigned)g_c.limited);
+            pf_ctrl_coeffs_f32_make(&cf, &g_d.rt);
+            assert_int_equal(pf_ctrl_init_f32(&f, &cf, NULL, 0), PF_OK);
+            for (k = 0; k < NS; k++)
+                (void)pf_ctrl_step_f32(&f, (float)g_e[k]);
+            EXPECT(f.limited > 0, "%s kind %d f32: nothing counted", pf_topology_name(topos[t]),
+                   kind);
+            /* limits beyond the output: nothing counted */
+            design(topos[t], kind, -2.0 * pk, 2.0 * pk);
+            run();
+            EXPECT(g_c.limited == 0, "%s kind %d, wide limits: %u samples limited",
+                   pf_topology_name(topos[t]), kind, (unsigned)g_c.limited);
+        }
+        for (k = 0; k < NS && count[PF_SAT_CLIP][k] == 0; k++)
+            ;
+        first = k;
+        EXPECT(first > NS / 12 && first < NS, "%s: first limited sample %zu",
+               pf_topology_name(topos[t]), first);
+        for (kind = PF_SAT_STOP; kind <= PF_SAT_WIND; kind++) {
+            for (k = 0; k < first; k++) {
+                EXPECT(count[kind][k] == 0, "%s kind %d counts at k=%zu, clip first at %zu",
+                       pf_topology_name(topos[t]), kind, k, first);
+                EXPECT(out[kind][k] == out[PF_SAT_CLIP][k], "%s kind %d, k=%zu (before the "
+                       "first limited sample %zu): %.17g vs clip %.17g",
+                       pf_topology_name(topos[t]), kind, k, first, out[kind][k],
+                       out[PF_SAT_CLIP][k]);
+            }
+            for (k = first; k < NS; k++)
+                parted |= out[kind][k] != out[PF_SAT_CLIP][k];
+        }
+        EXPECT(parted, "%s: the placements never part after the limit", pf_topology_name(topos[t]));
+    }
+    END_SOFT();
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_saturate_range, setup_soft),
         cmocka_unit_test_setup(test_diaphragm_on_its_seat, setup_soft),
         cmocka_unit_test_setup(test_limits_every_arithmetic, setup_soft),
+        cmocka_unit_test_setup(test_limited_count, setup_soft),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -127,6 +127,12 @@ typedef struct pf_ctrl_f64 {
     double e1, xb, lag, lag_c;
     double *dbuf;
     uint32_t didx;
+    /** Samples since the last reset (or init) on which the relay's output
+     *  before the supply limits lay beyond them (NaN included), whatever
+     *  the placement (pf_effects.saturate); stays at UINT32_MAX. While it
+     *  is 0 the three placements have given the same output bit for bit:
+     *  they differ only in what the relay remembers on a limit. */
+    uint32_t limited;
     pf_ctrl_signals_f64 sig;
 } pf_ctrl_f64;
 
@@ -137,6 +143,12 @@ typedef struct pf_ctrl_f32 {
     float e1, xb, lag, lag_c;
     float *dbuf;
     uint32_t didx;
+    /** Samples since the last reset (or init) on which the relay's output
+     *  before the supply limits lay beyond them (NaN included), whatever
+     *  the placement (pf_effects.saturate); stays at UINT32_MAX. While it
+     *  is 0 the three placements have given the same output bit for bit:
+     *  they differ only in what the relay remembers on a limit. */
+    uint32_t limited;
     pf_ctrl_signals_f32 sig;
 } pf_ctrl_f32;
 
@@ -206,6 +218,8 @@ float pf_ctrl_step_f32(pf_ctrl_f32 *S, float e);
  *  sequence into blocks gives the same output). @p e and @p pc may alias. */
 void pf_ctrl_run_f64(pf_ctrl_f64 *S, const double *e, double *pc, size_t n);
 void pf_ctrl_run_f32(pf_ctrl_f32 *S, const float *e, float *pc, size_t n);
+/** pf_ctrl_f64.limited (for callers that do not mirror the struct). */
+uint32_t pf_ctrl_limited_f64(const pf_ctrl_f64 *S);
 
 /* ---------------- Q15 ---------------- */
 

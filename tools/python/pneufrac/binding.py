@@ -86,6 +86,7 @@ def _declare(lib) -> None:
         ("pf_ctrl_init_f64", [vp, vp, C.POINTER(d), sz], i),
         ("pf_ctrl_reset_f64", [vp], None),
         ("pf_ctrl_run_f64", [vp, C.POINTER(d), C.POINTER(d), sz], None),
+        ("pf_ctrl_limited_f64", [vp], C.c_uint32),
         ("pf_ctrl_freqresp", [vp, d, C.POINTER(d), C.POINTER(d)], None),
         ("pf_ctrl_state_space", [vp, i, C.POINTER(d), C.POINTER(d), C.POINTER(d),
                                  C.POINTER(d)], i),
@@ -492,16 +493,20 @@ class Controller:
         if st != 0:
             name, msg = status_message(lib, st)
             raise ModelError(st, name, msg)
+        self.limited = 0
 
     def run(self, e: np.ndarray) -> np.ndarray:
         """Simulate from rest: one library call for the whole record (the
-        typed double runtime, pf_ctrl_run_f64: the fits call this often)."""
+        typed double runtime, pf_ctrl_run_f64: the fits call this often).
+        Afterwards `limited` is the number of samples on which the supply
+        limits acted on the relay (pf_ctrl_f64.limited)."""
         e = np.ascontiguousarray(e, dtype=np.float64)
         out = np.empty_like(e)
         self._lib.pf_ctrl_reset_f64(self._inst)
         dp = C.POINTER(C.c_double)
         self._lib.pf_ctrl_run_f64(self._inst, e.ctypes.data_as(dp),
                                   out.ctypes.data_as(dp), e.size)
+        self.limited = int(self._lib.pf_ctrl_limited_f64(self._inst))
         return out
 
 

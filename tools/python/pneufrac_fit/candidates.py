@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from . import fit, guards, model, noise, search
+from . import fit, guards, model, noise, placement_share, search
 
 N_FRESH = 12
 N_FRESH_KEEP = 1
@@ -134,18 +134,34 @@ def _fit_saturation(pb, base, rng, hint):
     # the same fresh starts for all: the others' from copies of the generator
     kinds = (model.SAT_CLIP, model.SAT_STOP, model.SAT_WIND)
     rngs = {k: rng if k == model.SAT_CLIP else copy.deepcopy(rng) for k in kinds}
-    for kind in kinds:
-        pk = with_kind(pb, kind)
-        b = search.explore_refine(pk, effects,
-                                  _starts(pk, effects, "saturation", base, rngs[kind], hint),
-                                  dead=base.dead)
-        b = _limits_back_in_range(pk, effects, base, b)
-        fits.append((_not_worse(pk, effects, "saturation", base, b), pk, kind))
+    same = _same_exploration(pb, kinds)
+    # every simulation on which no limit acts is the same at each placement:
+    # simulated once (placement_share)
+    with placement_share.shared():
+        for kind in kinds:
+            pk = with_kind(pb, kind)
+            if kind == kinds[0] or not same:
+                starts = _starts(pk, effects, "saturation", base, rngs[kind], hint)
+                explored = search.explore(pk, effects, starts, dead=base.dead)
+            b = search.explore_refine(pk, effects, starts, dead=base.dead, explored=explored)
+            b = _limits_back_in_range(pk, effects, base, b)
+            fits.append((_not_worse(pk, effects, "saturation", base, b), pk, kind))
     fits.sort(key=lambda f: f[0].cost)
     win, pw, _ = fits[0]
     told = all(_kind_told(pw, win, pl, lose) for lose, pl, _ in fits[1:])
     win.values["sat_kind_told"] = 1.0 if told else 0.0
     return win
+
+
+def _same_exploration(pb, kinds) -> bool:
+    """Whether the placements share their starts and exploration: the
+    exploration copy (search.explorer) is a problem of its own, which
+    simulates saturation at the library's default placement whatever pb's,
+    so where every placement has one and they are the same, the starts'
+    ranking on it and the successive halving there are the same too (from
+    the same fresh starts: _fit_saturation) and are made once."""
+    ws = [search.explorer(with_kind(pb, k)) for k in kinds]
+    return all(w is not None and w.setup == ws[0].setup for w in ws)
 
 
 def _limits_back_in_range(pb, effects, base, b):

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import lib
+from . import lib, placement_share
 
 CE, CY = 0.9, 0.1          # lever ratios of the fixed mapping (a = 1, b = 9)
 
@@ -226,12 +226,23 @@ class Setup:
         if oversample is not None and "dead" in ev:   # the same delay in seconds
             ev["dead"] = ev["dead"] * m / self.oversample
         fx = library_effects(effects, ev, self.fs * m, self.sat_kind)
-        ctl = lib.Controller(self.config, p, fx, self.fs * m, order=self.order,
-                             t_slow=max(self.duration, 1.0 / self.fs * 100))
-        if m == 1:
-            return ctl.run(e)
-        out = ctl.run(np.repeat(e, m))
-        return out if internal else out[::m]
+        t_slow = max(self.duration, 1.0 / self.fs * 100)
+        store, key = placement_share.active(), None
+        if store is not None and fx.get("saturate"):   # shared between placements
+            key = placement_share.run_key(
+                e, self.config, tuple(sorted(p.items())),
+                tuple(sorted((k, v) for k, v in fx.items() if k != "saturate")),
+                self.fs * m, self.order, t_slow, m, internal)
+            got = store.get(key, e) if key is not None else None
+            if got is not None:
+                return got
+        ctl = lib.Controller(self.config, p, fx, self.fs * m, order=self.order, t_slow=t_slow)
+        out = ctl.run(e if m == 1 else np.repeat(e, m))
+        if m > 1 and not internal:
+            out = out[::m]
+        if key is not None and ctl.limited == 0:
+            store.put(key, e, out)
+        return out
 
 
 def fmt_value(name: str, v: float) -> str:

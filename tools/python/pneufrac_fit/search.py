@@ -85,16 +85,26 @@ def _halving(w, effects, starts, dead, label_iters=None):
             return runs[0]
 
 
-def explore_refine(pb, effects, starts: list, dead: int = 0,
-                   refine_iter: int = REFINE_ITER, stage_iter: int = STAGE_ITER):
-    """Starts explored on the exploration copy by successive halving, the
-    best refined on the whole fit part. Returns the best fit, evaluated."""
-    effects = model.canonical(effects)
+def explore(pb, effects, starts: list, dead: int = 0, stage_iter: int = STAGE_ITER):
+    """The exploration of explore_refine: the best of the starts after
+    successive halving on the exploration copy; None when pb has none."""
     w = explorer(pb)
     if w is None:
+        return None
+    return _halving(w, model.canonical(effects), starts, dead_to(pb, w, dead), stage_iter)
+
+
+def explore_refine(pb, effects, starts: list, dead: int = 0,
+                   refine_iter: int = REFINE_ITER, stage_iter: int = STAGE_ITER,
+                   explored=None):
+    """Starts explored on the exploration copy by successive halving, the
+    best refined on the whole fit part. Returns the best fit, evaluated.
+    explored: explore's result for these arguments, when already made."""
+    effects = model.canonical(effects)
+    if explorer(pb) is None:
         b = _halving(pb, effects, starts, dead, stage_iter)
     else:
-        e = _halving(w, effects, starts, dead_to(pb, w, dead), stage_iter)
+        e = explored or explore(pb, effects, starts, dead, stage_iter)
         b = fit.lm_fit(pb, effects, e.values, dead, _budget(pb, effects, refine_iter), e.start)
     fit.evaluate(pb, b)
     return b
