@@ -132,6 +132,33 @@ def test_an_effect_is_compared_with_a_fit_on_fewer_samples_on_those_samples():
     assert final.effects == ("lag",)
 
 
+def test_a_fit_on_fewer_samples_that_predicts_worse_is_no_rival(monkeypatch):
+    """A reference fitted on fewer samples that predicts the held-out part
+    no better than the model so far gained nothing from the samples it
+    left out: the winner is not refitted without them and compared with it
+    (on an independent record, lag-jitter-5, the lag refitted on fewer
+    samples lost to such a reference and a 13 ms lag went unnamed); the
+    model so far, fitted on every sample, is the rival."""
+    pb = _problem(size=10)
+    current = SimpleNamespace(effects=(), nrmse_val=0.07)
+    late = copy.copy(pb)
+    late.burn = pb.split.n_fit // 2
+    worse_ref = SimpleNamespace(effects=(), nrmse_val=0.074)
+    lag = SimpleNamespace(effects=("lag",), nrmse_val=0.063)
+    found = SimpleNamespace(effect="lag", passes=True, model=lag, ref=current, pb=pb)
+    play = SimpleNamespace(effect="backlash", passes=False, ref=worse_ref, pb=late,
+                           model=SimpleNamespace(effects=("backlash",), nrmse_val=1.0))
+    asked = []
+    refit = SimpleNamespace(effects=("lag",), nrmse_val=0.078)   # worse on fewer samples
+    monkeypatch.setattr(selection, "winner_on", lambda t, burn: (
+        t.model if burn <= t.pb.burn else asked.append(burn) or refit))
+    assert selection._passing([found, play], current, pb, 1, lambda m: None) == [found]
+    assert late.burn not in asked
+    # a reference on fewer samples that predicts better is still a rival
+    play.ref = SimpleNamespace(effects=(), nrmse_val=0.065)
+    assert selection._passing([found, play], current, pb, 1, lambda m: None) == []
+    assert late.burn in asked
+
 def _forward(pb, base, rounds):
     """selection.forward with each round's tests given (by the model they
     are tried on), pairs and the backward check left out."""

@@ -365,6 +365,12 @@ def _passing(tests, current, cur_pb, n_round: int, say) -> list:
         return []
     best = min(ok, key=lambda t: t.model.nrmse_val)
     for r, burn in models_without(tests, current, cur_pb):
+        if r is not current and burn > cur_pb.burn and not r.nrmse_val < current.nrmse_val:
+            # Fitted on fewer samples and predicting no better than the
+            # model so far: the stretch it left out held nothing it could
+            # not follow, so there is no advantage to take from the winner,
+            # and the model so far (checked too) is the fairer rival.
+            continue
         w = winner_on(best, burn)
         if r.nrmse_val <= w.nrmse_val:
             fewer = " on the same samples" if w is not best.model else ""
