@@ -101,10 +101,10 @@ def explore_refine(pb, effects, starts: list, dead: int = 0,
     best refined on the whole fit part. Returns the best fit, evaluated.
     explored: explore's result for these arguments, when already made."""
     effects = model.canonical(effects)
-    if explorer(pb) is None:
+    e = explored if explored is not None else explore(pb, effects, starts, dead, stage_iter)
+    if e is None:               # no exploration copy: the halving on pb itself
         b = _halving(pb, effects, starts, dead, stage_iter)
     else:
-        e = explored or explore(pb, effects, starts, dead, stage_iter)
         b = fit.lm_fit(pb, effects, e.values, dead, _budget(pb, effects, refine_iter), e.start)
     fit.evaluate(pb, b)
     return b
