@@ -52,6 +52,13 @@ static pf_status design_ops(pf_ctrl_coeffs_f64 *c, const pf_params *p,
     return st;
 }
 
+/* L0, the in-sample loop gain: x's own contribution to g(x) through the
+ * nozzle, relay, feedback and restrictors within one sample. */
+static double loop_gain(const pf_ctrl_coeffs_f64 *c)
+{
+    return c->cy * c->alpha_y * c->k2 * c->alpha_z * c->k1;
+}
+
 static pf_status derive_loop(pf_ctrl_coeffs_f64 *c, const pf_params *p)
 {
     double DP = c->P.D, alpha_m, loop;
@@ -80,12 +87,14 @@ static pf_status derive_loop(pf_ctrl_coeffs_f64 *c, const pf_params *p)
     alpha_m = (c->has_v ? c->v_a : 1.0) - (c->has_w ? c->w_a : 0.0);
     c->alpha_y = (c->has_q ? c->Q.D : c->kA) * alpha_m;
     /* Within a sample the loop equation in x has slope 1 + L0 s, where L0
-     * is the in-sample loop gain and s in [0, 1] the slope of the effects
+     * is the in-sample loop gain and s >= 0 the slope of the effects
      * (backlash, nozzle curve, saturation). It is uniquely solvable while
-     * 1 + min(0, L0) > 0; the margin keeps x from amplifying rounding by
-     * more than 1/PF_LOOP_MIN. L0 < 0 (net positive feedback within the
-     * sample) occurs only for pid restrictors at extreme rates or bands. */
-    loop = c->cy * c->alpha_y * c->k2 * c->alpha_z * c->k1;
+     * 1 + min(0, L0 s) > 0 for every s the effects take; the margin keeps
+     * x from amplifying rounding by more than 1/PF_LOOP_MIN. Here s = 1,
+     * the linear loop; derive_effects checks the nozzle's steeper curve.
+     * L0 < 0 (net positive feedback within the sample) occurs only for
+     * pid restrictors at extreme rates or bands. */
+    loop = loop_gain(c);
     if (!isfinite(loop))
         return PF_E_PARAM(PF_P_K1);
     if (!(1.0 + loop >= PF_LOOP_MIN))
@@ -98,7 +107,7 @@ static pf_status derive_loop(pf_ctrl_coeffs_f64 *c, const pf_params *p)
 static pf_status derive_effects(pf_ctrl_coeffs_f64 *c, const pf_effects *fx,
                                 double fs)
 {
-    double n;
+    double n, loop;
     c->play_r = 0.5 * fx->backlash;
     c->nozzle_xh = fx->nozzle_xh;
     c->nozzle_xh_inv = fx->nozzle_xh > 0.0 ? 1.0 / fx->nozzle_xh : 0.0;
@@ -108,6 +117,15 @@ static pf_status derive_effects(pf_ctrl_coeffs_f64 *c, const pf_effects *fx,
         c->nozzle_u0 = nz.u0;
         c->nozzle_f0 = nz.f0;
         c->nozzle_g = nz.g;
+        /* A nozzle biased off its inflection is steeper than the linear
+         * loop (s up to nz.steepest > 1): with L0 < 0 that part of the
+         * curve would bend g back and the sample's x would not be unique
+         * (several roots, the solve's pick among them arbitrary). Refused,
+         * as the linear loop is, with the same margin. */
+        loop = fmin(0.0, loop_gain(c)) * nz.steepest;
+        if (!(1.0 + loop >= PF_LOOP_MIN))
+            return PF_E_PARAM(PF_P_NOZZLE_BIAS);
+        c->slope_inv = 1.0 / (1.0 + loop);
     }
     c->saturate = (uint8_t)fx->saturate; /* pf_sat_kind, validated */
     c->sat_lo = fx->saturate ? fx->sat_lo : 0.0;

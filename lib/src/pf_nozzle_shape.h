@@ -14,6 +14,8 @@ typedef struct pf_nozzle_shape {
     double u0; /* gap at the operating point, units of x_1/2 */
     double f0; /* F(u0) */
     double g;  /* x_1/2 / |F'(u0)|: unit slope at x = 0 */
+    double steepest; /* |F'| at the inflection over |F'(u0)|: the curve's
+                        largest slope, >= 1 (1 at the inflection) */
 } pf_nozzle_shape;
 
 static inline void pf_nozzle_shape_make(pf_nozzle_shape *n, double xh, double bias)
@@ -22,6 +24,8 @@ static inline void pf_nozzle_shape_make(pf_nozzle_shape *n, double xh, double bi
     n->u0 = u0;
     n->f0 = 1.0 / s;
     n->g = xh * s * s / (2.0 * u0);
+    /* |F'(1/sqrt(3))| = (2/sqrt(3)) / (4/3)^2 = 3 sqrt(3)/8 */
+    n->steepest = 0.64951905283832898 * n->g / xh;
 }
 
 #endif

@@ -863,6 +863,58 @@ static void test_nozzle_in_loop(void **state)
     END_SOFT();
 }
 
+/* A pid whose in-sample loop gain L0 is negative (net positive feedback
+ * within a sample: fs = 0.01 Hz, a slow, strongly fractional derivative
+ * restrictor against an integer integral one) and a nozzle: near its
+ * inflection, and below it down to the range's end, the loop equation
+ * stays monotone (slope 1 + L0 s > 0); far out on the curve's tail the
+ * curve is many times steeper than at its bias point, 1 + L0 s goes
+ * negative, the sample's x is not unique, and the design refuses it,
+ * naming the bias. */
+static void test_nozzle_loop_unique(void **state)
+{
+    static const struct {
+        double bias;
+        int ok;
+    } cases[] = {{0.0, 1}, {2.0, 1}, {-0.5, 1}, {5.0, 0}, {10.0, 0}};
+    pf_params p;
+    pf_design_opts o;
+    pf_effects fx;
+    double L0;
+    size_t i;
+    (void)state;
+    pf_params_default(&p, PF_TOPO_PID);
+    p.RCd = 0.5;
+    p.nu = 0.1;
+    p.RCi = 1.0;
+    p.w = 1.0;
+    memset(&o, 0, sizeof o);
+    o.fs = 0.01;
+    memset(&fx, 0, sizeof fx);
+    assert_int_equal(pf_ctrl_design_make(&g_d, &p, &fx, &o), PF_OK);
+    L0 = 1.0 / g_d.rt.loop_inv - 1.0;
+    EXPECT(L0 < -0.01 && L0 > -0.1, "the loop gain is %g, not the small negative one", L0);
+    fx.nozzle_xh = 1.0;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        const double u0 = 0.57735026918962576 + cases[i].bias, q = 1.0 + u0 * u0;
+        /* the curve's steepest slope over its slope at the bias point */
+        const double steep = (3.0 * sqrt(3.0) / 8.0) * q * q / (2.0 * u0);
+        pf_status st;
+        char what[64];
+        fx.nozzle_bias = cases[i].bias;
+        st = pf_ctrl_design_make(&g_d, &p, &fx, &o);
+        snprintf(what, sizeof what, "nozzle_bias %g (1 + L0 s = %.3g)", cases[i].bias,
+                 1.0 + L0 * steep);
+        /* the cases sit clearly on either side of the 0.01 margin */
+        EXPECT((1.0 + L0 * steep > 0.1) == cases[i].ok, "%s: case on the wrong side", what);
+        if (cases[i].ok)
+            EXPECT(st == PF_OK, "%s refused: %d", what, st);
+        else
+            expect_names(st, PF_P_NOZZLE_BIAS, what);
+    }
+    END_SOFT();
+}
+
 /* --- everything at once ------------------------------------------- */
 
 static void test_all_in_loop_effects(void **state)
@@ -919,6 +971,7 @@ int main(void)
         cmocka_unit_test_setup(test_saturation, setup_soft),
         cmocka_unit_test_setup(test_backlash_in_loop, setup_soft),
         cmocka_unit_test_setup(test_nozzle_in_loop, setup_soft),
+        cmocka_unit_test_setup(test_nozzle_loop_unique, setup_soft),
         cmocka_unit_test_setup(test_all_in_loop_effects, setup_soft),
         cmocka_unit_test_setup(test_recorded_lever_hold, setup_soft),
     };

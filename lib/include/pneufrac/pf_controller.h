@@ -26,13 +26,11 @@
  * With backlash, nozzle curve or saturation on, the main loop equation
  * g(x) = 0 has slope 1 + L0 s, with L0 the in-sample loop gain and s >= 0
  * the effects' slope (all three are monotone; backlash and saturation
- * have s in [0, 1], as has the nozzle at its inflection), so it is
- * strictly increasing whenever 1 + min(0, L0) > 0, which the design
- * ensures, and has exactly one root. A nozzle biased off its inflection
- * is steeper than 1 on part of its curve; with L0 < 0 that part can bend
- * g back, and the solve then finds a root of its bracket without the
- * uniqueness. Newton steps, then false position (Anderson-Bjorck); see
- * pf_ctrl_float.inc.
+ * have s in [0, 1], the nozzle curve s up to |F'| at its inflection over
+ * |F'| at its bias, 1 at the inflection), so it is strictly increasing
+ * whenever 1 + min(0, L0 s) > 0 for every such s, which the design
+ * ensures, and has exactly one root. Newton steps, then false position
+ * (Anderson-Bjorck); see pf_ctrl_float.inc.
  */
 #ifndef PNEUFRAC_PF_CONTROLLER_H
 #define PNEUFRAC_PF_CONTROLLER_H
@@ -65,7 +63,7 @@ typedef struct pf_ctrl_coeffs_f64 {
     double w_a, w_den_inv;        /**< D_W/(1+D_W), 1/(1+D_W) */
     double alpha_z, alpha_y;      /**< dz/dp_b and dy/dp_c within one sample */
     double loop_inv;              /**< 1/(1 + L0), L0 = cy*alpha_y*k2*alpha_z*k1 */
-    double slope_inv;             /**< 1/(1 + min(0, L0)): brackets the loop root */
+    double slope_inv;             /**< 1/(1 + min(0, L0 s)), s the effects' largest slope */
     double play_r, nozzle_xh;     /**< backlash half-width; nozzle x_1/2 */
     double nozzle_xh_inv;         /**< 1/x_1/2 */
     double nozzle_u0, nozzle_f0;  /**< nozzle's gap at the bias point, F there */
@@ -103,7 +101,10 @@ typedef struct pf_ctrl_design {
  *  an order the approximation cannot realise at this rate (beta, q, nu,
  *  w); a dead time over 4194304 samples (dead_time); and restrictor
  *  settings that make the in-sample loop equation (nearly) singular,
- *  1 + L0 < 0.01 (RCd for pid, RC otherwise). L0 < 0 needs net positive
+ *  1 + L0 < 0.01 (RCd for pid, RC otherwise), or a nozzle biased so far
+ *  off its inflection that 1 + L0 s < 0.01 on its steepest part, s its
+ *  largest slope relative to the bias point (nozzle_bias): there the
+ *  sample's solution would not be unique. L0 < 0 needs net positive
  *  feedback within one sample: for a validated parameter set that happens
  *  only for pid, at extreme sample rates or bands.
  *  @return PF_OK or the status of the first invalid parameter; on error
