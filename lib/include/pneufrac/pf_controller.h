@@ -331,8 +331,10 @@ pf_status pf_ctrl_coeffs_q15_make(pf_ctrl_coeffs_q15 *cq,
  *  ("Effects in Q15").
  *  @return as pf_ctrl_coeffs_q15_make; PF_E_BUFFER if the design has a
  *          nozzle curve and @p nz is NULL; PF_E_UNSUPPORTED if the
- *          in-sample loop through the curve is not monotone (only a loop
- *          gain L0 < 0 with a curve steeper than 1/|L0| can do that), or
+ *          in-sample loop through the curve is not monotone (a loop gain
+ *          L0 < 0 with a curve steeper than 1/|L0|, which
+ *          pf_ctrl_design_make already refuses: a guard for designs it
+ *          did not make), or
  *          the build leaves the curve out (PF_Q15_NOZZLE_SEG = 0). */
 pf_status pf_ctrl_coeffs_q15_make_nz(pf_ctrl_coeffs_q15 *cq, pf_nozzle_q15 *nz,
                                      const pf_ctrl_design *d, double in_fs,
