@@ -117,6 +117,25 @@ def test_library_refusal_names_parameter():
     assert ex.value.param == "beta"
 
 
+def _refuse_in_worker(_):
+    p = lib.default_params("dd")
+    p["beta"] = 1.5
+    lib.Controller("dd", p, {}, 1000.0)
+
+
+def test_refusal_in_a_worker_process_reaches_the_parent():
+    """A diagnosis runs its rounds in a process pool: a refusal raised in a
+    worker must arrive in the parent, status and parameter included (an
+    exception the parent cannot unpickle leaves the pool waiting for ever)."""
+    import multiprocessing as mp
+    with mp.get_context("fork").Pool(1) as pool:
+        res = pool.map_async(_refuse_in_worker, [0])
+        with pytest.raises(lib.ModelError) as ex:
+            res.get(timeout=60)
+    assert ex.value.param == "beta" and ex.value.status != 0
+    assert "beta" in str(ex.value)
+
+
 @pytest.mark.parametrize("kind", [1.5, 2.5, True, "2", float("nan"), float("inf")])
 def test_whole_number_fields_are_not_truncated(kind):
     """An int field (here the saturation's placement) given a value that is

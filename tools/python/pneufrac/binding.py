@@ -58,6 +58,13 @@ class ModelError(ValueError):
         self.status = status
         self.param = param
 
+    def __reduce__(self):
+        # Rebuilt from all three: the default pickles args, (msg,) alone, and
+        # a worker process whose refusal its parent cannot unpickle kills the
+        # pool's result thread, so the parent waits for ever (a diagnosis's
+        # rounds run in a process pool).
+        return (type(self), (self.status, self.param, str(self)))
+
 
 _lib = None
 _layout = None      # the mirrors and sizes built from the loaded library
