@@ -1,0 +1,65 @@
+# SPDX-License-Identifier: MIT
+"""A corner of the model without an effect does not decide where the model
+with it is searched (issue 8, item 2; candidates.corner_freed): every
+candidate also gets a start with the model so far's groups at a bound put
+back inside, the others refitted; its gain is still measured against the
+model without it refitted with the same freedoms, so a clean record whose
+baseline sits in a corner still gives none.
+
+The record: the own generator's clean id record of test_hidden_effects
+(seed 120), whose baseline ends with w at its bound of 1."""
+import types
+
+import numpy as np
+import pytest
+
+import cases
+from pneufrac_fit import baseline, candidates, selection
+
+
+@pytest.fixture(scope="module")
+def clean_corner():
+    made = []
+    orig = candidates._corner_start
+
+    def spy(pb, effects, base, size):
+        r = orig(pb, effects, base, size)
+        if r is not None:
+            made.append((effects, r[0]))
+        return r
+
+    candidates._corner_start = spy
+    try:
+        d = cases.run(cases.make("id", "none", 120), jobs=1)  # the spy sees one process
+    finally:
+        candidates._corner_start = orig
+    return d, made
+
+
+def test_clean_record_in_a_corner_gives_none(clean_corner):
+    d, made = clean_corner
+    pbx = selection.problem_for(d.pb, ())
+    edges = [e[0] for e in baseline.at_edges(pbx, {**d.baseline.groups, **d.baseline.values})]
+    assert edges, "premise: the baseline has a group at a bound"
+    tried = {fx[-1] for fx, _ in made}
+    assert tried >= {"dead_time", "lag", "saturation", "backlash", "nozzle"}, tried
+    assert d.causes == [], d.why
+
+
+def test_corner_freed_moves_the_corner_groups_inside(clean_corner):
+    d, _ = clean_corner
+    pbx = selection.problem_for(d.pb, ())
+    full = {**d.baseline.groups, **d.baseline.values}
+    edges = {e[0] for e in baseline.at_edges(pbx, full)}
+    start, moved = candidates.corner_freed(pbx, d.baseline)
+    assert set(moved) == edges
+    # every moved group is off its bound, and no group is left at one
+    assert not {e[0] for e in baseline.at_edges(pbx, start)} & edges
+    # the others were refitted around the moved groups: not the corner's values
+    others = [g for g in pbx.free if g in full and g not in moved and g != "e0"]
+    assert any(not np.isclose(start[g], full[g], rtol=1e-6) for g in others)
+    # a model with no group at a bound gets no such start
+    inside = types.SimpleNamespace(groups={g: start[g] for g in d.baseline.groups},
+                                   values={k: start[k] for k in d.baseline.values},
+                                   effects=(), dead=0)
+    assert candidates.corner_freed(pbx, inside) is None
