@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from . import baseline, fit, guards, model, noise, placement_share, search
+from . import baseline, fit, guards, lib, model, noise, placement_share, search
 
 N_FRESH = 12
 N_FRESH_KEEP = 1
@@ -233,9 +233,13 @@ def corner_freed(pb, base) -> tuple[dict, list[str]] | None:
     held.free = [g for g in pb.free if g not in moved]
     w = search.explorer(held) or held
     st = {k: v for k, v in full.items() if k not in moved}
-    r = fit.lm_fit(w, base.effects, st, search.dead_to(pb, w, base.dead),
-                   search._budget(w, base.effects, search.EXPLORE_ITER), "corner freed")
-    return {**full, **r.values, **moved}, list(moved)
+    try:
+        r = fit.lm_fit(w, base.effects, st, search.dead_to(pb, w, base.dead),
+                       search._budget(w, base.effects, search.EXPLORE_ITER), "corner freed")
+        refit = r.values if math.isfinite(r.cost) else {}
+    except lib.ModelError:      # the library refuses the moved groups beside the others
+        refit = {}              # moved, the others as they were (_corner_start checks it)
+    return {**full, **refit, **moved}, list(moved)
 
 
 def _corner_start(pb, effects, base, size: dict):
@@ -248,6 +252,10 @@ def _corner_start(pb, effects, base, size: dict):
     st.update(size)
     if "saturation" in effects:
         st = _sat_start(pb, base, st)
+    # a start the library refuses (its groups make no valid controller: a
+    # gain the refit left invalid, say) is no start: the search would stop on it
+    if not math.isfinite(fit.start_cost(pb, effects, st, base.dead)):
+        return None
     return (f"{CORNER} (" + ", ".join(cf[1]) + ")", st)
 
 
