@@ -76,7 +76,7 @@ def _at_bounds(pb, fr) -> list[tuple[str, str, float]]:
     return out
 
 
-def _moved_inside(name, side, bound, k):
+def moved_inside(name, side, bound, k):
     """A start k steps (x3 per step for log groups, 0.15 for orders) inside."""
     tr = model.GROUPS[name][0]
     sgn = 1 if side == "lower" else -1
@@ -123,7 +123,7 @@ def unstick(pb, best, say, notes: list):
         runs = []
         for k in (1, 2):
             st = dict(cur)
-            st[name] = _moved_inside(name, side, bound, k)
+            st[name] = moved_inside(name, side, bound, k)
             runs.append(fit.lm_fit(work, (), st, 0, budget, f"unstick {name} {k}"))
         r = search.best(runs)
         sig2 = cost / max(work.n_counted, 1)
@@ -283,6 +283,24 @@ def weigh_or_not(pb, best, rng, say, notes: list):
     return _multistart(pb, rng, [("weighted fit", dict(best.values))])
 
 
+def at_edges(pb, vals: dict, effects=()) -> list[tuple[str, str, str, float, float]]:
+    """(group, transform, 'lower'/'upper', lo, hi) of every group free in pb
+    (K aside: it scales, it has no corner) that vals put within REPORT_EDGE
+    of a bound of its range: the groups the report calls "at its bound", and
+    the corners the extended fits also start away from
+    (candidates.corner_start). vals: the fit's values, with the groups pb
+    frees and the fit held (held at a bound by unstick: at that bound)."""
+    out = []
+    sp = fit.specs(pb, effects)
+    for (name, tr, lo, hi), t in zip(sp, fit.to_theta(sp, vals, pb)):
+        if name not in model.GROUPS or name == "K":
+            continue
+        side = _side(tr if tr == "log" else "lin", lo, hi, t, REPORT_EDGE)
+        if side is not None:
+            out.append((name, tr, side, lo, hi))
+    return out
+
+
 def corners(pb, fr) -> dict:
     """group -> what the report says of every group that the baseline fit
     `fr` leaves free within REPORT_EDGE of a bound (issue 8: such a group
@@ -294,13 +312,7 @@ def corners(pb, fr) -> dict:
     model wants it beyond the range); otherwise it is a corner the record
     does not determine."""
     out = {}
-    sp = fit.specs(pb, fr.effects)
-    for (name, tr, lo, hi), t in zip(sp, fit.to_theta(sp, fr.values, pb)):
-        if name not in model.GROUPS or name == "K":
-            continue
-        side = _side(tr if tr == "log" else "lin", lo, hi, t, REPORT_EDGE)
-        if side is None:
-            continue
+    for name, tr, side, lo, hi in at_edges(pb, fr.values, fr.effects):
         if tr == "wnu":                    # pid: w from nu to 1
             lo, hi = fit._nu(pb, fr.values), 1.0
         bound = lo if side == "lower" else hi

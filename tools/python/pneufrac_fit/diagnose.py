@@ -12,7 +12,7 @@ import numpy as np
 
 from . import baseline as base_mod
 from . import evidence as ev_mod
-from . import data, fit, model, noise, selection, signals
+from . import candidates, data, fit, model, noise, selection, signals
 from . import holdout as holdout_mod
 from .fit import FitResult, Problem
 
@@ -153,6 +153,7 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
     floor, src = _floor(rec, pb, final)
     nmf = noise.fit(pbf.fit_pieces(final.residual(pbf)))
     fit_notes += _held_blocks_note(split, nmf)
+    fit_notes += candidates.corner_notes(rounds, causes)
     evb = ev_mod.analyse(pb, base, sd)
     eva = ev_mod.analyse(pbf, final, sd)
     evidence = ev_mod.describe(evb, pb, sd, floor, base)
