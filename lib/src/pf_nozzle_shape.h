@@ -25,7 +25,7 @@ static inline void pf_nozzle_shape_make(pf_nozzle_shape *n, double xh, double bi
     n->f0 = 1.0 / s;
     n->g = xh * s * s / (2.0 * u0);
     /* |F'(1/sqrt(3))| = (2/sqrt(3)) / (4/3)^2 = 3 sqrt(3)/8 */
-    n->steepest = 0.64951905283832898 * n->g / xh;
+    n->steepest = fmax(1.0, 0.64951905283832898 * n->g / xh); /* 1 + rounding at u0 = 1/sqrt(3) */
 }
 
 #endif

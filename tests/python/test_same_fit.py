@@ -172,3 +172,21 @@ def _forward(pb, base, rounds):
         return selection.forward(pb, base, 0, 1, lambda m: None)[0]
     finally:
         mp.undo()
+
+
+def test_a_fit_the_library_refuses_fails_its_test(monkeypatch):
+    """A candidate whose search reaches a parameter set the library cannot
+    design fails its test with that reason; the round, and the diagnosis,
+    go on (before, the refusal ended the diagnosis, or, raised in a worker,
+    left the process pool waiting)."""
+    from pneufrac_fit import candidates, lib
+    pb = _problem()
+    base = _fit(pb, (), _start(pb))
+
+    def refused(*_a, **_k):
+        raise lib.ModelError(1, "nozzle_bias", "refused: nozzle_bias")
+
+    monkeypatch.setattr(candidates, "fit_extended", refused)
+    t = selection.try_effect(pb, base, "nozzle", 7)
+    assert not t.passes and t.model is base
+    assert any("library refused" in r and "nozzle_bias" in r for r in t.reasons), t.reasons

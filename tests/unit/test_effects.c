@@ -907,9 +907,13 @@ static void test_nozzle_loop_unique(void **state)
                  1.0 + L0 * steep);
         /* the cases sit clearly on either side of the 0.01 margin */
         EXPECT((1.0 + L0 * steep > 0.1) == cases[i].ok, "%s: case on the wrong side", what);
-        if (cases[i].ok)
+        if (cases[i].ok) {
             EXPECT(st == PF_OK, "%s refused: %d", what, st);
-        else
+            /* the loop solve's bracket reaches as far as the smallest slope */
+            if (st == PF_OK)
+                EXPECT(fabs(g_d.rt.slope_inv * (1.0 + L0 * fmax(steep, 1.0)) - 1.0) < 1e-9,
+                       "%s: slope_inv %.17g", what, g_d.rt.slope_inv);
+        } else
             expect_names(st, PF_P_NOZZLE_BIAS, what);
     }
     END_SOFT();

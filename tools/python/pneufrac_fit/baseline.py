@@ -288,16 +288,21 @@ def at_edges(pb, vals: dict, effects=()) -> list[tuple[str, str, str, float, flo
     (K aside: it scales, it has no corner) that vals put within REPORT_EDGE
     of a bound of its range: the groups the report calls "at its bound", and
     the corners the extended fits also start away from
-    (candidates.corner_start). vals: the fit's values, with the groups pb
-    frees and the fit held (held at a bound by unstick: at that bound)."""
+    (candidates.corner_freed). vals: the fit's values, with the groups pb
+    frees and the fit held (held at a bound by unstick: at that bound). lo
+    and hi are the group's own range (pid's w: from nu to 1; the search
+    moves it as a fraction of that)."""
     out = []
     sp = fit.specs(pb, effects)
     for (name, tr, lo, hi), t in zip(sp, fit.to_theta(sp, vals, pb)):
         if name not in model.GROUPS or name == "K":
             continue
         side = _side(tr if tr == "log" else "lin", lo, hi, t, REPORT_EDGE)
-        if side is not None:
-            out.append((name, tr, side, lo, hi))
+        if side is None:
+            continue
+        if tr == "wnu":
+            lo, hi = fit._nu(pb, vals), 1.0
+        out.append((name, tr, side, lo, hi))
     return out
 
 
@@ -313,8 +318,6 @@ def corners(pb, fr) -> dict:
     does not determine."""
     out = {}
     for name, tr, side, lo, hi in at_edges(pb, fr.values, fr.effects):
-        if tr == "wnu":                    # pid: w from nu to 1
-            lo, hi = fit._nu(pb, fr.values), 1.0
         bound = lo if side == "lower" else hi
         far = fr.ci.get(name, (None, None))[1 if side == "lower" else 0]
         far = None if far is None else float(min(max(far, lo), hi))

@@ -209,9 +209,10 @@ def corner_freed(pb, base) -> tuple[dict, list[str]] | None:
     (baseline.at_edges: free there, or held there by the baseline and freed
     by pb) put back inside, and the others refitted around them; with the
     groups moved. None when no group is at a bound. A group goes to the
-    paper's value, or, where that is itself at the same edge or outside the
+    paper's value, or, where that is itself at an edge or outside the
     range, two restart steps inside (baseline.moved_inside: x9 for a log
-    group, 0.3 for an order). The others are refitted (the model so far,
+    group, 0.3 for an order); a group that neither puts strictly inside
+    its range (pid's w beside a nu near 1, say) stays. The others are refitted (the model so far,
     the moved groups held, on the exploration copy) so that the start is a
     fit, not a jump that the first stage of the search drops. The model
     WITHOUT the effect put those groups at the bound; the model with it may
@@ -227,7 +228,11 @@ def corner_freed(pb, base) -> tuple[dict, list[str]] | None:
         v = nom[name]
         if not lo < v < hi or any(e[0] == name for e in baseline.at_edges(pb, {**full, name: v})):
             v = baseline.moved_inside(name, side, lo if side == "lower" else hi, 2)
-        moved[name] = baseline.keep_order(pb.setup.config, name, v, {**full, **moved})
+        v = baseline.keep_order(pb.setup.config, name, v, {**full, **moved})
+        if lo < v < hi:
+            moved[name] = v
+    if not moved:
+        return None
     held = copy.copy(pb)
     held.fixed = {**pb.fixed, **moved}
     held.free = [g for g in pb.free if g not in moved]
@@ -238,11 +243,11 @@ def corner_freed(pb, base) -> tuple[dict, list[str]] | None:
                        search._budget(w, base.effects, search.EXPLORE_ITER), "corner freed")
         refit = r.values if math.isfinite(r.cost) else {}
     except lib.ModelError:      # the library refuses the moved groups beside the others
-        refit = {}              # moved, the others as they were (_corner_start checks it)
+        refit = {}              # moved, the others as they were (corner_start checks it)
     return {**full, **refit, **moved}, list(moved)
 
 
-def _corner_start(pb, effects, base, size: dict):
+def corner_start(pb, effects, base, size: dict):
     """The labelled start corner_freed makes of the model so far, with the
     effect at `size`; None without a corner."""
     cf = corner_freed(pb, base)
@@ -271,10 +276,12 @@ def corner_notes(rounds, causes) -> list[str]:
                 groups = lab[len(CORNER):].strip(" ()")
                 out.append(f"{t.effect} (round {n}) was fitted best from a start with the "
                            f"model so far's groups at a bound of their range ({groups}) put "
-                           "back inside (the paper's values, the other groups refitted): the "
+                           "back inside (at the paper's values or steps inside the bound, the "
+                           "other groups refitted): the "
                            "model without it sat in that corner; the model with it fits "
                            "better away from it. Its gain is measured against the model "
-                           "without it refitted with the same freedoms, from the same place.")
+                           "without it refitted with the same freedoms, its confirmation "
+                           "searched from the same corner freed.")
     return out
 
 
@@ -301,7 +308,7 @@ def _starts(pb, effects, new: str, base, rng, hint: dict | None = None, corner: 
     if "saturation" in effects:
         paper = _sat_start(pb, base, paper)
     warm.append(("paper", paper))
-    freed = _corner_start(pb, effects, base, inits[0]) if corner else None
+    freed = corner_start(pb, effects, base, inits[0]) if corner else None
     if freed is not None:
         warm.append(freed)
     fresh = []
@@ -488,7 +495,7 @@ def _fit_extended(pb, base, new: str, rng, hint: dict | None = None):
             tried = [(fit.lm_fit(w, effects, e.values, dw, budget, e.start), dw)
                      for e, dw in tried[:(len(tried) + 1) // 2]]
         e, dw = tried[0]
-        c = _corner_start(pb, effects, base, {})
+        c = corner_start(pb, effects, base, {})
         if c is not None:
             e = search.best([e, _corner_fit(w, effects, c, dw)])
         d = max(1, int(round(dw / r)))
@@ -497,13 +504,30 @@ def _fit_extended(pb, base, new: str, rng, hint: dict | None = None):
     starts = _starts(pb, effects, new, base, rng, hint)
     corner = [s for s in starts if s[0].startswith(CORNER)]
     starts = [s for s in starts if not s[0].startswith(CORNER)]
-    w = search.explorer(pb) or pb
-    dw = search.dead_to(pb, w, base.dead)
-    e = search._halving(w, effects, starts, dw, search.STAGE_ITER)
-    if corner:
-        e = search.best([e, _corner_fit(w, effects, corner[0], dw)])
-    b = search.explore_refine(pb, effects, starts, dead=base.dead, explored=e)
+    b = explore_refine_corner(pb, effects, starts, corner[0] if corner else None, base.dead)
     return _not_worse(pb, effects, new, base, b)
+
+
+def explore_refine_corner(pb, effects, starts, corner, dead: int = 0, **kw):
+    """search.explore_refine of the starts, with the corner-freed start
+    (corner_freed; None: none) explored on its own beside their halving
+    and the better of the two refined (_corner_fit says why). The extended
+    fit and, before an effect passes, its reference (selection.confirm)
+    are searched this way, from the same place."""
+    if corner is None:
+        return search.explore_refine(pb, effects, starts, dead=dead, **kw)
+    stage = kw.pop("stage_iter", search.STAGE_ITER)
+    e = search.explore(pb, effects, starts, dead, stage)
+    if e is None:            # no exploration copy: the halving and the corner on pb itself
+        b = search.best([search._halving(pb, effects, starts, dead, stage),
+                         _corner_fit(pb, effects, corner, dead)])
+        if b.start.startswith(CORNER):
+            return search.refine(pb, effects, [(b.start, b.values)], dead=dead)
+        fit.evaluate(pb, b)
+        return b
+    w = search.explorer(pb)
+    e = search.best([e, _corner_fit(w, effects, corner, search.dead_to(pb, w, dead))])
+    return search.explore_refine(pb, effects, starts, dead=dead, explored=e, **kw)
 
 
 def _corner_fit(w, effects, start, dead: int):

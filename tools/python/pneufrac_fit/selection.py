@@ -34,7 +34,7 @@ import time
 
 import numpy as np
 
-from . import baseline, candidates, fit, guards, model, search, signals
+from . import baseline, candidates, fit, guards, lib, model, search, signals
 
 
 def reference(pb, effects, fr, prior):
@@ -92,8 +92,22 @@ def try_effect(pb, current, effect: str, seed: int, hint: dict | None = None, fi
     sat at a bound, are freed again (the missing effect may be what
     entangled them or pushed them there); the reference gets the same
     freedoms. fitted: this effect's fit, when a round already made it (from
-    its own starts, or from a rival's optimum: rival_fit)."""
+    its own starts, or from a rival's optimum: rival_fit). A fit the
+    library refuses on the way (a parameter set it cannot design, reached
+    by a search step or a start) fails this test, with that reason; it
+    does not end the diagnosis."""
     t0 = time.monotonic()
+    try:
+        return _try_effect(pb, current, effect, seed, hint, fitted, t0)
+    except lib.ModelError as ex:
+        t = guards.Test(effect, current, current)
+        t.reasons.append(f"the library refused a fit of it ({ex})")
+        t.pb = _problem_of(pb, current, effect)
+        t.elapsed = time.monotonic() - t0
+        return t
+
+
+def _try_effect(pb, current, effect, seed, hint, fitted, t0):
     rng = np.random.default_rng(seed)
     pbx = _problem_of(pb, current, effect)
     pb = candidates.for_model(pb, current)   # the reference's problem, for the guards
@@ -148,15 +162,18 @@ def confirm(pb, effect, fr, t, current, rng):
     """Before an effect passes, its reference gets the baseline's whole
     search (the paper's values, fresh starts, the extended fit's groups,
     successive halving, a longer refinement): a gain that a better optimum
-    of the model without the effect removes is no gain."""
+    of the model without the effect removes is no gain. Where the model so
+    far sits in a corner, the reference is also searched from that corner
+    freed, as the extended fit was (candidates.explore_refine_corner): a
+    gain that only leaving the corner brings is the reference's too."""
     effects = model.canonical(current.effects)
     st = confirm_starts(fr, t.ref, current)
     if not effects:
         st += baseline.starts(pb, rng)
     dead = fr.dead if "dead_time" in effects else 0
-    ref2 = search.explore_refine(pb, effects, st, dead=dead,
-                                 refine_iter=2 * search.REFINE_ITER,
-                                 stage_iter=baseline.STAGE_ITER)
+    ref2 = candidates.explore_refine_corner(
+        pb, effects, st, candidates.corner_start(pb, effects, current, {}), dead=dead,
+        refine_iter=2 * search.REFINE_ITER, stage_iter=baseline.STAGE_ITER)
     if ref2.cost >= t.ref.cost:
         return t
     t2 = guards.test(pb, effect, fr, ref2, so_far=current)
