@@ -177,3 +177,29 @@ def test_input_resting_in_every_held_out_block_falls_back_to_the_tail():
     assert split == holdout.layout(n, "tail")
     assert "held-out blocks refused" in why and "last 30 %" in why
     assert data.split_for(rec, "tail") == (split, None)
+
+
+def test_input_resting_through_the_tail_falls_back_to_the_blocks():
+    """A test that ends with a long rest: the last 30 % would test nothing,
+    the held-out blocks do (a step falls in the first two), so the record
+    is validated on them and the report says so; with neither, the
+    refusal names the split asked for."""
+    n, fs = 5000, 1000.0
+    blocks, tail = holdout.layout(n, "blocks"), holdout.layout(n, "tail")
+    e = np.zeros(n)
+    for (a, b), k in zip(blocks.held[:2], (1, 2)):
+        e[(a + b) // 2:] += 1.0 if k == 1 else -0.6
+    for k in (200, 700, 1900):
+        e[k:] += 0.4
+    assert np.ptp(e[tail.held[0][0] - 1:]) == 0       # the premise: the tail rests
+    rng = np.random.default_rng(2)
+    pc = np.convolve(e, np.full(20, 0.05))[:n] + 1e-3 * rng.normal(size=n)
+    rec = data.make_record(np.arange(n) / fs, e, pc, "rest-at-the-end")
+    split, why = data.split_for(rec, "tail")
+    assert split == blocks
+    assert "held-out tail refused" in why and "each third" in why
+    assert data.split_for(rec, "blocks") == (split, None)
+    with pytest.raises(data.DataError, match="last 30 %"):
+        flat = data.make_record(np.arange(n) / fs, np.r_[e[:400], np.full(n - 400, e[400])],
+                                pc, "moves-only-at-the-start")
+        data.split_for(flat, "tail")

@@ -226,22 +226,31 @@ def _check_excitation(rec: Record) -> None:
 def split_for(rec: Record, mode: str = holdout.DEFAULT):
     """(split, note): the split of the record into fit parts and held-out
     blocks (holdout.layout) whose parts both see the input and the output
-    move. An input that rests through every held-out block (a setpoint
-    sequence whose moves all fall in the fit parts) falls back to the tail
-    split, with a note saying so; DataError when that does not hold
-    either."""
+    move. Where the split asked for does not (an input that rests through
+    the held-out part: a setpoint sequence whose moves all fall in the fit
+    part, a test that ends with a long rest), the other split is used if
+    its parts do, with a note saying so; DataError when neither does."""
     split = holdout.layout(rec.n, mode)
     try:
         check_parts(rec, split)
         return split, None
     except DataError as exc:
-        tail = holdout.layout(rec.n, "tail")
-        if mode == "tail" or tail == split:
+        other_mode = next(m for m in holdout.MODES if m != mode)
+        other = holdout.layout(rec.n, other_mode)
+        if other == split:
             raise
-        check_parts(rec, tail)
+        try:
+            check_parts(rec, other)
+        except DataError:
+            raise exc from None
         why = str(exc).split(": ", 1)[-1]
-        return tail, (f"held-out blocks refused ({why}): validated on the last 30 % "
-                      "of the record instead")
+        return other, (f"{_SPLIT_WORDS[mode][0]} refused ({why}): validated on "
+                       f"{_SPLIT_WORDS[other_mode][1]} instead")
+
+
+# How the report names each split (holdout.MODES), and where it validates.
+_SPLIT_WORDS = {"tail": ("the held-out tail", "the last 30 % of the record"),
+                "blocks": ("held-out blocks", "the last 30 % of each third of the record")}
 
 
 def check_parts(rec: Record, split) -> None:
