@@ -142,8 +142,9 @@ def _fit_saturation(pb, base, rng, hint):
         for kind in kinds:
             pk = with_kind(pb, kind)
             if kind == kinds[0] or not same:
-                starts = _starts(pk, effects, "saturation", base, rngs[kind], hint)
-                explored = search.explore(pk, effects, starts, dead=base.dead)
+                starts, corner = _corner_apart(
+                    _starts(pk, effects, "saturation", base, rngs[kind], hint))
+                explored = _explore_corner(pk, effects, starts, corner, base.dead)
             b = search.explore_refine(pk, effects, starts, dead=base.dead, explored=explored)
             b = _limits_back_in_range(pk, effects, base, b)
             fits.append((_not_worse(pk, effects, "saturation", base, b), pk, kind))
@@ -501,11 +502,28 @@ def _fit_extended(pb, base, new: str, rng, hint: dict | None = None):
         d = max(1, int(round(dw / r)))
         b = profile_dead(pb, effects, search.refine(pb, effects, [(e.start, e.values)], dead=d))
         return _not_worse(pb, effects, new, base, b)
-    starts = _starts(pb, effects, new, base, rng, hint)
-    corner = [s for s in starts if s[0].startswith(CORNER)]
-    starts = [s for s in starts if not s[0].startswith(CORNER)]
-    b = explore_refine_corner(pb, effects, starts, corner[0] if corner else None, base.dead)
+    starts, corner = _corner_apart(_starts(pb, effects, new, base, rng, hint))
+    b = explore_refine_corner(pb, effects, starts, corner, base.dead)
     return _not_worse(pb, effects, new, base, b)
+
+
+def _corner_apart(starts):
+    """(the other starts, the corner-freed start or None): the corner is
+    explored on its own (_corner_fit), never inside the others' halving."""
+    corner = [s for s in starts if s[0].startswith(CORNER)]
+    return [s for s in starts if not s[0].startswith(CORNER)], (corner[0] if corner else None)
+
+
+def _explore_corner(pb, effects, starts, corner, dead: int = 0, stage: int = search.STAGE_ITER):
+    """search.explore of the starts, and the corner-freed start (None: none)
+    explored on its own beside them on the exploration copy: the better;
+    None when pb has no exploration copy. Adding the corner never makes the
+    halving's own winner worse: they only compete at the end."""
+    e = search.explore(pb, effects, starts, dead, stage)
+    if e is None or corner is None:
+        return e
+    w = search.explorer(pb)
+    return search.best([e, _corner_fit(w, effects, corner, search.dead_to(pb, w, dead))])
 
 
 def explore_refine_corner(pb, effects, starts, corner, dead: int = 0, **kw):
@@ -517,7 +535,7 @@ def explore_refine_corner(pb, effects, starts, corner, dead: int = 0, **kw):
     if corner is None:
         return search.explore_refine(pb, effects, starts, dead=dead, **kw)
     stage = kw.pop("stage_iter", search.STAGE_ITER)
-    e = search.explore(pb, effects, starts, dead, stage)
+    e = _explore_corner(pb, effects, starts, corner, dead, stage)
     if e is None:            # no exploration copy: the halving and the corner on pb itself
         b = search.best([search._halving(pb, effects, starts, dead, stage),
                          _corner_fit(pb, effects, corner, dead)])
@@ -525,8 +543,6 @@ def explore_refine_corner(pb, effects, starts, corner, dead: int = 0, **kw):
             return search.refine(pb, effects, [(b.start, b.values)], dead=dead)
         fit.evaluate(pb, b)
         return b
-    w = search.explorer(pb)
-    e = search.best([e, _corner_fit(w, effects, corner, search.dead_to(pb, w, dead))])
     return search.explore_refine(pb, effects, starts, dead=dead, explored=e, **kw)
 
 
