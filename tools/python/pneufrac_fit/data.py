@@ -242,7 +242,7 @@ def split_for(rec: Record, mode: str = holdout.DEFAULT):
         try:
             check_parts(rec, other)
         except DataError:
-            raise exc from None
+            raise DataError(f"{exc} (nor in {_SPLIT_WORDS[other_mode][0]})") from None
         why = str(exc).split(": ", 1)[-1]
         return other, (f"{_SPLIT_WORDS[mode][0]} refused ({why}): validated on "
                        f"{_SPLIT_WORDS[other_mode][1]} instead")
