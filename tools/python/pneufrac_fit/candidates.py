@@ -142,8 +142,8 @@ def _fit_saturation(pb, base, rng, hint):
         for kind in kinds:
             pk = with_kind(pb, kind)
             if kind == kinds[0] or not same:
-                starts, corner = _corner_apart(
-                    _starts(pk, effects, "saturation", base, rngs[kind], hint))
+                starts = _starts(pk, effects, "saturation", base, rngs[kind], hint)
+                corner = _corner_of(pk, effects, "saturation", base, hint)
                 explored = _explore_corner(pk, effects, starts, corner, base.dead)
             b = search.explore_refine(pk, effects, starts, dead=base.dead, explored=explored)
             b = _limits_back_in_range(pk, effects, base, b)
@@ -286,17 +286,27 @@ def corner_notes(rounds, causes) -> list[str]:
     return out
 
 
-def _starts(pb, effects, new: str, base, rng, hint: dict | None = None, corner: bool = True):
-    """Warm starts (the model so far with each effect size; in a later
-    round the size this effect took in the round before, hint, or the
-    first size), the paper's values, the model so far with its corners
-    put back inside (corner_freed: only where it has one) and the best
-    fresh start: the model so far may sit in a basin that the new effect
-    needs to get out of."""
-    full = {**base.groups, **base.values}    # held groups that pb frees included
+def _sizes(pb, new: str, base, hint: dict | None) -> list[dict]:
+    """The new effect's starting sizes: effect_inits; in a later round one,
+    the size it took in the round before (hint) or the first."""
     inits = effect_inits(pb, new)
-    if base.effects:        # a later round: one warm start
-        inits = [hint] if hint else inits[:1]
+    if base.effects:
+        return [hint] if hint else inits[:1]
+    return inits
+
+
+def _corner_of(pb, effects, new: str, base, hint: dict | None = None):
+    """corner_start with the new effect at its first starting size."""
+    return corner_start(pb, effects, base, _sizes(pb, new, base, hint)[0])
+
+
+def _starts(pb, effects, new: str, base, rng, hint: dict | None = None):
+    """Warm starts (the model so far with each effect size, _sizes), the
+    paper's values and the best fresh start: the model so far may sit in a
+    basin that the new effect needs to get out of. The corner-freed start
+    (_corner_of) is made apart: it is explored on its own (_corner_fit)."""
+    full = {**base.groups, **base.values}    # held groups that pb frees included
+    inits = _sizes(pb, new, base, hint)
     warm = []
     for i, ei in enumerate(inits):
         st = dict(full)
@@ -309,9 +319,6 @@ def _starts(pb, effects, new: str, base, rng, hint: dict | None = None, corner: 
     if "saturation" in effects:
         paper = _sat_start(pb, base, paper)
     warm.append(("paper", paper))
-    freed = corner_start(pb, effects, base, inits[0]) if corner else None
-    if freed is not None:
-        warm.append(freed)
     fresh = []
     for j, g in enumerate(fit.random_starts(pb, rng, N_FRESH)):
         st = dict(full)
@@ -489,7 +496,7 @@ def _fit_extended(pb, base, new: str, rng, hint: dict | None = None):
         # one fresh start
         e, dw = min(tried, key=lambda x: x[0].cost)
         if not base.effects:
-            for lab, st in _starts(pb, effects, new, base, rng, corner=False)[-1:]:
+            for lab, st in _starts(pb, effects, new, base, rng)[-1:]:
                 tried.append((fit.lm_fit(w, effects, st, dw, budget, lab), dw))
         while len(tried) > 1:
             tried.sort(key=lambda x: x[0].cost)
@@ -502,16 +509,9 @@ def _fit_extended(pb, base, new: str, rng, hint: dict | None = None):
         d = max(1, int(round(dw / r)))
         b = profile_dead(pb, effects, search.refine(pb, effects, [(e.start, e.values)], dead=d))
         return _not_worse(pb, effects, new, base, b)
-    starts, corner = _corner_apart(_starts(pb, effects, new, base, rng, hint))
-    b = explore_refine_corner(pb, effects, starts, corner, base.dead)
+    b = explore_refine_corner(pb, effects, _starts(pb, effects, new, base, rng, hint),
+                              _corner_of(pb, effects, new, base, hint), base.dead)
     return _not_worse(pb, effects, new, base, b)
-
-
-def _corner_apart(starts):
-    """(the other starts, the corner-freed start or None): the corner is
-    explored on its own (_corner_fit), never inside the others' halving."""
-    corner = [s for s in starts if s[0].startswith(CORNER)]
-    return [s for s in starts if not s[0].startswith(CORNER)], (corner[0] if corner else None)
 
 
 def _explore_corner(pb, effects, starts, corner, dead: int = 0, stage: int = search.STAGE_ITER):
