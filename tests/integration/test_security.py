@@ -5,9 +5,11 @@ under 1000 hostile sockets, the parameter lock, per-client staging, the
 plausibility check and the audit log. Every server binds to 127.x; every
 attack loop is bounded in count and time."""
 
+import os
 import random
 import re
 import resource
+import signal
 import socket
 import struct
 import subprocess
@@ -16,7 +18,7 @@ import time
 
 import pytest
 
-from pfd import DAEMON, HANG_S, REG, SLOW, Daemon, Raw, Regs, exception_code, simulate
+from pfd import DAEMON, HANG_S, REG, SLOW, Daemon, Raw, Regs, exception_code, simulate, wait_until
 
 
 def fc03(addr, count):
@@ -184,6 +186,55 @@ def test_slot_policy(daemon):
                      r"reason=max-clients", log), log
     for s in [a, b, c, e, f] + idle:
         s.close()
+
+
+def pin_to_one_cpu(pid):
+    """Every thread of process @p pid, and so every thread it starts later,
+    onto one CPU (as `taskset -a -p`): which of its threads runs first is
+    then the scheduler's choice on one CPU, not a race between two."""
+    cpu = min(os.sched_getaffinity(pid))
+    for tid in os.listdir(f"/proc/{pid}/task"):
+        os.sched_setaffinity(int(tid), {cpu})
+
+
+def test_waiting_request_keeps_its_slot(daemon):
+    """A client whose whole request waits unread, because the daemon's
+    threads have not run yet, keeps its slot against sockets that sent
+    half a header. Under load 12-14 test_1000_hostile_sockets lost its
+    poller that way: its first request was waiting, and as the oldest
+    newcomer that had sent something it went before the half-open ones.
+    Here the daemon is stopped (SIGSTOP) while the client connects and
+    sends its request and four hostile sockets connect and send half a
+    header: a CPU-starved daemon, on purpose and bounded. It then runs on
+    one CPU, where its accept thread usually takes the backlog before the
+    client's new thread reads; with one slot, the first hostile socket
+    decides. Without the fix the client lost 30 of 40 rounds (5 runs,
+    load 8.5); one lost round of 8 fails the test."""
+    d = daemon("--max-clients", "1", "--first-request-timeout-ms", "60000", "--verbose")
+    pin_to_one_cpu(d.proc.pid)
+    lost = 0
+    for r in range(8):
+        os.kill(d.proc.pid, signal.SIGSTOP)
+        try:
+            legit = connect_from("127.0.0.1", d.port)
+            legit.sendall(adu(r + 1, 1, fc03(0, 2)))
+            hostile = [connect_from(f"127.0.3.{k + 1}", d.port) for k in range(4)]
+            for s in hostile:
+                s.sendall(adu(0, 1, fc03(0, 2))[:5])
+        finally:
+            os.kill(d.proc.pid, signal.SIGCONT)
+        try:
+            answered = len(legit.recv(64)) > 0
+        except OSError:
+            answered = False
+        lost += not answered
+        closed = f"msg=client-closed peer=127.0.0.1:{legit.getsockname()[1]} "
+        for s in hostile + [legit]:
+            s.close()
+        if answered:  # its slot is free again before the next round
+            wait_until(lambda: closed in d.log(), 10, "the client's connection closed")
+    assert lost == 0, (lost, d.log()[-2000:])
+    assert "msg=client-refused" in d.log()
 
 
 def test_1000_hostile_sockets(daemon):
