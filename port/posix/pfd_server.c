@@ -39,6 +39,7 @@ typedef struct pfd_client {
     /* what the slot policy reads (atomic) */
     int64_t since_ns; /* last completed request, or accepted */
     int active, heard, busy, evicted;
+    int reading;      /* its thread may hold part of a frame (atomic) */
 } pfd_client;
 
 static pfd_ratelimit rl_refused = PFD_RATELIMIT("client-refused");
@@ -152,10 +153,14 @@ static void *client_main(void *arg)
             }
             continue;
         }
+        __atomic_store_n(&c->reading, 1, __ATOMIC_RELEASE);
         len = read_request(c, req, &why);
         if (len < 0)
             break;
+        /* busy before not reading: the slot policy never sees a request
+         * taken from the socket as neither waiting nor being served */
         __atomic_store_n(&c->busy, 1, __ATOMIC_RELEASE);
+        __atomic_store_n(&c->reading, 0, __ATOMIC_RELEASE);
         rc = pfd_request(d, s, req, len, rsp);
         if (rc < 0) {
             why = pfd_stopping(d) ? "shutdown" : "bad-frame";
@@ -221,14 +226,28 @@ static void evict(pfd_client *v, const char *for_peer, const char *why)
                 for_peer, why);
 }
 
-/* Whether a client that has not spoken yet has bytes waiting: its thread
- * has not got round to them. */
-static int waiting(const pfd_client *c)
+/* What waits unread in the socket of @p c, a slot in use, because its
+ * thread has not got round to it (under load, or before it first runs):
+ * *heard if any byte, *pending if a whole request (pfd_slots.h: such a
+ * client is late only by the daemon's fault). A whole request is judged
+ * from the first bytes waiting, so only while the thread holds no part of
+ * a frame (checked before and after the peek), and only for plain TCP: TLS
+ * bytes are records, not frames, and a TLS newcomer's first wait is its
+ * handshake, which first_request_timeout_ms bounds. */
+static void unread(const pfd_client *c, int *heard, int *pending)
 {
-    int n = 0;
-    if (!c->in_use || __atomic_load_n(&c->active, __ATOMIC_ACQUIRE))
-        return 0;
-    return ioctl(c->conn.fd, FIONREAD, &n) == 0 && n > 0;
+    uint8_t hdr[PFD_MBAP_LEN];
+    int n = 0, len;
+
+    *pending = 0;
+    if (ioctl(c->conn.fd, FIONREAD, &n) != 0 || n <= 0)
+        return;
+    *heard = 1;
+    if (c->tls || n < PFD_MBAP_LEN || __atomic_load_n(&c->reading, __ATOMIC_ACQUIRE) ||
+        recv(c->conn.fd, hdr, sizeof hdr, MSG_PEEK | MSG_DONTWAIT) != (ssize_t)sizeof hdr)
+        return;
+    len = pfd_mbap_length(hdr);
+    *pending = len > 0 && n >= len && !__atomic_load_n(&c->reading, __ATOMIC_ACQUIRE);
 }
 
 /* Whether client @p id holds a lock: a holder is never evicted, or a
@@ -258,7 +277,10 @@ static pfd_client *take_slot(pfd_daemon *d, uint32_t addr, const char *peer, con
         v[i].evicted = __atomic_load_n(&c->evicted, __ATOMIC_ACQUIRE) ||
                        __atomic_load_n(&c->done, __ATOMIC_ACQUIRE);
         v[i].active = __atomic_load_n(&c->active, __ATOMIC_ACQUIRE);
-        v[i].heard = __atomic_load_n(&c->heard, __ATOMIC_ACQUIRE) || waiting(c);
+        v[i].heard = __atomic_load_n(&c->heard, __ATOMIC_ACQUIRE);
+        v[i].pending = 0;
+        if (c->in_use && !v[i].evicted)
+            unread(c, &v[i].heard, &v[i].pending);
         v[i].busy = __atomic_load_n(&c->busy, __ATOMIC_ACQUIRE) ||
                     (c->in_use && holds_lock(d, c->id));
         v[i].addr = c->addr;

@@ -23,15 +23,16 @@ static int better(const pfd_slot_view *v, int a, int b)
     return v[a].since_ns < v[b].since_ns;
 }
 
-/* The best victim among live, not busy slots (from @p addr only if
- * @p same_addr); active ones only if idle for protect_ns, so that an
- * address that reconnects in a hurry cannot push out its own poller. */
+/* The best victim among live slots neither busy nor with a request
+ * pending (from @p addr only if @p same_addr); active ones only if idle
+ * for protect_ns, so that an address that reconnects in a hurry cannot
+ * push out its own poller. */
 static int victim(const pfd_slot_view *v, int n, uint32_t addr, int same_addr,
                   int64_t now_ns, int64_t protect_ns)
 {
     int i, best = -1;
     for (i = 0; i < n; i++) {
-        if (!live(&v[i]) || v[i].busy || (same_addr && v[i].addr != addr))
+        if (!live(&v[i]) || v[i].busy || v[i].pending || (same_addr && v[i].addr != addr))
             continue;
         if (v[i].active && now_ns - v[i].since_ns < protect_ns)
             continue;

@@ -15,7 +15,12 @@
  *    least `protect_ns`, so that a flood of new connections cannot push
  *    out a client that polls.
  *  - A connection in the middle of a request, or holding a lock, is never
- *    a victim.
+ *    a victim; nor is one with a complete request waiting unread in its
+ *    socket: it has done all a client must, and only its thread, not yet
+ *    scheduled, is late. Evicting it would charge the client for time the
+ *    scheduler took from the daemon: under load, a poller's first request
+ *    (oldest among those that have sent something) went to a flood of
+ *    half-open sockets.
  */
 #ifndef PFD_SLOTS_H
 #define PFD_SLOTS_H
@@ -30,6 +35,7 @@ typedef struct pfd_slot_view {
     int active;          /**< has completed a request */
     int heard;           /**< has sent at least one byte */
     int busy;            /**< a request is being served, or it holds a lock */
+    int pending;         /**< a complete request waits unread */
     uint32_t addr;       /**< IPv4, host order */
     int64_t since_ns;    /**< last completed request, or accepted if none */
 } pfd_slot_view;

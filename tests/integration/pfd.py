@@ -248,9 +248,18 @@ class Raw:
 
     def request(self, unit, pdu):
         """Send one ADU, return the response PDU (function code first)."""
+        self.send(unit, pdu)
+        return self.receive()
+
+    def send(self, unit, pdu):
+        """The first half of request(): send the ADU, do not wait."""
         import struct
         self.tid = (self.tid + 1) & 0xFFFF
         self.s.sendall(struct.pack(">HHHB", self.tid, 0, len(pdu) + 1, unit) + pdu)
+
+    def receive(self):
+        """The second half of request(): the response PDU to the last send()."""
+        import struct
         head = self._recv(7)
         tid, proto, length, _ = struct.unpack(">HHHB", head)
         assert tid == self.tid and proto == 0

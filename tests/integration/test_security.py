@@ -5,9 +5,11 @@ under 1000 hostile sockets, the parameter lock, per-client staging, the
 plausibility check and the audit log. Every server binds to 127.x; every
 attack loop is bounded in count and time."""
 
+import os
 import random
 import re
 import resource
+import signal
 import socket
 import struct
 import subprocess
@@ -16,7 +18,7 @@ import time
 
 import pytest
 
-from pfd import DAEMON, HANG_S, REG, SLOW, Daemon, Raw, Regs, exception_code, simulate
+from pfd import DAEMON, HANG_S, REG, SLOW, Daemon, Raw, Regs, exception_code, simulate, wait_until
 
 
 def fc03(addr, count):
@@ -186,6 +188,55 @@ def test_slot_policy(daemon):
         s.close()
 
 
+def pin_to_one_cpu(pid):
+    """Every thread of process @p pid, and so every thread it starts later,
+    onto one CPU (as `taskset -a -p`): which of its threads runs first is
+    then the scheduler's choice on one CPU, not a race between two."""
+    cpu = min(os.sched_getaffinity(pid))
+    for tid in os.listdir(f"/proc/{pid}/task"):
+        os.sched_setaffinity(int(tid), {cpu})
+
+
+def test_waiting_request_keeps_its_slot(daemon):
+    """A client whose whole request waits unread, because the daemon's
+    threads have not run yet, keeps its slot against sockets that sent
+    half a header. Under load 12-14 test_1000_hostile_sockets lost its
+    poller that way: its first request was waiting, and as the oldest
+    newcomer that had sent something it went before the half-open ones.
+    Here the daemon is stopped (SIGSTOP) while the client connects and
+    sends its request and four hostile sockets connect and send half a
+    header: a CPU-starved daemon, on purpose and bounded. It then runs on
+    one CPU, where its accept thread usually takes the backlog before the
+    client's new thread reads; with one slot, the first hostile socket
+    decides. Without the fix the client lost 30 of 40 rounds (5 runs,
+    load 8.5); one lost round of 8 fails the test."""
+    d = daemon("--max-clients", "1", "--first-request-timeout-ms", "60000", "--verbose")
+    pin_to_one_cpu(d.proc.pid)
+    lost = 0
+    for r in range(8):
+        os.kill(d.proc.pid, signal.SIGSTOP)
+        try:
+            legit = connect_from("127.0.0.1", d.port)
+            legit.sendall(adu(r + 1, 1, fc03(0, 2)))
+            hostile = [connect_from(f"127.0.3.{k + 1}", d.port) for k in range(4)]
+            for s in hostile:
+                s.sendall(adu(0, 1, fc03(0, 2))[:5])
+        finally:
+            os.kill(d.proc.pid, signal.SIGCONT)
+        try:
+            answered = len(legit.recv(64)) > 0
+        except OSError:
+            answered = False
+        lost += not answered
+        closed = f"msg=client-closed peer=127.0.0.1:{legit.getsockname()[1]} "
+        for s in hostile + [legit]:
+            s.close()
+        if answered:  # its slot is free again before the next round
+            wait_until(lambda: closed in d.log(), 10, "the client's connection closed")
+    assert lost == 0, (lost, d.log()[-2000:])
+    assert "msg=client-refused" in d.log()
+
+
 def test_1000_hostile_sockets(daemon):
     """O1: 1000 hostile sockets come and go from 127.0.1.x (idle, half-open:
     half a header then silence, slowloris: one byte of a long frame every
@@ -194,17 +245,28 @@ def test_1000_hostile_sockets(daemon):
     each served every time: no request goes unanswered for HANG_S, where
     the lock-out of O1 lasted idle_timeout_s (300 s). The response times
     are printed (the issue asks for 1 s), not asserted: they measure the
-    machine's load as much as the daemon."""
+    machine's load as much as the daemon.
+
+    The poller's first request and the flood's first wave reach the
+    daemon while it is stopped (SIGSTOP, 0.3 s), the poller first: as
+    under load, when its threads are not scheduled. The poller is then the
+    oldest newcomer with bytes waiting, the spot in which it lost its slot
+    to half-open sockets at load 12-14 before the fix. Whether it loses it
+    still depends on whether its thread runs before the table is full
+    (before the fix: 2 runs of 21 failed, load 4-11);
+    test_waiting_request_keeps_its_slot shows the case every time."""
     d = daemon(run_for=600)
     stop = threading.Event()
     times, failures, retries = [], [], []
 
-    def polling():
-        c = Raw(d.port)
+    def polling(c, sent):
+        """@p c: a connection whose first request was sent at @p sent."""
         while not stop.is_set():
-            t = time.monotonic()
+            t, first, sent = sent or time.monotonic(), sent, None
             try:
-                ok = exception_code(c.request(1, fc03(0, 2))) is None
+                if first is None:
+                    c.send(1, fc03(0, 2))
+                ok = exception_code(c.receive()) is None
             except Exception as ex:  # noqa: BLE001 - any failure counts
                 ok = False
                 failures.append(("poll", repr(ex)))
@@ -234,38 +296,61 @@ def test_1000_hostile_sockets(daemon):
                 failures.append(("fresh", "no answer"))
             time.sleep(0.1)
 
-    legit = [threading.Thread(target=polling), threading.Thread(target=fresh)]
+    rng = random.Random(12)
+    live, kinds = [], {"idle": 0, "half-open": 0, "slowloris": 0}
+
+    def top_up(now):
+        """Open hostile sockets until 48 are open (1000 in all)."""
+        while sum(kinds.values()) < 1000 and len(live) < 48:
+            n, kind = sum(kinds.values()), rng.choice(list(kinds))
+            try:
+                s = connect_from(f"127.0.1.{1 + n % 250}", d.port)
+            except OSError:
+                continue
+            s.setblocking(False)
+            if kind == "half-open":
+                s.send(struct.pack(">HHH", n & 0xFFFF, 0, 6)[:5])
+            live.append([s, kind, now + rng.uniform(0.2, 1.5), now])
+            kinds[kind] += 1
+
+    def trickle(now, close=True):
+        """A byte from each slowloris every 80 ms; close those whose time
+        is up."""
+        for h in list(live):
+            s, kind, until, last = h
+            if kind == "slowloris" and now - last >= 0.08:
+                try:
+                    s.send(b"\x00")  # a frame that announced 254 bytes
+                except OSError:
+                    pass
+                h[3] = now
+            if close and now >= until:
+                s.close()
+                live.remove(h)
+
+    # Stopped for 0.3 s: the slowloris sockets have bytes waiting too, and
+    # nothing closes, so that the backlog (64) holds all 49.
+    os.kill(d.proc.pid, signal.SIGSTOP)
+    try:
+        poller = Raw(d.port)
+        poller.send(1, fc03(0, 2))
+        sent = time.monotonic()
+        top_up(sent)
+        while time.monotonic() < sent + 0.3:
+            trickle(time.monotonic(), close=False)
+            time.sleep(0.01)
+    finally:
+        os.kill(d.proc.pid, signal.SIGCONT)
+    legit = [threading.Thread(target=polling, args=(poller, sent)),
+             threading.Thread(target=fresh)]
     for t in legit:
         t.start()
-    rng = random.Random(12)
-    live, opened, kinds = [], 0, {"idle": 0, "half-open": 0, "slowloris": 0}
     t_end = time.monotonic() + 40
     try:
-        while (opened < 1000 or live) and time.monotonic() < t_end:
+        while (sum(kinds.values()) < 1000 or live) and time.monotonic() < t_end:
             now = time.monotonic()
-            while opened < 1000 and len(live) < 48:
-                kind = rng.choice(list(kinds))
-                try:
-                    s = connect_from(f"127.0.1.{1 + opened % 250}", d.port)
-                except OSError:
-                    continue
-                s.setblocking(False)
-                if kind == "half-open":
-                    s.send(struct.pack(">HHH", opened & 0xFFFF, 0, 6)[:5])
-                live.append([s, kind, now + rng.uniform(0.2, 1.5), now])
-                kinds[kind] += 1
-                opened += 1
-            for h in list(live):
-                s, kind, until, last = h
-                if kind == "slowloris" and now - last >= 0.08:
-                    try:
-                        s.send(b"\x00")  # a frame that announced 254 bytes
-                    except OSError:
-                        pass
-                    h[3] = now
-                if now >= until:
-                    s.close()
-                    live.remove(h)
+            top_up(now)
+            trickle(now)
             time.sleep(0.01)
     finally:
         for h in live:
@@ -275,6 +360,7 @@ def test_1000_hostile_sockets(daemon):
         for t in legit:
             t.join(timeout=30)
     srt = sorted(times)
+    opened = sum(kinds.values())
     print({"hostile": opened, **kinds, "legit_requests": len(times),
            "p50_s": round(srt[len(srt) // 2], 4), "p99_s": round(srt[int(len(srt) * 0.99)], 4),
            "worst_s": round(srt[-1], 3), "over_1s": sum(1 for x in srt if x >= 1.0),

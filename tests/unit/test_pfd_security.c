@@ -82,6 +82,42 @@ static void slots_full_table_order(void **state)
     assert_int_equal(c.slot, -1);
 }
 
+/* A complete request waiting unread makes no one a victim: not the oldest
+ * newcomer that has spoken (a client whose first request its thread has
+ * not read yet), not the client idle longest (its next poll came, the
+ * thread is late). The others go in the usual order. */
+static void slots_pending_request(void **state)
+{
+    pfd_slot_view v[8];
+    pfd_slot_choice c;
+    (void)state;
+    memset(v, 0, sizeof v);
+    v[0] = slot(1, 0, 1, 9000); /* first request waiting, oldest newcomer */
+    v[0].pending = 1;
+    v[1] = slot(2, 0, 1, 9500); /* half a header */
+    v[2] = slot(3, 1, 1, 0);    /* active, idle 10 s, its poll waiting */
+    v[2].pending = 1;
+    v[3] = slot(4, 1, 1, 1000); /* active, idle 9 s */
+    c = pfd_slots_choose(v, 8, 9, 4, 8, 10000 * MS, 2000 * MS);
+    assert_int_equal(c.victim, 1);
+    v[1].evicted = 1;
+    v[4] = slot(5, 1, 1, 9990);
+    c = pfd_slots_choose(v, 8, 9, 4, 8, 10000 * MS, 2000 * MS);
+    assert_int_equal(c.victim, 3);
+    v[3].evicted = 1;
+    v[5] = slot(6, 1, 1, 9995);
+    /* only pending and protected ones left: refused */
+    c = pfd_slots_choose(v, 8, 9, 4, 8, 10000 * MS, 2000 * MS);
+    assert_int_equal(c.slot, -1);
+    assert_int_equal(c.victim, -1);
+    /* the same within one address */
+    c = pfd_slots_choose(v, 8, 1, 16, 1, 10000 * MS, 2000 * MS);
+    assert_int_equal(c.victim, -1);
+    v[0].pending = 0;
+    c = pfd_slots_choose(v, 8, 1, 16, 1, 10000 * MS, 2000 * MS);
+    assert_int_equal(c.victim, 0);
+}
+
 static void slots_per_address(void **state)
 {
     pfd_slot_view v[8];
@@ -249,6 +285,7 @@ int main(void)
         cmocka_unit_test(slots_free_table),
         cmocka_unit_test(slots_full_table_order),
         cmocka_unit_test(slots_per_address),
+        cmocka_unit_test(slots_pending_request),
         cmocka_unit_test(roles),
         cmocka_unit_test(access_per_register),
         cmocka_unit_test(staging),
