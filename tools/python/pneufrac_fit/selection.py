@@ -27,6 +27,7 @@ Three mechanisms, each used everywhere it applies:
 """
 from __future__ import annotations
 
+import contextlib
 import copy
 import itertools
 import math
@@ -220,29 +221,53 @@ def run_round(pb, current, effects, seed, jobs, say, previous=None):
     prev = {t.effect: t for t in (previous or [])}
     tasks = [(pb, current, e, seed + 101 * (model.CAUSES.index(e) + 1), _hint(prev.get(e)))
              for e in effects]
+    _corners_made(pb, current, effects)
     out = {}
-    if jobs > 1 and len(tasks) > 1:
-        import multiprocessing as mp
-        try:
-            ctx = mp.get_context("fork")
-        except ValueError:
-            ctx = None
-        if ctx is not None:
-            # the costliest tests first, and each worker with the parent's
-            # threads: the last test running alone still uses every core
-            threads = fit._threads
-            with ctx.Pool(min(jobs, len(tasks)), initializer=fit.set_threads,
-                          initargs=(threads,)) as pool:
-                for t in pool.imap_unordered(_run, candidates.by_cost(tasks)):
-                    _say(say, t)
-                    out[t.effect] = t
-            fit.set_threads(threads)
-            return [out[e] for e in effects]
-    for task in tasks:
-        t = _run(task)
-        _say(say, t)
-        out[t.effect] = t
+    # the costliest tests first: the last test running alone is a short one
+    with _workers(jobs, len(tasks)) as pool:
+        if pool is None:
+            done = map(_run, tasks)
+        else:
+            done = pool.imap_unordered(_run, candidates.by_cost(tasks))
+        for t in done:
+            _say(say, t)
+            out[t.effect] = t
     return [out[e] for e in effects]
+
+
+def _corners_made(pb, current, effects):
+    """The model so far's corner freed (candidates.corner_freed) on every
+    problem the round's tests fit, made here, before the round's workers
+    fork: it depends on the problem and the model so far alone, and each
+    test would otherwise make it again in its worker (with a dead band,
+    which counts fewer samples, there are two problems)."""
+    for e in effects:
+        try:
+            candidates.corner_freed(_problem_of(pb, current, e), current)
+        except lib.ModelError:
+            pass    # the test meets the refusal again and fails with it (try_effect)
+
+
+@contextlib.contextmanager
+def _workers(jobs: int, n: int):
+    """A pool of min(jobs, n) forked worker processes for n independent
+    fits, or None where this process does them (jobs 1, a single fit, no
+    fork on this system). Each worker gets the parent's threads: the last
+    fit running alone still uses every core. Forked, a worker inherits what
+    the parent made before (_corners_made)."""
+    if jobs <= 1 or n <= 1:
+        yield None
+        return
+    import multiprocessing as mp
+    try:
+        ctx = mp.get_context("fork")
+    except ValueError:
+        yield None
+        return
+    threads = fit._threads
+    with ctx.Pool(min(jobs, n), initializer=fit.set_threads, initargs=(threads,)) as pool:
+        yield pool
+    fit.set_threads(threads)
 
 
 def _say(say, t):
