@@ -19,6 +19,7 @@ freed"). It checks the rule where it was traced, not a threshold: no
 threshold depends on it.
 (The lag is not named on top of the dead band: its fit is no better on
 the held-out part.)"""
+import pickle
 import sys
 import types
 from pathlib import Path
@@ -27,7 +28,7 @@ import numpy as np
 import pytest
 
 import cases
-from pneufrac_fit import baseline, candidates, data, diagnose, selection
+from pneufrac_fit import baseline, candidates, data, diagnose, fit, model, selection
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "bench"))
 from blindsim.__main__ import write  # noqa: E402
@@ -35,8 +36,10 @@ from blindsim.__main__ import write  # noqa: E402
 
 @pytest.fixture(scope="module")
 def clean_corner():
-    made = []
-    orig = candidates.corner_start
+    """The diagnosis, the corner-freed starts made (effects, label) and the
+    inputs of every refit of the corner (corner_freed's fit.lm_fit), pickled."""
+    made, refits = [], []
+    orig, orig_lm = candidates.corner_start, fit.lm_fit
 
     def spy(pb, effects, base, size):
         r = orig(pb, effects, base, size)
@@ -44,16 +47,22 @@ def clean_corner():
             made.append((effects, r[0]))
         return r
 
-    candidates.corner_start = spy
+    def lm_spy(pb, effects, start, dead=0, budget=400, label="", *a, **k):
+        if label == candidates.CORNER:
+            refits.append(pickle.dumps((pb, effects, start, dead)))
+        return orig_lm(pb, effects, start, dead, budget, label, *a, **k)
+
+    candidates.corner_start, fit.lm_fit = spy, lm_spy
+    candidates._CORNERS.clear()         # made by this diagnosis, not an earlier test
     try:
         d = cases.run(cases.make("id", "none", 120), jobs=1)  # the spy sees one process
     finally:
-        candidates.corner_start = orig
-    return d, made
+        candidates.corner_start, fit.lm_fit = orig, orig_lm
+    return d, made, refits
 
 
 def test_clean_record_in_a_corner_gives_none(clean_corner):
-    d, made = clean_corner
+    d, made, _ = clean_corner
     pbx = selection.problem_for(d.pb, ())
     edges = [e[0] for e in baseline.at_edges(pbx, {**d.baseline.groups, **d.baseline.values})]
     assert edges, "premise: the baseline has a group at a bound"
@@ -63,7 +72,7 @@ def test_clean_record_in_a_corner_gives_none(clean_corner):
 
 
 def test_corner_freed_moves_the_corner_groups_inside(clean_corner):
-    d, _ = clean_corner
+    d, _, _ = clean_corner
     pbx = selection.problem_for(d.pb, ())
     full = {**d.baseline.groups, **d.baseline.values}
     edges = {e[0] for e in baseline.at_edges(pbx, full)}
@@ -79,6 +88,32 @@ def test_corner_freed_moves_the_corner_groups_inside(clean_corner):
                                    values={k: start[k] for k in d.baseline.values},
                                    effects=(), dead=0)
     assert candidates.corner_freed(pbx, inside) is None
+
+
+def test_the_corner_is_refitted_once_per_problem(clean_corner):
+    """corner_freed depends on the problem and the model so far alone: each
+    pair is refitted once (before, every candidate of a round, and each
+    confirmation, refitted the same corner again)."""
+    _, _, refits = clean_corner
+    assert refits, "premise: the corner was refitted"
+    assert len(set(refits)) == len(refits), f"{len(refits) - len(set(refits))} repeated"
+
+
+def test_the_corner_is_the_same_at_every_placement(clean_corner):
+    """Without saturation in the model so far, no simulation reads
+    saturation's placement: the corner made at the clip's is the one made
+    at each other placement (saturation's test asks at all three). This
+    record has no exploration copy, so the problem at the placement is
+    itself the one simulated."""
+    d, _, _ = clean_corner
+    pbx = selection.problem_for(d.pb, ())
+    assert pbx.setup.sat_kind == model.SAT_CLIP
+    want = candidates.corner_freed(pbx, d.baseline)
+    assert want is not None, "premise: a corner"
+    for kind in (model.SAT_STOP, model.SAT_WIND):
+        pk = candidates.with_kind(pbx, kind)
+        assert candidates._corner_freed(pk, d.baseline) == want    # made at that placement
+        assert candidates.corner_freed(pk, d.baseline) == want
 
 
 def test_a_dead_band_behind_a_corner_is_found(tmp_path):

@@ -167,7 +167,7 @@ def _forward(pb, base, rounds):
     try:
         mp.setattr(selection, "run_round",
                    lambda pb, cur, eff, seed, jobs, say, prev: rounds[cur.effect])
-        mp.setattr(selection, "refit_rivals", lambda pb, cur, tests, seed, say: tests)
+        mp.setattr(selection, "refit_rivals", lambda pb, cur, tests, seed, say, jobs=1: tests)
         mp.setattr(selection, "pairs", lambda *a, **k: None)
         return selection.forward(pb, base, 0, 1, lambda m: None)[0]
     finally:

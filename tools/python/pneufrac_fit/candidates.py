@@ -13,7 +13,9 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import hashlib
 import math
+import pickle
 
 import numpy as np
 
@@ -205,6 +207,41 @@ def _paper_shape(pb, full: dict) -> dict:
 
 
 def corner_freed(pb, base) -> tuple[dict, list[str]] | None:
+    """_corner_freed, made once for each problem and model so far: every
+    test of a round and its confirmation ask for it of the same two (the
+    round's problem: selection.run_round makes it before its workers fork,
+    and they inherit it here). A placement of saturation is read by no
+    simulation of a model without saturation (model.library_effects,
+    fit.finish), so on such a model the problems of saturation's three
+    placements are one problem: the clip's."""
+    if "saturation" not in base.effects:
+        pb = with_kind(pb, model.SAT_CLIP)
+    key = _corner_key(pb, base)
+    if key not in _CORNERS:
+        if len(_CORNERS) >= CORNERS_KEPT:
+            _CORNERS.clear()
+        _CORNERS[key] = _corner_freed(pb, base)
+    return copy.deepcopy(_CORNERS[key])
+
+
+# _corner_freed's answers by _corner_key, in this process (and the workers
+# it forks); a diagnosis asks for a few per round
+_CORNERS: dict = {}
+CORNERS_KEPT = 64
+
+
+def _corner_key(pb, base) -> bytes:
+    """A digest of everything _corner_freed reads: the problem whole
+    (pickled: its data, split, freedoms, noise model and setup) and the
+    model so far's effects, groups, values and delay. Equal digests, equal
+    inputs, the same answer; a problem that differs in anything at all,
+    even in what the answer does not depend on, is only made again."""
+    full = {**base.groups, **base.values}
+    blob = pickle.dumps((pb, tuple(base.effects), full, base.dead), pickle.HIGHEST_PROTOCOL)
+    return hashlib.blake2b(blob, digest_size=20).digest()
+
+
+def _corner_freed(pb, base) -> tuple[dict, list[str]] | None:
     """The model so far (base: its groups and values, the groups pb frees
     included) with every group that sits at a bound of its range
     (baseline.at_edges: free there, or held there by the baseline and freed

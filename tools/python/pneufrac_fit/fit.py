@@ -403,18 +403,35 @@ def start_taus(pb: Problem) -> tuple:
 
 
 def start_basis(taus, n: int) -> np.ndarray:
-    """The basis of these time constants over samples 0..n-1 (n x m)."""
-    i = np.arange(n, dtype=float)[:, None]
-    taus = np.asarray(taus, float)
-    return np.exp(-i / taus[None, :]) if taus.size else np.zeros((n, 0))
+    """The basis of these time constants over samples 0..n-1 (n x m), read
+    only. Every evaluation of a problem's model adds it (model_output), and
+    its n m exponentials cost about a tenth of the simulation: made once
+    for each (taus, n) and kept (_BASES)."""
+    key = (tuple(float(t) for t in taus), int(n))
+    b = _BASES.get(key)
+    if b is None:
+        i = np.arange(n, dtype=float)[:, None]
+        t = np.asarray(key[0], float)
+        b = np.exp(-i / t[None, :]) if t.size else np.zeros((n, 0))
+        b.flags.writeable = False
+        if len(_BASES) >= BASES_KEPT:
+            _BASES.clear()
+        _BASES[key] = b
+    return b
+
+
+# start_basis's bases, by (taus, n): a diagnosis uses a few (the whole fit
+# part and its exploration copy, a few burns), each at most a few MB
+_BASES: dict = {}
+BASES_KEPT = 8
 
 
 def _fixed_regressors(pb: Problem, parts: list):
     """The regressors that do not depend on the parameters (the constant,
     when pc0 is solved, then the start's basis), whitened over the parts:
-    their orthonormal basis Q and triangular factor R, and the whitened
-    output with pc0 (when given) removed. Cached: they are the same for
-    every evaluation of a problem."""
+    their orthonormal basis Q and triangular factor R, the whitened output
+    with pc0 (when given) removed, and that output less its projection on
+    Q. Cached: they are the same for every evaluation of a problem."""
     taus = start_taus(pb)
     key = (id(pb.y), pb.y.size, tuple((x.start, x.stop) for x in parts), pb.pc0,
            _nm_key(pb), taus)
@@ -431,7 +448,7 @@ def _fixed_regressors(pb: Problem, parts: list):
         Q, R = np.linalg.qr(noise.whiten_parts(pb.nm, F, parts))
     else:
         Q, R = np.zeros((yw.size, 0)), np.zeros((0, 0))
-    out = (Q, R, yw)
+    out = (Q, R, yw, yw - Q @ (Q.T @ yw))
     _remember(key, pb.y, out)
     return out
 
@@ -445,11 +462,10 @@ def project(pb: Problem, s: np.ndarray, solve_K: bool, K: float, parts: list):
     if not pb.open_start:
         K, c = _project_rest(pb, s, solve_K, K, parts)
         return K, c, np.zeros(0)
-    Q, R, yw = _fixed_regressors(pb, parts)
+    Q, R, yw, yp = _fixed_regressors(pb, parts)
     sw = noise.whiten_parts(pb.nm, s, parts)
     if solve_K:
         sp = sw - Q @ (Q.T @ sw)
-        yp = yw - Q @ (Q.T @ yw)
         den = float(sp @ sp)
         K = float(sp @ yp) / den if den > 1e-12 * float(sw @ sw) and den > 0 else math.nan
         rest = yw - (K * sw if math.isfinite(K) else 0.0)

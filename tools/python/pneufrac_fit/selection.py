@@ -27,6 +27,7 @@ Three mechanisms, each used everywhere it applies:
 """
 from __future__ import annotations
 
+import contextlib
 import copy
 import itertools
 import math
@@ -220,29 +221,53 @@ def run_round(pb, current, effects, seed, jobs, say, previous=None):
     prev = {t.effect: t for t in (previous or [])}
     tasks = [(pb, current, e, seed + 101 * (model.CAUSES.index(e) + 1), _hint(prev.get(e)))
              for e in effects]
+    _corners_made(pb, current, effects)
     out = {}
-    if jobs > 1 and len(tasks) > 1:
-        import multiprocessing as mp
-        try:
-            ctx = mp.get_context("fork")
-        except ValueError:
-            ctx = None
-        if ctx is not None:
-            # the costliest tests first, and each worker with the parent's
-            # threads: the last test running alone still uses every core
-            threads = fit._threads
-            with ctx.Pool(min(jobs, len(tasks)), initializer=fit.set_threads,
-                          initargs=(threads,)) as pool:
-                for t in pool.imap_unordered(_run, candidates.by_cost(tasks)):
-                    _say(say, t)
-                    out[t.effect] = t
-            fit.set_threads(threads)
-            return [out[e] for e in effects]
-    for task in tasks:
-        t = _run(task)
-        _say(say, t)
-        out[t.effect] = t
+    # the costliest tests first: the last test running alone is a short one
+    with _workers(jobs, len(tasks)) as pool:
+        if pool is None:
+            done = map(_run, tasks)
+        else:
+            done = pool.imap_unordered(_run, candidates.by_cost(tasks))
+        for t in done:
+            _say(say, t)
+            out[t.effect] = t
     return [out[e] for e in effects]
+
+
+def _corners_made(pb, current, effects):
+    """The model so far's corner freed (candidates.corner_freed) on every
+    problem the round's tests fit, made here, before the round's workers
+    fork: it depends on the problem and the model so far alone, and each
+    test would otherwise make it again in its worker (with a dead band,
+    which counts fewer samples, there are two problems)."""
+    for e in effects:
+        try:
+            candidates.corner_freed(_problem_of(pb, current, e), current)
+        except lib.ModelError:
+            pass    # the test meets the refusal again and fails with it (try_effect)
+
+
+@contextlib.contextmanager
+def _workers(jobs: int, n: int):
+    """A pool of min(jobs, n) forked worker processes for n independent
+    fits, or None where this process does them (jobs 1, a single fit, no
+    fork on this system). Each worker gets the parent's threads: the last
+    fit running alone still uses every core. Forked, a worker inherits what
+    the parent made before (_corners_made)."""
+    if jobs <= 1 or n <= 1:
+        yield None
+        return
+    import multiprocessing as mp
+    try:
+        ctx = mp.get_context("fork")
+    except ValueError:
+        yield None
+        return
+    threads = fit._threads
+    with ctx.Pool(min(jobs, n), initializer=fit.set_threads, initargs=(threads,)) as pool:
+        yield pool
+    fit.set_threads(threads)
 
 
 def _say(say, t):
@@ -282,7 +307,7 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None, _tried=None):
             break
         if not _passing(tests, current, cur_pb, len(rounds), say):
             break
-        tests = refit_rivals(cur_pb, current, tests, seed + 7 * len(rounds) + 5, say)
+        tests = refit_rivals(cur_pb, current, tests, seed + 7 * len(rounds) + 5, say, jobs)
         rounds[-1] = tested_on[id(current)] = tests
         ok = _passing(tests, current, cur_pb, len(rounds), say)   # refits bring new references
         if not ok:
@@ -431,7 +456,7 @@ def on_samples(pb, fr, burn: int):
     return candidates.for_model(p, fr)
 
 
-def refit_rivals(pb, current, tests, seed, say):
+def refit_rivals(pb, current, tests, seed, say, jobs: int = 1):
     """The round's tests, each explanation refitted from the winner's
     optimum (from_rival) before the winner is taken, and again from each
     new winner's, until the winner stays (each pair once). A round compares
@@ -441,7 +466,8 @@ def refit_rivals(pb, current, tests, seed, say):
     baseline's shape put it, 3 samples, against a lag that moved the shape
     to a 10-sample delay). The refit replaces a test only when it fits the
     fit part better (the fit criterion, never the held-out part); every
-    guard is then applied to it as to any test."""
+    guard is then applied to it as to any test. jobs: worker processes for
+    a pass's refits."""
     tests = list(tests)
     done = set()
     while True:
@@ -453,19 +479,36 @@ def refit_rivals(pb, current, tests, seed, say):
                 and (t.effect, win.effect) not in done]
         if not todo:
             return tests
-        for i in todo:
+        done.update((tests[i].effect, win.effect) for i in todo)
+        # the pass's refits are independent (each from its own test and the
+        # same winner): in the workers, taken back in the tests' order
+        args = [(pb, current, tests[i], win, seed) for i in todo]
+        with _workers(jobs, len(args)) as pool:
+            got = list(map(_refit, args) if pool is None else pool.map(_refit, args, 1))
+        for i, (t2, ref_is_current) in zip(todo, got):
             t = tests[i]
-            done.add((t.effect, win.effect))
-            fr2 = rival_fit(pb, current, t.effect, t.model, win)
-            if not fr2.cost < t.model.cost * (1 - 1e-6):
+            if t2 is None:
                 continue    # no better fit: the test stands, and its guards need no rerun
-            t2 = try_effect(pb, current, t.effect, seed + 101 * (model.CAUSES.index(t.effect) + 1),
-                            fitted=fr2)
+            if ref_is_current:
+                t2.ref = current    # as made here: the model so far itself, not a copy
             if t2.model.cost < t.model.cost * (1 - 1e-6):
                 say(f"  {t.effect} refitted from the {win.effect} fit's optimum: val NRMSE "
                     f"{t.model.nrmse_val:.4f} -> {t2.model.nrmse_val:.4f} -> "
                     + ("passes" if t2.passes else "fails: " + "; ".join(t2.reasons[:2])))
                 tests[i] = t2
+
+
+def _refit(args):
+    """One refit of refit_rivals: (the test again on the refit, whether its
+    reference is the model so far), or (None, False) when the refit is no
+    better than the test's own fit."""
+    pb, current, t, win, seed = args
+    fr2 = rival_fit(pb, current, t.effect, t.model, win)
+    if not fr2.cost < t.model.cost * (1 - 1e-6):
+        return None, False
+    t2 = try_effect(pb, current, t.effect, seed + 101 * (model.CAUSES.index(t.effect) + 1),
+                    fitted=fr2)
+    return t2, t2.ref is current
 
 
 def models_without(tests, current, cur_pb) -> list:
