@@ -18,8 +18,10 @@ Three mechanisms, each used everywhere it applies:
 3. One search order (forward): rounds of single effects, a round's winner
    added only if it predicts better than every model without it the round
    found, fitted on the same samples (models_without, winner_on), after
-   every explanation of the round was refitted from the winner's optimum
-   (refit_rivals); pairs when a round
+   the round's effects were refitted from a better optimum of the model so
+   far that the round found (from_better), the winner refined from its own
+   optimum (refine_winner), and every explanation of the round refitted
+   from the winner's optimum (refit_rivals); pairs when a round
    adds nothing and the model is inadequate (pairs); a backward check of
    every named effect against the final model without it (backward), and
    rounds again on top of the model it leaves when it drops one. The
@@ -555,7 +557,9 @@ def refine_winner(pb, current, tests, seed, say):
     i = min(ok, key=lambda j: tests[j].model.nrmse_val)
     w = tests[i].model
     p = candidates.for_model(tests[i].pb, w)
-    fr = search.refine(p, w.effects, [("winner refined", {**w.groups, **w.values})],
+    # the same start's fit, refined further: it keeps that start's label
+    # (candidates.corner_notes tells where a named effect's fit came from)
+    fr = search.refine(p, w.effects, [(w.start, {**w.groups, **w.values})],
                        dead=w.dead, iters=WINNER_ITER)
     if "dead_time" in w.effects:
         fr = candidates.profile_dead(p, fr.effects, fr)
