@@ -223,6 +223,8 @@ def _forward_with(scale_b, on_top, monkeypatch, ref_lag=1.0):
     monkeypatch.setattr(selection, "pairs", lambda *a: None)
     # the scripted fits are the rounds' last word: no refit from a rival's optimum
     monkeypatch.setattr(selection, "refit_rivals", lambda pb, cur, tests, seed, say, jobs=1: tests)
+    monkeypatch.setattr(selection, "refine_winner", lambda pb, cur, tests, seed, say: tests)
+    monkeypatch.setattr(selection, "from_better", lambda pb, cur, tests, seed, say: tests)
     base = SimpleNamespace(effects=(), effect="none", nrmse_val=1.0)
     notes = []
     # every scripted test counts the same samples as the model so far

@@ -168,6 +168,8 @@ def _forward(pb, base, rounds):
         mp.setattr(selection, "run_round",
                    lambda pb, cur, eff, seed, jobs, say, prev: rounds[cur.effect])
         mp.setattr(selection, "refit_rivals", lambda pb, cur, tests, seed, say, jobs=1: tests)
+        mp.setattr(selection, "refine_winner", lambda pb, cur, tests, seed, say: tests)
+        mp.setattr(selection, "from_better", lambda pb, cur, tests, seed, say: tests)
         mp.setattr(selection, "pairs", lambda *a, **k: None)
         return selection.forward(pb, base, 0, 1, lambda m: None)[0]
     finally:

@@ -51,6 +51,9 @@ def _run(monkeypatch, dead_band_on_saturation: bool):
     monkeypatch.setattr(selection, "backward", backward)
     monkeypatch.setattr(selection, "pairs", lambda *a, **k: None)
     monkeypatch.setattr(selection, "best_same_fit", lambda tests, cur, pb: (cur, pb, ""))
+    # the scripted fits are the rounds' last word: none refined or refitted
+    monkeypatch.setattr(selection, "refine_winner", lambda pb, cur, tests, seed, say: tests)
+    monkeypatch.setattr(selection, "from_better", lambda pb, cur, tests, seed, say: tests)
     final, _, rounds, checks = selection.forward(PB, _model((), 1.0), 0, 1, lambda s: None)
     return final, calls, checks
 

@@ -18,8 +18,10 @@ Three mechanisms, each used everywhere it applies:
 3. One search order (forward): rounds of single effects, a round's winner
    added only if it predicts better than every model without it the round
    found, fitted on the same samples (models_without, winner_on), after
-   every explanation of the round was refitted from the winner's optimum
-   (refit_rivals); pairs when a round
+   the round's effects were refitted from a better optimum of the model so
+   far that the round found (from_better), the winner refined from its own
+   optimum (refine_winner), and every explanation of the round refitted
+   from the winner's optimum (refit_rivals); pairs when a round
    adds nothing and the model is inadequate (pairs); a backward check of
    every named effect against the final model without it (backward), and
    rounds again on top of the model it leaves when it drops one. The
@@ -144,18 +146,27 @@ def from_rival(pb, current, effect, fr, rival):
     time, a nozzle's curvature for clipping) each pull the linear groups
     to the shape that suits them, and a fit started from the imitator's
     shape is the one the comparison of the two has to beat."""
+    return from_model(pb, current, effect, fr, rival.model, set(OWN[rival.effect]),
+                      "from " + rival.effect)
+
+
+def from_model(pb, current, effect, fr, src, own, label):
+    """current + effect refitted from another fit's optimum (src): its
+    groups and the parameters it shares with fr, except `own` (src's own
+    effect's parameters), with this effect's own size as fr has it; a dead
+    time placed where the data put it on src's shape (candidates.scan_dead,
+    then profiled)."""
     effects = model.canonical(tuple(current.effects) + (effect,))
-    own = set(OWN[rival.effect])
     st = {**fr.groups, **fr.values}
-    st.update({k: v for k, v in {**rival.model.groups, **rival.model.values}.items()
+    st.update({k: v for k, v in {**src.groups, **src.values}.items()
                if k not in own and k in st})
     if effect == "dead_time":
         scan = candidates.scan_dead(pb, effects, st, candidates.dead_max(pb))
         d = next((dd for _, dd in scan if dd >= 1), fr.dead)
-        r = search.refine(pb, effects, [("from " + rival.effect, st)], dead=d)
+        r = search.refine(pb, effects, [(label, st)], dead=d)
         return candidates.profile_dead(pb, effects, r)
-    dead = rival.model.dead if "dead_time" in effects else 0
-    r = search.refine(pb, effects, [("from " + rival.effect, st)], dead=dead)
+    dead = src.dead if "dead_time" in effects else 0
+    r = search.refine(pb, effects, [(label, st)], dead=dead)
     return candidates.profile_dead(pb, effects, r) if dead else r
 
 
@@ -305,6 +316,9 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None, _tried=None):
             current, cur_pb = _ambiguous(rounds[-2], current, lost, before, say, notes,
                                          sets)
             break
+        tests = from_better(cur_pb, current, tests, seed + 7 * len(rounds) + 9, say)
+        tests = refine_winner(cur_pb, current, tests, seed + 7 * len(rounds) + 11, say)
+        rounds[-1] = tested_on[id(current)] = tests
         if not _passing(tests, current, cur_pb, len(rounds), say):
             break
         tests = refit_rivals(cur_pb, current, tests, seed + 7 * len(rounds) + 5, say, jobs)
@@ -509,6 +523,90 @@ def _refit(args):
     t2 = try_effect(pb, current, t.effect, seed + 101 * (model.CAUSES.index(t.effect) + 1),
                     fitted=fr2)
     return t2, t2.ref is current
+
+
+# Refining the round's winner from its own optimum: a few times the
+# refinement that ended its search (search.REFINE_ITER), which the
+# winner's search shares with every start it explored; the fit stops
+# earlier where it converges (fit.lm_fit's ftol).
+WINNER_ITER = 4 * search.REFINE_ITER
+
+
+def _retested(pb, current, tests, i, fr, seed, say, why):
+    """tests with tests[i] tested again on fr, a fit of its model found
+    after its test, when fr fits the fit part better (the fit criterion,
+    never the held-out part); every guard is applied to it as to any
+    test's fit."""
+    t = tests[i]
+    if not fr.cost < t.model.cost * (1 - 1e-6):
+        return tests
+    t2 = try_effect(pb, current, t.effect, seed + 101 * (model.CAUSES.index(t.effect) + 1),
+                    fitted=fr)
+    if not t2.model.cost < t.model.cost * (1 - 1e-6):
+        return tests
+    say(f"  {t.effect} {why}: cost {t.model.cost:.6g} -> {t2.model.cost:.6g}, val NRMSE "
+        f"{t.model.nrmse_val:.4f} -> {t2.model.nrmse_val:.4f} -> "
+        + ("passes" if t2.passes else "fails: " + "; ".join(t2.reasons[:2])))
+    tests = list(tests)
+    tests[i] = t2
+    return tests
+
+
+def from_better(pb, current, tests, seed, say):
+    """The round's tests, each effect that explains part of the residual
+    (or passes) refitted from a better optimum of the model so far when
+    the round found one (best_same_fit: a test's reference, or its
+    confirmation search, better on the model so far's samples by the fit
+    criterion). The model with an effect nests the model without it, so
+    its search should start from the best model without it there is: an
+    extended fit started from a poorer optimum of the model so far can end
+    short of what the record has, and then lose to a model without the
+    effect that was refitted better, for its search and not for the data.
+    Once per round (the better model is the one best_same_fit found among
+    this round's references); a refit replaces a test only when it fits
+    its fit part better (_retested)."""
+    todo = [i for i, t in enumerate(tests) if t.passes or explains(t)]
+    if not todo:
+        return tests
+    better, _, src = best_same_fit(tests, current, pb)
+    if better is current:
+        return tests
+    say(f"  the model so far ({current.effect}) refitted as the {src} test's reference fits "
+        f"better on the same samples (cost {current.cost:.6g} -> {better.cost:.6g}): each "
+        "effect that explains part of the residual is refitted from it")
+    for i in todo:
+        t = tests[i]
+        pbx = candidates.for_model(_problem_of(pb, current, t.effect), t.model)
+        fr = from_model(pbx, current, t.effect, t.model, better, (),
+                        f"from a better {current.effect} fit")
+        tests = _retested(pb, current, tests, i, fr, seed, say,
+                          f"refitted from the better {current.effect} fit")
+    return tests
+
+
+def refine_winner(pb, current, tests, seed, say):
+    """The round's tests, with the winner (the passing test that predicts
+    the held-out part best) refined further from its own optimum before it
+    meets its rivals (the models without it, _passing; the other
+    explanations, refit_rivals and guards.distinguishable). Every
+    explanation is compared as its search left it, and a winner whose
+    search stopped short of its optimum is refused for what the search
+    missed, not for what the record says; the rivals get the winner's
+    optimum (refit_rivals), the winner gets its own. Kept only when it
+    fits the fit part better (_retested), then every guard again."""
+    ok = [i for i, t in enumerate(tests) if t.passes]
+    if not ok:
+        return tests
+    i = min(ok, key=lambda j: tests[j].model.nrmse_val)
+    w = tests[i].model
+    p = candidates.for_model(tests[i].pb, w)
+    # the same start's fit, refined further: it keeps that start's label
+    # (candidates.corner_notes tells where a named effect's fit came from)
+    fr = search.refine(p, w.effects, [(w.start, {**w.groups, **w.values})],
+                       dead=w.dead, iters=WINNER_ITER)
+    if "dead_time" in w.effects:
+        fr = candidates.profile_dead(p, fr.effects, fr)
+    return _retested(pb, current, tests, i, fr, seed, say, "refined from its own optimum")
 
 
 def models_without(tests, current, cur_pb) -> list:
