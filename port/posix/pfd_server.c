@@ -4,6 +4,7 @@
 #include <arpa/inet.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <poll.h>
@@ -24,6 +25,7 @@
 #define CLIENT_STACK (256 * 1024)
 #define POLL_MS 200       /* how often threads look at the stop flag */
 #define SEND_TIMEOUT_MS 1000 /* a client that does not read its answers */
+#define SEQ __ATOMIC_SEQ_CST /* the slot flags below: see unread() */
 
 /* One slot of pfd_daemon.server.clients. */
 typedef struct pfd_client {
@@ -39,7 +41,11 @@ typedef struct pfd_client {
     /* what the slot policy reads (atomic) */
     int64_t since_ns; /* last completed request, or accepted */
     int active, heard, busy, evicted;
-    int reading;      /* its thread may hold part of a frame (atomic) */
+    /* what says whether a whole request waits (atomic, SEQ; see unread()) */
+    int frames;       /* frames its thread has begun to take from the socket */
+    int reading;      /* its thread holds part of a frame */
+    int need;         /* while reading: bytes the frame still lacks, INT_MAX
+                       * until its header is in */
 } pfd_client;
 
 static pfd_ratelimit rl_refused = PFD_RATELIMIT("client-refused");
@@ -84,24 +90,55 @@ static int tls_start(pfd_client *c, pfd_session *s, char *role, size_t n, const 
     return -1;
 }
 
-/* Read one request ADU into @p req. @return its length, or a
- * PFD_CONN_* code with @p why set. */
+/* The length of the whole MBAP frame waiting first in plain TCP socket
+ * @p fd (peeked into @p buf, PFD_ADU_MAX bytes), or 0 if there is none. */
+static int frame_waiting(int fd, uint8_t *buf)
+{
+    ssize_t k = recv(fd, buf, PFD_ADU_MAX, MSG_PEEK | MSG_DONTWAIT);
+    int len;
+    if (k < PFD_MBAP_LEN)
+        return 0;
+    len = pfd_mbap_length(buf);
+    return len > 0 && k >= len ? len : 0;
+}
+
+/* Read one request ADU into @p req; busy is set once it is read.
+ * @return its length, or a PFD_CONN_* code with @p why set. Each frame
+ * first counts in c->frames, and says busy (a whole frame waits) or
+ * reading (the rest has yet to come) before any of it leaves the socket:
+ * the slot policy then sees a request that has come either waiting,
+ * being read with the rest waiting, or being served (see unread()). */
 static int read_request(pfd_client *c, uint8_t *req, const char **why)
 {
     const int gap = c->d->set.byte_timeout_ms;
-    int rc, len;
+    int rc, len = c->tls ? 0 : frame_waiting(c->conn.fd, req);
 
-    rc = pfd_conn_read(&c->conn, req, PFD_MBAP_LEN, gap, deadline_of(c));
-    if (rc == 0) {
-        len = pfd_mbap_length(req);
-        if (len < 0) {
-            *why = "bad-frame";
-            return PFD_CONN_CLOSED;
-        }
-        rc = pfd_conn_read(&c->conn, req + PFD_MBAP_LEN, (size_t)(len - PFD_MBAP_LEN), gap,
-                           deadline_of(c));
+    if (len > 0) {
+        __atomic_store_n(&c->busy, 1, SEQ);
+        __atomic_add_fetch(&c->frames, 1, SEQ);
+        rc = pfd_conn_read(&c->conn, req, (size_t)len, gap, deadline_of(c)); /* no wait */
         if (rc == 0)
             return len;
+    } else {
+        __atomic_store_n(&c->need, INT_MAX, SEQ);
+        __atomic_store_n(&c->reading, 1, SEQ);
+        __atomic_add_fetch(&c->frames, 1, SEQ);
+        rc = pfd_conn_read(&c->conn, req, PFD_MBAP_LEN, gap, deadline_of(c));
+        if (rc == 0) {
+            len = pfd_mbap_length(req);
+            if (len < 0) {
+                *why = "bad-frame";
+                return PFD_CONN_CLOSED;
+            }
+            __atomic_store_n(&c->need, len - PFD_MBAP_LEN, SEQ);
+            rc = pfd_conn_read(&c->conn, req + PFD_MBAP_LEN, (size_t)(len - PFD_MBAP_LEN), gap,
+                               deadline_of(c));
+        }
+        if (rc == 0) {
+            __atomic_store_n(&c->busy, 1, SEQ);
+            __atomic_store_n(&c->reading, 0, SEQ);
+            return len;
+        }
     }
     *why = rc == PFD_CONN_TIMEOUT ? "byte-timeout" : "peer-closed";
     return rc;
@@ -153,14 +190,9 @@ static void *client_main(void *arg)
             }
             continue;
         }
-        __atomic_store_n(&c->reading, 1, __ATOMIC_RELEASE);
         len = read_request(c, req, &why);
         if (len < 0)
             break;
-        /* busy before not reading: the slot policy never sees a request
-         * taken from the socket as neither waiting nor being served */
-        __atomic_store_n(&c->busy, 1, __ATOMIC_RELEASE);
-        __atomic_store_n(&c->reading, 0, __ATOMIC_RELEASE);
         rc = pfd_request(d, s, req, len, rsp);
         if (rc < 0) {
             why = pfd_stopping(d) ? "shutdown" : "bad-frame";
@@ -168,14 +200,18 @@ static void *client_main(void *arg)
             why = "send-failed";
             rc = -1;
         }
-        __atomic_store_n(&c->since_ns, pfd_now_ns(), __ATOMIC_RELEASE);
-        __atomic_store_n(&c->active, 1, __ATOMIC_RELEASE);
-        __atomic_store_n(&c->busy, 0, __ATOMIC_RELEASE);
+        /* in this order: see slot_view() */
+        __atomic_store_n(&c->since_ns, pfd_now_ns(), SEQ);
+        __atomic_store_n(&c->active, 1, SEQ);
+        __atomic_store_n(&c->busy, 0, SEQ);
         if (rc < 0)
             break;
     }
     if (pfd_stopping(d))
         why = "shutdown";
+    /* an eviction is why, whichever read or write its shutdown() broke */
+    if (__atomic_load_n(&c->evicted, SEQ))
+        why = "evicted";
 out:
     if (s != NULL) {
         pfd_session_end(d, s);
@@ -229,25 +265,38 @@ static void evict(pfd_client *v, const char *for_peer, const char *why)
 /* What waits unread in the socket of @p c, a slot in use, because its
  * thread has not got round to it (under load, or before it first runs):
  * *heard if any byte, *pending if a whole request (pfd_slots.h: such a
- * client is late only by the daemon's fault). A whole request is judged
- * from the first bytes waiting, so only while the thread holds no part of
- * a frame (checked before and after the peek), and only for plain TCP: TLS
- * bytes are records, not frames, and a TLS newcomer's first wait is its
+ * client is late only by the daemon's fault): a whole frame first in the
+ * socket while its thread holds none, or the rest of the frame its thread
+ * is reading. read_request() says reading, and counts the frame, before
+ * it takes any byte of it: a count that moved during the look means the
+ * look may have seen the socket after the thread took from it, so it
+ * judges nothing (the thread runs: the slot's busy, loaded after, tells).
+ * need is loaded before FIONREAD: bytes the thread takes in between can
+ * only make the rest look short, never whole. Plain TCP only: TLS bytes
+ * are records, not frames, and a TLS newcomer's first wait is its
  * handshake, which first_request_timeout_ms bounds. */
 static void unread(const pfd_client *c, int *heard, int *pending)
 {
-    uint8_t hdr[PFD_MBAP_LEN];
-    int n = 0, len;
+    uint8_t buf[PFD_ADU_MAX];
+    int n = 0, frames, whole;
 
     *pending = 0;
-    if (ioctl(c->conn.fd, FIONREAD, &n) != 0 || n <= 0)
+    if (c->tls)
         return;
-    *heard = 1;
-    if (c->tls || n < PFD_MBAP_LEN || __atomic_load_n(&c->reading, __ATOMIC_ACQUIRE) ||
-        recv(c->conn.fd, hdr, sizeof hdr, MSG_PEEK | MSG_DONTWAIT) != (ssize_t)sizeof hdr)
-        return;
-    len = pfd_mbap_length(hdr);
-    *pending = len > 0 && n >= len && !__atomic_load_n(&c->reading, __ATOMIC_ACQUIRE);
+    frames = __atomic_load_n(&c->frames, SEQ);
+    if (__atomic_load_n(&c->reading, SEQ)) {
+        int need = __atomic_load_n(&c->need, SEQ);
+        if (ioctl(c->conn.fd, FIONREAD, &n) != 0)
+            return;
+        whole = n >= need;
+    } else {
+        whole = frame_waiting(c->conn.fd, buf) > 0;
+        if (ioctl(c->conn.fd, FIONREAD, &n) != 0)
+            return;
+    }
+    if (n > 0)
+        *heard = 1;
+    *pending = whole && __atomic_load_n(&c->frames, SEQ) == frames;
 }
 
 /* Whether client @p id holds a lock: a holder is never evicted, or a
@@ -263,31 +312,48 @@ static int holds_lock(pfd_daemon *d, uint64_t id)
     return held;
 }
 
+/* Under clients_mx: what the slot policy knows of @p c, in the reverse
+ * order of its thread's stores (pending, then busy, active, since_ns), so
+ * that a request that ends between two loads never shows a client that
+ * has just been served as a newcomer. The socket is looked at only if
+ * @p look (unread() costs two system calls). */
+static void slot_view(pfd_daemon *d, const pfd_client *c, int look, pfd_slot_view *v)
+{
+    v->in_use = c->in_use;
+    v->evicted = __atomic_load_n(&c->evicted, SEQ) || __atomic_load_n(&c->done, SEQ);
+    v->heard = __atomic_load_n(&c->heard, SEQ);
+    v->pending = 0;
+    if (look && c->in_use && !v->evicted)
+        unread(c, &v->heard, &v->pending);
+    v->busy = __atomic_load_n(&c->busy, SEQ) || (c->in_use && holds_lock(d, c->id));
+    v->active = __atomic_load_n(&c->active, SEQ);
+    v->since_ns = __atomic_load_n(&c->since_ns, SEQ);
+    v->addr = c->addr;
+}
+
 /* Under clients_mx: a slot for a client from @p addr, evicting one if
- * the policy says so. @return the slot, or NULL with @p why. */
+ * the policy says so. @return the slot, or NULL with @p why. The sockets
+ * are looked at only when the policy picks a victim, and only the
+ * victim's: what a look adds (bytes came, a request waits) only makes a
+ * slot a worse victim, so a victim that a look confirms is the one a look
+ * at every slot would have picked. At most one look per slot. */
 static pfd_client *take_slot(pfd_daemon *d, uint32_t addr, const char *peer, const char **why)
 {
     pfd_slot_view v[512];
+    char looked[512] = {0};
     pfd_slot_choice ch;
     int i, n = d->server.n_slots;
 
-    for (i = 0; i < n; i++) {
-        const pfd_client *c = &d->server.clients[i];
-        v[i].in_use = c->in_use;
-        v[i].evicted = __atomic_load_n(&c->evicted, __ATOMIC_ACQUIRE) ||
-                       __atomic_load_n(&c->done, __ATOMIC_ACQUIRE);
-        v[i].active = __atomic_load_n(&c->active, __ATOMIC_ACQUIRE);
-        v[i].heard = __atomic_load_n(&c->heard, __ATOMIC_ACQUIRE);
-        v[i].pending = 0;
-        if (c->in_use && !v[i].evicted)
-            unread(c, &v[i].heard, &v[i].pending);
-        v[i].busy = __atomic_load_n(&c->busy, __ATOMIC_ACQUIRE) ||
-                    (c->in_use && holds_lock(d, c->id));
-        v[i].addr = c->addr;
-        v[i].since_ns = __atomic_load_n(&c->since_ns, __ATOMIC_ACQUIRE);
+    for (i = 0; i < n; i++)
+        slot_view(d, &d->server.clients[i], 0, &v[i]);
+    for (;;) {
+        ch = pfd_slots_choose(v, n, addr, d->set.max_clients, d->set.max_per_addr, pfd_now_ns(),
+                              (int64_t)d->set.first_request_ms * 1000000);
+        if (ch.victim < 0 || looked[ch.victim])
+            break;
+        looked[ch.victim] = 1;
+        slot_view(d, &d->server.clients[ch.victim], 1, &v[ch.victim]);
     }
-    ch = pfd_slots_choose(v, n, addr, d->set.max_clients, d->set.max_per_addr, pfd_now_ns(),
-                          (int64_t)d->set.first_request_ms * 1000000);
     *why = ch.why;
     if (ch.slot < 0)
         return NULL;
