@@ -183,7 +183,9 @@ static void *client_main(void *arg)
         }
         if (rc == 0) {
             deadline = deadline_of(c);
-            if (deadline > 0 && pfd_now_ns() >= deadline) {
+            /* Look once more: the thread may have slept past the deadline
+             * after a poll that found nothing, while bytes came in time. */
+            if (deadline > 0 && pfd_now_ns() >= deadline && pfd_conn_wait(&c->conn, 0) == 0) {
                 why = __atomic_load_n(&c->active, __ATOMIC_ACQUIRE) ? "idle-timeout"
                                                                     : "first-request-timeout";
                 break;
