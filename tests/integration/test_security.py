@@ -353,12 +353,16 @@ def test_1000_hostile_sockets(daemon):
 
     def top_up(now):
         """Open hostile sockets until 48 are open (1000 in all)."""
+        failed = []
         while sum(kinds.values()) < 1000 and len(live) < 48:
             n, kind = sum(kinds.values()), rng.choice(list(kinds))
             try:
                 s = connect_from(f"127.0.1.{1 + n % 250}", d.port)
-            except OSError:
+            except OSError as ex:
+                failed.append(repr(ex))
+                assert len(failed) < 20, f"20 connects in a row failed: {failed[-3:]}"
                 continue
+            failed = []
             s.setblocking(False)
             if kind == "half-open":
                 s.send(struct.pack(">HHH", n & 0xFFFF, 0, 6)[:5])
