@@ -45,9 +45,14 @@ static int wait_fd(int fd, short events, int ms, int64_t deadline_ns)
 
 int pfd_conn_wait(pfd_conn *c, int ms)
 {
+    return pfd_conn_wait_until(c, ms, 0);
+}
+
+int pfd_conn_wait_until(pfd_conn *c, int ms, int64_t deadline_ns)
+{
     if (c->ssl != NULL && SSL_pending(c->ssl) > 0)
         return 1;
-    return wait_fd(c->fd, POLLIN, ms, 0);
+    return wait_fd(c->fd, POLLIN, ms, deadline_ns);
 }
 
 /* One read or write attempt. @return bytes moved (> 0), 0 to wait for

@@ -4,7 +4,6 @@
 #include <arpa/inet.h>
 #include <errno.h>
 #include <fcntl.h>
-#include <limits.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <poll.h>
@@ -41,11 +40,7 @@ typedef struct pfd_client {
     /* what the slot policy reads (atomic) */
     int64_t since_ns; /* last completed request, or accepted */
     int active, heard, busy, evicted;
-    /* what says whether a whole request waits (atomic, SEQ; see unread()) */
-    int frames;       /* frames its thread has begun to take from the socket */
-    int reading;      /* its thread holds part of a frame */
-    int need;         /* while reading: bytes the frame still lacks, INT_MAX
-                       * until its header is in */
+    int frames;       /* frames its thread has taken (atomic, see unread()) */
 } pfd_client;
 
 static pfd_ratelimit rl_refused = PFD_RATELIMIT("client-refused");
@@ -90,53 +85,84 @@ static int tls_start(pfd_client *c, pfd_session *s, char *role, size_t n, const 
     return -1;
 }
 
-/* The length of the whole MBAP frame waiting first in plain TCP socket
- * @p fd (peeked into @p buf, PFD_ADU_MAX bytes), or 0 if there is none. */
-static int frame_waiting(int fd, uint8_t *buf)
+/* Peek at the MBAP frame first in plain TCP socket @p fd, into @p buf
+ * (PFD_ADU_MAX bytes). @return its length (0: the header has not all
+ * come; -1: not a frame), with the bytes waiting in *k (0: none, -2: the
+ * peer closed or the socket failed). */
+static int peek_frame(int fd, uint8_t *buf, ssize_t *k)
 {
-    ssize_t k = recv(fd, buf, PFD_ADU_MAX, MSG_PEEK | MSG_DONTWAIT);
-    int len;
-    if (k < PFD_MBAP_LEN)
-        return 0;
-    len = pfd_mbap_length(buf);
-    return len > 0 && k >= len ? len : 0;
+    *k = recv(fd, buf, PFD_ADU_MAX, MSG_PEEK | MSG_DONTWAIT);
+    if (*k < 0)
+        *k = errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR ? 0 : -2;
+    else if (*k == 0)
+        *k = -2;
+    return *k >= PFD_MBAP_LEN ? pfd_mbap_length(buf) : 0;
 }
 
-/* Read one request ADU into @p req; busy is set once it is read.
- * @return its length, or a PFD_CONN_* code with @p why set. Each frame
- * first counts in c->frames, and says busy (a whole frame waits) or
- * reading (the rest has yet to come) before any of it leaves the socket:
- * the slot policy then sees a request that has come either waiting,
- * being read with the rest waiting, or being served (see unread()). */
+/* Plain TCP: read one request ADU into @p req, only once all of it is in
+ * the socket, and say busy (and count the frame) before taking it. The
+ * thread so never holds part of a frame, and a request that has come is
+ * always either in the socket, whole, or being served: what unread()
+ * needs. SO_RCVLOWAT makes poll() wait for the bytes the frame lacks
+ * rather than wake at each; a wait of byte_timeout_ms that brings no byte
+ * ends the connection, and the whole request has until the deadline.
+ * @return its length, or a PFD_CONN_* code with @p why set. */
+static int read_plain(pfd_client *c, uint8_t *req, const char **why)
+{
+    const int fd = c->conn.fd, one = 1;
+    ssize_t k, had = -1;
+    int len, lowat, ready = 0;
+
+    for (;;) {
+        len = peek_frame(fd, req, &k);
+        if (len < 0 || k < 0) {
+            *why = len < 0 ? "bad-frame" : "peer-closed";
+            return PFD_CONN_CLOSED;
+        }
+        if (len > 0 && k >= len) {
+            __atomic_store_n(&c->busy, 1, SEQ);
+            __atomic_add_fetch(&c->frames, 1, SEQ);
+            if (recv(fd, req, (size_t)len, MSG_DONTWAIT) == len)
+                return len;
+            *why = "peer-closed";
+            return PFD_CONN_CLOSED;
+        }
+        if (k <= had) { /* no byte came: timed out, or readable for the end */
+            *why = ready ? "peer-closed" : "byte-timeout";
+            return ready ? PFD_CONN_CLOSED : PFD_CONN_TIMEOUT;
+        }
+        had = k;
+        lowat = len > 0 ? len : PFD_MBAP_LEN;
+        setsockopt(fd, SOL_SOCKET, SO_RCVLOWAT, &lowat, sizeof lowat);
+        ready = pfd_conn_wait_until(&c->conn, c->d->set.byte_timeout_ms, deadline_of(c));
+        setsockopt(fd, SOL_SOCKET, SO_RCVLOWAT, &one, sizeof one);
+        if (ready < 0) {
+            *why = "poll-error";
+            return PFD_CONN_CLOSED;
+        }
+    }
+}
+
+/* Read one request ADU into @p req, and say busy. @return its length, or
+ * a PFD_CONN_* code with @p why set. */
 static int read_request(pfd_client *c, uint8_t *req, const char **why)
 {
     const int gap = c->d->set.byte_timeout_ms;
-    int rc, len = c->tls ? 0 : frame_waiting(c->conn.fd, req);
+    int rc, len;
 
-    if (len > 0) {
-        __atomic_store_n(&c->busy, 1, SEQ);
-        __atomic_add_fetch(&c->frames, 1, SEQ);
-        rc = pfd_conn_read(&c->conn, req, (size_t)len, gap, deadline_of(c)); /* no wait */
-        if (rc == 0)
-            return len;
-    } else {
-        __atomic_store_n(&c->need, INT_MAX, SEQ);
-        __atomic_store_n(&c->reading, 1, SEQ);
-        __atomic_add_fetch(&c->frames, 1, SEQ);
-        rc = pfd_conn_read(&c->conn, req, PFD_MBAP_LEN, gap, deadline_of(c));
-        if (rc == 0) {
-            len = pfd_mbap_length(req);
-            if (len < 0) {
-                *why = "bad-frame";
-                return PFD_CONN_CLOSED;
-            }
-            __atomic_store_n(&c->need, len - PFD_MBAP_LEN, SEQ);
-            rc = pfd_conn_read(&c->conn, req + PFD_MBAP_LEN, (size_t)(len - PFD_MBAP_LEN), gap,
-                               deadline_of(c));
+    if (!c->tls)
+        return read_plain(c, req, why);
+    rc = pfd_conn_read(&c->conn, req, PFD_MBAP_LEN, gap, deadline_of(c));
+    if (rc == 0) {
+        len = pfd_mbap_length(req);
+        if (len < 0) {
+            *why = "bad-frame";
+            return PFD_CONN_CLOSED;
         }
+        rc = pfd_conn_read(&c->conn, req + PFD_MBAP_LEN, (size_t)(len - PFD_MBAP_LEN), gap,
+                           deadline_of(c));
         if (rc == 0) {
             __atomic_store_n(&c->busy, 1, SEQ);
-            __atomic_store_n(&c->reading, 0, SEQ);
             return len;
         }
     }
@@ -267,38 +293,28 @@ static void evict(pfd_client *v, const char *for_peer, const char *why)
 /* What waits unread in the socket of @p c, a slot in use, because its
  * thread has not got round to it (under load, or before it first runs):
  * *heard if any byte, *pending if a whole request (pfd_slots.h: such a
- * client is late only by the daemon's fault): a whole frame first in the
- * socket while its thread holds none, or the rest of the frame its thread
- * is reading. read_request() says reading, and counts the frame, before
- * it takes any byte of it: a count that moved during the look means the
- * look may have seen the socket after the thread took from it, so it
- * judges nothing (the thread runs: the slot's busy, loaded after, tells).
- * need is loaded before FIONREAD: bytes the thread takes in between can
- * only make the rest look short, never whole. Plain TCP only: TLS bytes
- * are records, not frames, and a TLS newcomer's first wait is its
- * handshake, which first_request_timeout_ms bounds. */
+ * client is late only by the daemon's fault). Its thread never holds part
+ * of a frame (read_plain()), so the first bytes waiting are a frame's
+ * start; it counts each frame, after saying busy, before it takes it: a
+ * count that moved during the look means the look may have seen the
+ * socket after the thread took from it, so the look judges nothing (the
+ * slot's busy, loaded after, tells). Plain TCP only: TLS bytes are
+ * records, not frames, and a TLS newcomer's first wait is its handshake,
+ * which first_request_timeout_ms bounds. */
 static void unread(const pfd_client *c, int *heard, int *pending)
 {
     uint8_t buf[PFD_ADU_MAX];
-    int n = 0, frames, whole;
+    ssize_t k;
+    int frames, len;
 
     *pending = 0;
     if (c->tls)
         return;
     frames = __atomic_load_n(&c->frames, SEQ);
-    if (__atomic_load_n(&c->reading, SEQ)) {
-        int need = __atomic_load_n(&c->need, SEQ);
-        if (ioctl(c->conn.fd, FIONREAD, &n) != 0)
-            return;
-        whole = n >= need;
-    } else {
-        whole = frame_waiting(c->conn.fd, buf) > 0;
-        if (ioctl(c->conn.fd, FIONREAD, &n) != 0)
-            return;
-    }
-    if (n > 0)
+    len = peek_frame(c->conn.fd, buf, &k);
+    if (k > 0)
         *heard = 1;
-    *pending = whole && __atomic_load_n(&c->frames, SEQ) == frames;
+    *pending = len > 0 && k >= len && __atomic_load_n(&c->frames, SEQ) == frames;
 }
 
 /* Whether client @p id holds a lock: a holder is never evicted, or a
