@@ -18,7 +18,9 @@ int64_t pfd_now_ns(void)
 }
 
 /* Wait for @p events, at most @p ms and never past @p deadline_ns (0:
- * none). @return 1 ready, 0 timed out, PFD_CONN_CLOSED. */
+ * none). @return 1 ready, 0 timed out, PFD_CONN_CLOSED. A deadline
+ * already past still gets one look (a zero timeout): the thread may have
+ * slept past it while the bytes came in time. */
 static int wait_fd(int fd, short events, int ms, int64_t deadline_ns)
 {
     struct pollfd p;
@@ -26,10 +28,8 @@ static int wait_fd(int fd, short events, int ms, int64_t deadline_ns)
 
     if (deadline_ns > 0) {
         int64_t left = (deadline_ns - pfd_now_ns() + 999999) / 1000000;
-        if (left <= 0)
-            return 0;
         if (left < ms)
-            ms = (int)left;
+            ms = left > 0 ? (int)left : 0;
     }
     p.fd = fd;
     p.events = events;
@@ -45,9 +45,14 @@ static int wait_fd(int fd, short events, int ms, int64_t deadline_ns)
 
 int pfd_conn_wait(pfd_conn *c, int ms)
 {
+    return pfd_conn_wait_until(c, ms, 0);
+}
+
+int pfd_conn_wait_until(pfd_conn *c, int ms, int64_t deadline_ns)
+{
     if (c->ssl != NULL && SSL_pending(c->ssl) > 0)
         return 1;
-    return wait_fd(c->fd, POLLIN, ms, 0);
+    return wait_fd(c->fd, POLLIN, ms, deadline_ns);
 }
 
 /* One read or write attempt. @return bytes moved (> 0), 0 to wait for

@@ -29,6 +29,10 @@ int64_t pfd_now_ns(void);
  *  closed: the read says which), 0 not yet, PFD_CONN_CLOSED. */
 int pfd_conn_wait(pfd_conn *c, int ms);
 
+/** The same, and never past @p deadline_ns (0: none; one look, with no
+ *  wait, if it has passed). */
+int pfd_conn_wait_until(pfd_conn *c, int ms, int64_t deadline_ns);
+
 /** Read exactly @p n bytes: each further byte within @p gap_ms, the last
  *  by @p deadline_ns (0: none). @return 0, PFD_CONN_CLOSED or
  *  PFD_CONN_TIMEOUT. */

@@ -24,6 +24,7 @@
 #define CLIENT_STACK (256 * 1024)
 #define POLL_MS 200       /* how often threads look at the stop flag */
 #define SEND_TIMEOUT_MS 1000 /* a client that does not read its answers */
+#define SEQ __ATOMIC_SEQ_CST /* the slot flags below: see unread() */
 
 /* One slot of pfd_daemon.server.clients. */
 typedef struct pfd_client {
@@ -39,7 +40,7 @@ typedef struct pfd_client {
     /* what the slot policy reads (atomic) */
     int64_t since_ns; /* last completed request, or accepted */
     int active, heard, busy, evicted;
-    int reading;      /* its thread may hold part of a frame (atomic) */
+    int frames;       /* frames its thread has taken (atomic, see unread()) */
 } pfd_client;
 
 static pfd_ratelimit rl_refused = PFD_RATELIMIT("client-refused");
@@ -84,13 +85,73 @@ static int tls_start(pfd_client *c, pfd_session *s, char *role, size_t n, const 
     return -1;
 }
 
-/* Read one request ADU into @p req. @return its length, or a
- * PFD_CONN_* code with @p why set. */
+/* Peek at the MBAP frame first in plain TCP socket @p fd, into @p buf
+ * (PFD_ADU_MAX bytes). @return its length (0: the header has not all
+ * come; -1: not a frame), with the bytes waiting in *k (0: none, -2: the
+ * peer closed or the socket failed). */
+static int peek_frame(int fd, uint8_t *buf, ssize_t *k)
+{
+    *k = recv(fd, buf, PFD_ADU_MAX, MSG_PEEK | MSG_DONTWAIT);
+    if (*k < 0)
+        *k = errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR ? 0 : -2;
+    else if (*k == 0)
+        *k = -2;
+    return *k >= PFD_MBAP_LEN ? pfd_mbap_length(buf) : 0;
+}
+
+/* Plain TCP: read one request ADU into @p req, only once all of it is in
+ * the socket, and say busy (and count the frame) before taking it. The
+ * thread so never holds part of a frame, and a request that has come is
+ * always either in the socket, whole, or being served: what unread()
+ * needs. SO_RCVLOWAT makes poll() wait for the bytes the frame lacks
+ * rather than wake at each; a wait of byte_timeout_ms that brings no byte
+ * ends the connection, and the whole request has until the deadline.
+ * @return its length, or a PFD_CONN_* code with @p why set. */
+static int read_plain(pfd_client *c, uint8_t *req, const char **why)
+{
+    const int fd = c->conn.fd, one = 1;
+    ssize_t k, had = -1;
+    int len, lowat, ready = 0;
+
+    for (;;) {
+        len = peek_frame(fd, req, &k);
+        if (len < 0 || k < 0) {
+            *why = len < 0 ? "bad-frame" : "peer-closed";
+            return PFD_CONN_CLOSED;
+        }
+        if (len > 0 && k >= len) {
+            __atomic_store_n(&c->busy, 1, SEQ);
+            __atomic_add_fetch(&c->frames, 1, SEQ);
+            if (recv(fd, req, (size_t)len, MSG_DONTWAIT) == len)
+                return len;
+            *why = "peer-closed";
+            return PFD_CONN_CLOSED;
+        }
+        if (k <= had) { /* no byte came: timed out, or readable for the end */
+            *why = ready ? "peer-closed" : "byte-timeout";
+            return ready ? PFD_CONN_CLOSED : PFD_CONN_TIMEOUT;
+        }
+        had = k;
+        lowat = len > 0 ? len : PFD_MBAP_LEN;
+        setsockopt(fd, SOL_SOCKET, SO_RCVLOWAT, &lowat, sizeof lowat);
+        ready = pfd_conn_wait_until(&c->conn, c->d->set.byte_timeout_ms, deadline_of(c));
+        setsockopt(fd, SOL_SOCKET, SO_RCVLOWAT, &one, sizeof one);
+        if (ready < 0) {
+            *why = "poll-error";
+            return PFD_CONN_CLOSED;
+        }
+    }
+}
+
+/* Read one request ADU into @p req, and say busy. @return its length, or
+ * a PFD_CONN_* code with @p why set. */
 static int read_request(pfd_client *c, uint8_t *req, const char **why)
 {
     const int gap = c->d->set.byte_timeout_ms;
     int rc, len;
 
+    if (!c->tls)
+        return read_plain(c, req, why);
     rc = pfd_conn_read(&c->conn, req, PFD_MBAP_LEN, gap, deadline_of(c));
     if (rc == 0) {
         len = pfd_mbap_length(req);
@@ -100,8 +161,10 @@ static int read_request(pfd_client *c, uint8_t *req, const char **why)
         }
         rc = pfd_conn_read(&c->conn, req + PFD_MBAP_LEN, (size_t)(len - PFD_MBAP_LEN), gap,
                            deadline_of(c));
-        if (rc == 0)
+        if (rc == 0) {
+            __atomic_store_n(&c->busy, 1, SEQ);
             return len;
+        }
     }
     *why = rc == PFD_CONN_TIMEOUT ? "byte-timeout" : "peer-closed";
     return rc;
@@ -146,21 +209,18 @@ static void *client_main(void *arg)
         }
         if (rc == 0) {
             deadline = deadline_of(c);
-            if (deadline > 0 && pfd_now_ns() >= deadline) {
+            /* Look once more: the thread may have slept past the deadline
+             * after a poll that found nothing, while bytes came in time. */
+            if (deadline > 0 && pfd_now_ns() >= deadline && pfd_conn_wait(&c->conn, 0) == 0) {
                 why = __atomic_load_n(&c->active, __ATOMIC_ACQUIRE) ? "idle-timeout"
                                                                     : "first-request-timeout";
                 break;
             }
             continue;
         }
-        __atomic_store_n(&c->reading, 1, __ATOMIC_RELEASE);
         len = read_request(c, req, &why);
         if (len < 0)
             break;
-        /* busy before not reading: the slot policy never sees a request
-         * taken from the socket as neither waiting nor being served */
-        __atomic_store_n(&c->busy, 1, __ATOMIC_RELEASE);
-        __atomic_store_n(&c->reading, 0, __ATOMIC_RELEASE);
         rc = pfd_request(d, s, req, len, rsp);
         if (rc < 0) {
             why = pfd_stopping(d) ? "shutdown" : "bad-frame";
@@ -168,14 +228,18 @@ static void *client_main(void *arg)
             why = "send-failed";
             rc = -1;
         }
-        __atomic_store_n(&c->since_ns, pfd_now_ns(), __ATOMIC_RELEASE);
-        __atomic_store_n(&c->active, 1, __ATOMIC_RELEASE);
-        __atomic_store_n(&c->busy, 0, __ATOMIC_RELEASE);
+        /* in this order: see slot_view() */
+        __atomic_store_n(&c->since_ns, pfd_now_ns(), SEQ);
+        __atomic_store_n(&c->active, 1, SEQ);
+        __atomic_store_n(&c->busy, 0, SEQ);
         if (rc < 0)
             break;
     }
     if (pfd_stopping(d))
         why = "shutdown";
+    /* an eviction is why, whichever read or write its shutdown() broke */
+    if (__atomic_load_n(&c->evicted, SEQ))
+        why = "evicted";
 out:
     if (s != NULL) {
         pfd_session_end(d, s);
@@ -229,25 +293,28 @@ static void evict(pfd_client *v, const char *for_peer, const char *why)
 /* What waits unread in the socket of @p c, a slot in use, because its
  * thread has not got round to it (under load, or before it first runs):
  * *heard if any byte, *pending if a whole request (pfd_slots.h: such a
- * client is late only by the daemon's fault). A whole request is judged
- * from the first bytes waiting, so only while the thread holds no part of
- * a frame (checked before and after the peek), and only for plain TCP: TLS
- * bytes are records, not frames, and a TLS newcomer's first wait is its
- * handshake, which first_request_timeout_ms bounds. */
+ * client is late only by the daemon's fault). Its thread never holds part
+ * of a frame (read_plain()), so the first bytes waiting are a frame's
+ * start; it counts each frame, after saying busy, before it takes it: a
+ * count that moved during the look means the look may have seen the
+ * socket after the thread took from it, so the look judges nothing (the
+ * slot's busy, loaded after, tells). Plain TCP only: TLS bytes are
+ * records, not frames, and a TLS newcomer's first wait is its handshake,
+ * which first_request_timeout_ms bounds. */
 static void unread(const pfd_client *c, int *heard, int *pending)
 {
-    uint8_t hdr[PFD_MBAP_LEN];
-    int n = 0, len;
+    uint8_t buf[PFD_ADU_MAX];
+    ssize_t k;
+    int frames, len;
 
     *pending = 0;
-    if (ioctl(c->conn.fd, FIONREAD, &n) != 0 || n <= 0)
+    if (c->tls)
         return;
-    *heard = 1;
-    if (c->tls || n < PFD_MBAP_LEN || __atomic_load_n(&c->reading, __ATOMIC_ACQUIRE) ||
-        recv(c->conn.fd, hdr, sizeof hdr, MSG_PEEK | MSG_DONTWAIT) != (ssize_t)sizeof hdr)
-        return;
-    len = pfd_mbap_length(hdr);
-    *pending = len > 0 && n >= len && !__atomic_load_n(&c->reading, __ATOMIC_ACQUIRE);
+    frames = __atomic_load_n(&c->frames, SEQ);
+    len = peek_frame(c->conn.fd, buf, &k);
+    if (k > 0)
+        *heard = 1;
+    *pending = len > 0 && k >= len && __atomic_load_n(&c->frames, SEQ) == frames;
 }
 
 /* Whether client @p id holds a lock: a holder is never evicted, or a
@@ -263,31 +330,48 @@ static int holds_lock(pfd_daemon *d, uint64_t id)
     return held;
 }
 
+/* Under clients_mx: what the slot policy knows of @p c, in the reverse
+ * order of its thread's stores (pending, then busy, active, since_ns), so
+ * that a request that ends between two loads never shows a client that
+ * has just been served as a newcomer. The socket is looked at only if
+ * @p look (unread() costs two system calls). */
+static void slot_view(pfd_daemon *d, const pfd_client *c, int look, pfd_slot_view *v)
+{
+    v->in_use = c->in_use;
+    v->evicted = __atomic_load_n(&c->evicted, SEQ) || __atomic_load_n(&c->done, SEQ);
+    v->heard = __atomic_load_n(&c->heard, SEQ);
+    v->pending = 0;
+    if (look && c->in_use && !v->evicted)
+        unread(c, &v->heard, &v->pending);
+    v->busy = __atomic_load_n(&c->busy, SEQ) || (c->in_use && holds_lock(d, c->id));
+    v->active = __atomic_load_n(&c->active, SEQ);
+    v->since_ns = __atomic_load_n(&c->since_ns, SEQ);
+    v->addr = c->addr;
+}
+
 /* Under clients_mx: a slot for a client from @p addr, evicting one if
- * the policy says so. @return the slot, or NULL with @p why. */
+ * the policy says so. @return the slot, or NULL with @p why. The sockets
+ * are looked at only when the policy picks a victim, and only the
+ * victim's: what a look adds (bytes came, a request waits) only makes a
+ * slot a worse victim, so a victim that a look confirms is the one a look
+ * at every slot would have picked. At most one look per slot. */
 static pfd_client *take_slot(pfd_daemon *d, uint32_t addr, const char *peer, const char **why)
 {
     pfd_slot_view v[512];
+    char looked[512] = {0};
     pfd_slot_choice ch;
     int i, n = d->server.n_slots;
 
-    for (i = 0; i < n; i++) {
-        const pfd_client *c = &d->server.clients[i];
-        v[i].in_use = c->in_use;
-        v[i].evicted = __atomic_load_n(&c->evicted, __ATOMIC_ACQUIRE) ||
-                       __atomic_load_n(&c->done, __ATOMIC_ACQUIRE);
-        v[i].active = __atomic_load_n(&c->active, __ATOMIC_ACQUIRE);
-        v[i].heard = __atomic_load_n(&c->heard, __ATOMIC_ACQUIRE);
-        v[i].pending = 0;
-        if (c->in_use && !v[i].evicted)
-            unread(c, &v[i].heard, &v[i].pending);
-        v[i].busy = __atomic_load_n(&c->busy, __ATOMIC_ACQUIRE) ||
-                    (c->in_use && holds_lock(d, c->id));
-        v[i].addr = c->addr;
-        v[i].since_ns = __atomic_load_n(&c->since_ns, __ATOMIC_ACQUIRE);
+    for (i = 0; i < n; i++)
+        slot_view(d, &d->server.clients[i], 0, &v[i]);
+    for (;;) {
+        ch = pfd_slots_choose(v, n, addr, d->set.max_clients, d->set.max_per_addr, pfd_now_ns(),
+                              (int64_t)d->set.first_request_ms * 1000000);
+        if (ch.victim < 0 || looked[ch.victim])
+            break;
+        looked[ch.victim] = 1;
+        slot_view(d, &d->server.clients[ch.victim], 1, &v[ch.victim]);
     }
-    ch = pfd_slots_choose(v, n, addr, d->set.max_clients, d->set.max_per_addr, pfd_now_ns(),
-                          (int64_t)d->set.first_request_ms * 1000000);
     *why = ch.why;
     if (ch.slot < 0)
         return NULL;
