@@ -81,17 +81,20 @@ def _sat_shift(pb, base) -> float:
     return base.values.get("pc0", 0.0) - (pb.y[:10].mean() if pb.pc0 is None else pb.pc0)
 
 
-def _sat_start(pb, base, st: dict) -> dict:
-    """Saturation's limits are on the simulated deviation, before the
-    offset: move the starts by the base's offset, and give K (searched,
-    not solved, with saturation) the base's value."""
-    st = dict(st)
+def on_sim(pb, base, size: dict) -> dict:
+    """An effect size in the record's terms (effect_inits, no_effect:
+    saturation's limits on the record's output deviation) as a fit on top
+    of base takes it: saturation's limits on the simulated deviation,
+    before the offset, so less base's (_sat_shift). Only such sizes are
+    moved. Limits that come out of a fit (the model so far's, when it has
+    saturation; a size fitted in an earlier round) are on the simulated
+    deviation already: moving them again would start the model so far
+    away from its own optimum, and the no-effect start of _not_worse away
+    from the model it nests."""
+    if "sat_lo" not in size:
+        return size
     c = _sat_shift(pb, base)
-    if "sat_lo" in st:
-        st["sat_lo"] -= c
-        st["sat_hi"] -= c
-    st.setdefault("K", base.values["K"])
-    return st
+    return {**size, "sat_lo": size["sat_lo"] - c, "sat_hi": size["sat_hi"] - c}
 
 
 def with_kind(pb, kind: int, told: float = 0.0):
@@ -178,14 +181,14 @@ def _limits_back_in_range(pb, effects, base, b):
     effect_inits, the other parameters as fitted, and refined from there;
     the better fit is kept (a limit that should not bind goes out again)."""
     c = _sat_shift(pb, base)
-    inner = effect_inits(pb, "saturation")[1]
+    inner = on_sim(pb, base, effect_inits(pb, "saturation")[1])
     st = dict(b.values)
     off = {"sat_lo": st["sat_lo"] + c < pb.y_lo, "sat_hi": st["sat_hi"] + c > pb.y_hi}
     if not any(off.values()):
         return b
     for k, out in off.items():
         if out:
-            st[k] = inner[k] - c
+            st[k] = inner[k]
     alt = search.refine(pb, effects, [("limit back in range", st)], dead=base.dead)
     return search.best([b, alt])
 
@@ -292,9 +295,7 @@ def corner_start(pb, effects, base, size: dict):
     if cf is None:
         return None
     st = dict(cf[0])
-    st.update(size)
-    if "saturation" in effects:
-        st = _sat_start(pb, base, st)
+    st.update(size)          # on the simulated deviation already (_sizes)
     # a start the library refuses (its groups make no valid controller: a
     # gain the refit left invalid, say) is no start: the search would stop on it
     if not math.isfinite(fit.start_cost(pb, effects, st, base.dead)):
@@ -324,9 +325,10 @@ def corner_notes(rounds, causes) -> list[str]:
 
 
 def _sizes(pb, new: str, base, hint: dict | None) -> list[dict]:
-    """The new effect's starting sizes: effect_inits; in a later round one,
+    """The new effect's starting sizes: effect_inits (on the simulated
+    deviation: on_sim); in a later round one,
     the size it took in the round before (hint) or the first."""
-    inits = effect_inits(pb, new)
+    inits = [on_sim(pb, base, s) for s in effect_inits(pb, new)]
     if base.effects:
         return [hint] if hint else inits[:1]
     return inits
@@ -348,13 +350,9 @@ def _starts(pb, effects, new: str, base, rng, hint: dict | None = None):
     for i, ei in enumerate(inits):
         st = dict(full)
         st.update(ei)
-        if "saturation" in effects:
-            st = _sat_start(pb, base, st)
         warm.append((f"warm{i}", st))
     paper = _paper_shape(pb, full)
     paper.update(inits[0])
-    if "saturation" in effects:
-        paper = _sat_start(pb, base, paper)
     warm.append(("paper", paper))
     fresh = []
     for j, g in enumerate(fit.random_starts(pb, rng, N_FRESH)):
@@ -362,8 +360,6 @@ def _starts(pb, effects, new: str, base, rng, hint: dict | None = None):
         g.pop("K", None)                 # solved, or (saturation) the base's
         st.update(g)
         st.update(inits[j % len(inits)])
-        if "saturation" in effects:
-            st = _sat_start(pb, base, st)
         fresh.append(st)
     kept = search.rank_fresh(pb, effects, fresh, N_FRESH_KEEP, base.dead)
     return warm + [(f"fresh{i}", s) for i, s in enumerate(kept)]
@@ -608,9 +604,7 @@ def _not_worse(pb, effects, new: str, base, b):
     if not b.cost > fit.start_cost(pb, base.effects, full, base.dead):
         return b
     st = dict(full)
-    st.update(no_effect(pb, new))
-    if "saturation" in effects:
-        st = _sat_start(pb, base, st)
+    st.update(on_sim(pb, base, no_effect(pb, new)))
     # a dead time has no no-effect value: its shortest, one sample of the
     # simulation rate, is the nearest to the model without it
     dead = 1 if new == "dead_time" else base.dead
