@@ -213,7 +213,7 @@ def corner_freed(pb, base) -> tuple[dict, list[str]] | None:
     """_corner_freed, made once for each problem and model so far: every
     test of a round and its confirmation ask for it of the same two (the
     round's problem: selection.run_round makes it before its workers fork,
-    and they inherit it here). A placement of saturation is read by no
+    and they inherit it here, _corner_key the same in both). A placement of saturation is read by no
     simulation of a model without saturation (model.library_effects,
     fit.finish), so on such a model the problems of saturation's three
     placements are one problem: the clip's."""
@@ -234,14 +234,55 @@ CORNERS_KEPT = 64
 
 
 def _corner_key(pb, base) -> bytes:
-    """A digest of everything _corner_freed reads: the problem whole
-    (pickled: its data, split, freedoms, noise model and setup) and the
+    """A digest of everything _corner_freed reads: the problem whole (its
+    data, split, freedoms, noise model and setup: every attribute) and the
     model so far's effects, groups, values and delay. Equal digests, equal
     inputs, the same answer; a problem that differs in anything at all,
-    even in what the answer does not depend on, is only made again."""
-    full = {**base.groups, **base.values}
-    blob = pickle.dumps((pb, tuple(base.effects), full, base.dead), pickle.HIGHEST_PROTOCOL)
-    return hashlib.blake2b(blob, digest_size=20).digest()
+    even in what the answer does not depend on, is only made again. The
+    digest is of the values (_digest_into), not of their pickle: a pickle
+    of a numpy scalar refers to its dtype object, which the arrays of the
+    parent share and an unpickled copy does not, so the same problem sent
+    to a worker pickled to other bytes and every worker made again what
+    the parent had made before it forked."""
+    h = hashlib.blake2b(digest_size=20)
+    _digest_into(h, (pb, tuple(base.effects), {**base.groups, **base.values}, base.dead))
+    return h.digest()
+
+
+def _digest_into(h, x) -> None:
+    """Feed x's value to the hash h, tagged by kind so that no two values
+    of different kinds feed the same bytes: arrays by dtype, shape and
+    contents, numpy scalars as the Python numbers they equal, mappings in
+    key order, objects by their class and every attribute."""
+    if isinstance(x, np.ndarray):
+        a = np.ascontiguousarray(x)
+        h.update(b"A" + a.dtype.str.encode() + repr(a.shape).encode())
+        h.update(a.tobytes())
+    elif isinstance(x, np.generic):
+        _digest_into(h, x.item())
+    elif x is None or isinstance(x, (bool, int, float, str, bytes)):
+        h.update(b"S" + repr((type(x).__name__, x)).encode())
+    elif isinstance(x, dict):
+        h.update(b"D%d" % len(x))
+        for k in sorted(x, key=repr):
+            _digest_into(h, k)
+            _digest_into(h, x[k])
+    elif isinstance(x, (list, tuple)):
+        h.update(b"L%d" % len(x))
+        for v in x:
+            _digest_into(h, v)
+    elif isinstance(x, (set, frozenset)):
+        h.update(b"E%d" % len(x))
+        for v in sorted(x, key=repr):
+            _digest_into(h, v)
+    elif hasattr(x, "__dict__"):
+        h.update(b"O" + type(x).__qualname__.encode())
+        _digest_into(h, vars(x))
+    elif dataclasses.is_dataclass(x):          # slotted or frozen without a __dict__
+        h.update(b"O" + type(x).__qualname__.encode())
+        _digest_into(h, {f.name: getattr(x, f.name) for f in dataclasses.fields(x)})
+    else:
+        h.update(b"P" + pickle.dumps(x, pickle.HIGHEST_PROTOCOL))
 
 
 def _corner_freed(pb, base) -> tuple[dict, list[str]] | None:
