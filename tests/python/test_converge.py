@@ -52,17 +52,6 @@ def test_a_winner_that_stopped_short_is_refined_and_tested_again():
     assert any("refined from its own optimum" in m for m in lines)
 
 
-def test_a_winner_at_its_optimum_is_kept():
-    """A winner already at its optimum (refined once already): nothing
-    changes, no new test."""
-    pb = _problem()
-    base = _fit(pb, (), _start(pb))
-    t = selection.try_effect(pb, base, "lag", 1)
-    once = selection.refine_winner(pb, base, [t], 1, _say([]))
-    lines = []
-    again = selection.refine_winner(pb, base, once, 1, _say(lines))
-    assert again[0] is once[0] and not lines
-
 
 def test_an_effect_is_refitted_from_a_better_fit_of_the_model_so_far():
     """The model so far is a poorly converged linear fit, and another test

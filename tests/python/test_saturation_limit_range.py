@@ -5,10 +5,12 @@ it back, however much better a binding limit fits. The saturation test
 puts such a limit back inside the range and refines from there
 (candidates._limits_back_in_range), so that which side of the range a
 start's path ends on does not decide the verdict."""
+from types import SimpleNamespace
+
 import numpy as np
 
 import cases
-from pneufrac_fit import baseline, candidates, data, fit, model, search
+from pneufrac_fit import baseline, candidates, data, fit, model, search, selection
 
 
 def _fitted(n: int = cases.N):
@@ -69,3 +71,22 @@ def test_the_model_so_far_keeps_its_limits_under_a_new_effect():
         assert (s["sat_lo"], s["sat_hi"]) == (sat.values["sat_lo"], sat.values["sat_hi"]), label
     moved = candidates.on_sim(pk, sat, candidates.no_effect(pk, "saturation"))
     assert moved["sat_lo"] == candidates.no_effect(pk, "saturation")["sat_lo"] - c
+
+
+def test_a_limit_fitted_in_an_earlier_round_keeps_its_place_on_the_record():
+    """A size fitted in an earlier round starts the effect's next test
+    (selection._hint): its limits are on that fit's simulated deviation,
+    before that fit's offset, and the next fit's offset is its own model so
+    far's. The start keeps the limit where the earlier fit put it on the
+    record's output: the earlier limit plus its offset, less the new one."""
+    _, pb, pk, base = _fitted(2000)
+    st = {**base.groups, **base.values,
+          **candidates.on_sim(pk, base, candidates.effect_inits(pk, "saturation")[1])}
+    sat = search.refine(pk, ("saturation",), [("inside", st)], dead=base.dead, iters=2)
+    earlier = SimpleNamespace(effect="saturation", model=sat, pb=pk, peak=10.0)
+    later = SimpleNamespace(effects=("lag",), values={"pc0": sat.values["pc0"] + 0.01})
+    hint = selection._hint(earlier)
+    start = candidates._sizes(pk, "saturation", later, hint)[0]
+    for k in ("sat_lo", "sat_hi"):
+        assert np.isclose(start[k] + later.values["pc0"], sat.values[k] + sat.values["pc0"],
+                          rtol=0, atol=1e-12), k

@@ -82,15 +82,15 @@ def _sat_shift(pb, base) -> float:
 
 
 def on_sim(pb, base, size: dict) -> dict:
-    """An effect size in the record's terms (effect_inits, no_effect:
+    """An effect size in the record's terms (effect_inits, no_effect, and
+    a size fitted in an earlier round as selection._hint gives it:
     saturation's limits on the record's output deviation) as a fit on top
     of base takes it: saturation's limits on the simulated deviation,
     before the offset, so less base's (_sat_shift). Only such sizes are
-    moved. Limits that come out of a fit (the model so far's, when it has
-    saturation; a size fitted in an earlier round) are on the simulated
-    deviation already: moving them again would start the model so far
-    away from its own optimum, and the no-effect start of _not_worse away
-    from the model it nests."""
+    moved. The model so far's own limits, when it has saturation, are on
+    its simulated deviation already: moving them again would start the
+    model so far away from its own optimum, and the no-effect start of
+    _not_worse away from the model it nests."""
     if "sat_lo" not in size:
         return size
     c = _sat_shift(pb, base)
@@ -180,8 +180,8 @@ def _limits_back_in_range(pb, effects, base, b):
     is put back inside the range, at the inner effect size of
     effect_inits, the other parameters as fitted, and refined from there;
     the better fit is kept (a limit that should not bind goes out again)."""
-    c = _sat_shift(pb, base)
-    inner = on_sim(pb, base, effect_inits(pb, "saturation")[1])
+    c = _sat_shift(pb, b)        # b's limits are on b's simulated deviation
+    inner = on_sim(pb, b, effect_inits(pb, "saturation")[1])
     st = dict(b.values)
     off = {"sat_lo": st["sat_lo"] + c < pb.y_lo, "sat_hi": st["sat_hi"] + c > pb.y_hi}
     if not any(off.values()):
@@ -366,12 +366,12 @@ def corner_notes(rounds, causes) -> list[str]:
 
 
 def _sizes(pb, new: str, base, hint: dict | None) -> list[dict]:
-    """The new effect's starting sizes: effect_inits (on the simulated
-    deviation: on_sim); in a later round one,
-    the size it took in the round before (hint) or the first."""
+    """The new effect's starting sizes, on the simulated deviation
+    (on_sim): effect_inits; in a later round one, the size it took in the
+    round before (hint) or the first."""
     inits = [on_sim(pb, base, s) for s in effect_inits(pb, new)]
     if base.effects:
-        return [hint] if hint else inits[:1]
+        return [on_sim(pb, base, hint)] if hint else inits[:1]
     return inits
 
 

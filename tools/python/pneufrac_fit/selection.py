@@ -217,6 +217,12 @@ def _hint(t) -> dict:
     if t is None or not t.peak >= guards.MATERIAL_SIGMAS:
         return {}
     h = _own(t.model, t.effect)
+    if "sat_lo" in h:
+        # in the record's terms (the fit's limits are on its simulated
+        # deviation, before its own offset): candidates.on_sim puts them on
+        # the next fit's, whose offset is its model so far's
+        c = candidates._sat_shift(t.pb, t.model)
+        h = {**h, "sat_lo": h["sat_lo"] + c, "sat_hi": h["sat_hi"] + c}
     if t.effect == "dead_time":
         h["dead"] = t.model.dead
     return h
