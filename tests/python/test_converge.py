@@ -52,15 +52,6 @@ def test_a_winner_that_stopped_short_is_refined_and_tested_again():
     assert any("refined from its own optimum" in m for m in lines)
 
 
-def test_a_winner_at_its_optimum_is_kept():
-    """A winner already at its optimum: nothing changes, no new test."""
-    pb = _problem()
-    base = _fit(pb, (), _start(pb))
-    t = selection.try_effect(pb, base, "lag", 1)
-    out = selection.refine_winner(pb, base, [t], 1, _say([]))
-    refined = out[0].model.cost < t.model.cost * (1 - 1e-6)
-    assert out[0] is t or refined
-
 
 def test_an_effect_is_refitted_from_a_better_fit_of_the_model_so_far():
     """The model so far is a poorly converged linear fit, and another test

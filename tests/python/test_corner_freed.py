@@ -19,6 +19,7 @@ freed"). It checks the rule where it was traced, not a threshold: no
 threshold depends on it.
 (The lag is not named on top of the dead band: its fit is no better on
 the held-out part.)"""
+import copy
 import pickle
 import sys
 import types
@@ -124,3 +125,19 @@ def test_a_dead_band_behind_a_corner_is_found(tmp_path):
     assert set(d.causes) <= {"backlash", "lag"}, d.causes
     assert any(n.startswith("backlash (round 1) was fitted best from a start with the model "
                             "so far's groups at a bound") for n in d.fit_notes), d.fit_notes
+
+
+def test_the_corner_key_is_the_same_in_a_worker(clean_corner):
+    """A round's workers get the parent's problem and model so far pickled
+    (selection.run_round, refit_rivals): the corner the parent made before
+    they forked is theirs only if the key is the same on the unpickled
+    copy (a digest of the pickle was not: its numpy scalars refer to a
+    dtype object that the copy does not share). A problem that differs
+    gets another key."""
+    d, _, _ = clean_corner
+    pbx = selection.problem_for(d.pb, ())
+    key = candidates._corner_key(pbx, d.baseline)
+    assert candidates._corner_key(*pickle.loads(pickle.dumps((pbx, d.baseline)))) == key
+    later = copy.copy(pbx)
+    later.burn += 1
+    assert candidates._corner_key(later, d.baseline) != key

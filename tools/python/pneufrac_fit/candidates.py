@@ -81,17 +81,20 @@ def _sat_shift(pb, base) -> float:
     return base.values.get("pc0", 0.0) - (pb.y[:10].mean() if pb.pc0 is None else pb.pc0)
 
 
-def _sat_start(pb, base, st: dict) -> dict:
-    """Saturation's limits are on the simulated deviation, before the
-    offset: move the starts by the base's offset, and give K (searched,
-    not solved, with saturation) the base's value."""
-    st = dict(st)
+def on_sim(pb, base, size: dict) -> dict:
+    """An effect size in the record's terms (effect_inits, no_effect, and
+    a size fitted in an earlier round as selection._hint gives it:
+    saturation's limits on the record's output deviation) as a fit on top
+    of base takes it: saturation's limits on the simulated deviation,
+    before the offset, so less base's (_sat_shift). Only such sizes are
+    moved. The model so far's own limits, when it has saturation, are on
+    its simulated deviation already: moving them again would start the
+    model so far away from its own optimum, and the no-effect start of
+    _not_worse away from the model it nests."""
+    if "sat_lo" not in size:
+        return size
     c = _sat_shift(pb, base)
-    if "sat_lo" in st:
-        st["sat_lo"] -= c
-        st["sat_hi"] -= c
-    st.setdefault("K", base.values["K"])
-    return st
+    return {**size, "sat_lo": size["sat_lo"] - c, "sat_hi": size["sat_hi"] - c}
 
 
 def with_kind(pb, kind: int, told: float = 0.0):
@@ -177,15 +180,15 @@ def _limits_back_in_range(pb, effects, base, b):
     is put back inside the range, at the inner effect size of
     effect_inits, the other parameters as fitted, and refined from there;
     the better fit is kept (a limit that should not bind goes out again)."""
-    c = _sat_shift(pb, base)
-    inner = effect_inits(pb, "saturation")[1]
+    c = _sat_shift(pb, b)        # b's limits are on b's simulated deviation
+    inner = on_sim(pb, b, effect_inits(pb, "saturation")[1])
     st = dict(b.values)
     off = {"sat_lo": st["sat_lo"] + c < pb.y_lo, "sat_hi": st["sat_hi"] + c > pb.y_hi}
     if not any(off.values()):
         return b
     for k, out in off.items():
         if out:
-            st[k] = inner[k] - c
+            st[k] = inner[k]
     alt = search.refine(pb, effects, [("limit back in range", st)], dead=base.dead)
     return search.best([b, alt])
 
@@ -210,7 +213,7 @@ def corner_freed(pb, base) -> tuple[dict, list[str]] | None:
     """_corner_freed, made once for each problem and model so far: every
     test of a round and its confirmation ask for it of the same two (the
     round's problem: selection.run_round makes it before its workers fork,
-    and they inherit it here). A placement of saturation is read by no
+    and they inherit it here, _corner_key the same in both). A placement of saturation is read by no
     simulation of a model without saturation (model.library_effects,
     fit.finish), so on such a model the problems of saturation's three
     placements are one problem: the clip's."""
@@ -231,14 +234,55 @@ CORNERS_KEPT = 64
 
 
 def _corner_key(pb, base) -> bytes:
-    """A digest of everything _corner_freed reads: the problem whole
-    (pickled: its data, split, freedoms, noise model and setup) and the
+    """A digest of everything _corner_freed reads: the problem whole (its
+    data, split, freedoms, noise model and setup: every attribute) and the
     model so far's effects, groups, values and delay. Equal digests, equal
     inputs, the same answer; a problem that differs in anything at all,
-    even in what the answer does not depend on, is only made again."""
-    full = {**base.groups, **base.values}
-    blob = pickle.dumps((pb, tuple(base.effects), full, base.dead), pickle.HIGHEST_PROTOCOL)
-    return hashlib.blake2b(blob, digest_size=20).digest()
+    even in what the answer does not depend on, is only made again. The
+    digest is of the values (_digest_into), not of their pickle: a pickle
+    of a numpy scalar refers to its dtype object, which the arrays of the
+    parent share and an unpickled copy does not, so the same problem sent
+    to a worker pickled to other bytes and every worker made again what
+    the parent had made before it forked."""
+    h = hashlib.blake2b(digest_size=20)
+    _digest_into(h, (pb, tuple(base.effects), {**base.groups, **base.values}, base.dead))
+    return h.digest()
+
+
+def _digest_into(h, x) -> None:
+    """Feed x's value to the hash h, tagged by kind so that no two values
+    of different kinds feed the same bytes: arrays by dtype, shape and
+    contents, numpy scalars as the Python numbers they equal, mappings in
+    key order, objects by their class and every attribute."""
+    if isinstance(x, np.ndarray):
+        a = np.ascontiguousarray(x)
+        h.update(b"A" + a.dtype.str.encode() + repr(a.shape).encode())
+        h.update(a.tobytes())
+    elif isinstance(x, np.generic):
+        _digest_into(h, x.item())
+    elif x is None or isinstance(x, (bool, int, float, str, bytes)):
+        h.update(b"S" + repr((type(x).__name__, x)).encode())
+    elif isinstance(x, dict):
+        h.update(b"D%d" % len(x))
+        for k in sorted(x, key=repr):
+            _digest_into(h, k)
+            _digest_into(h, x[k])
+    elif isinstance(x, (list, tuple)):
+        h.update(b"L%d" % len(x))
+        for v in x:
+            _digest_into(h, v)
+    elif isinstance(x, (set, frozenset)):
+        h.update(b"E%d" % len(x))
+        for v in sorted(x, key=repr):
+            _digest_into(h, v)
+    elif hasattr(x, "__dict__"):
+        h.update(b"O" + type(x).__qualname__.encode())
+        _digest_into(h, vars(x))
+    elif dataclasses.is_dataclass(x):          # slotted or frozen without a __dict__
+        h.update(b"O" + type(x).__qualname__.encode())
+        _digest_into(h, {f.name: getattr(x, f.name) for f in dataclasses.fields(x)})
+    else:
+        h.update(b"P" + pickle.dumps(x, pickle.HIGHEST_PROTOCOL))
 
 
 def _corner_freed(pb, base) -> tuple[dict, list[str]] | None:
@@ -292,9 +336,7 @@ def corner_start(pb, effects, base, size: dict):
     if cf is None:
         return None
     st = dict(cf[0])
-    st.update(size)
-    if "saturation" in effects:
-        st = _sat_start(pb, base, st)
+    st.update(size)          # on the simulated deviation already (_sizes)
     # a start the library refuses (its groups make no valid controller: a
     # gain the refit left invalid, say) is no start: the search would stop on it
     if not math.isfinite(fit.start_cost(pb, effects, st, base.dead)):
@@ -324,11 +366,12 @@ def corner_notes(rounds, causes) -> list[str]:
 
 
 def _sizes(pb, new: str, base, hint: dict | None) -> list[dict]:
-    """The new effect's starting sizes: effect_inits; in a later round one,
-    the size it took in the round before (hint) or the first."""
-    inits = effect_inits(pb, new)
+    """The new effect's starting sizes, on the simulated deviation
+    (on_sim): effect_inits; in a later round one, the size it took in the
+    round before (hint) or the first."""
+    inits = [on_sim(pb, base, s) for s in effect_inits(pb, new)]
     if base.effects:
-        return [hint] if hint else inits[:1]
+        return [on_sim(pb, base, hint)] if hint else inits[:1]
     return inits
 
 
@@ -348,13 +391,9 @@ def _starts(pb, effects, new: str, base, rng, hint: dict | None = None):
     for i, ei in enumerate(inits):
         st = dict(full)
         st.update(ei)
-        if "saturation" in effects:
-            st = _sat_start(pb, base, st)
         warm.append((f"warm{i}", st))
     paper = _paper_shape(pb, full)
     paper.update(inits[0])
-    if "saturation" in effects:
-        paper = _sat_start(pb, base, paper)
     warm.append(("paper", paper))
     fresh = []
     for j, g in enumerate(fit.random_starts(pb, rng, N_FRESH)):
@@ -362,8 +401,6 @@ def _starts(pb, effects, new: str, base, rng, hint: dict | None = None):
         g.pop("K", None)                 # solved, or (saturation) the base's
         st.update(g)
         st.update(inits[j % len(inits)])
-        if "saturation" in effects:
-            st = _sat_start(pb, base, st)
         fresh.append(st)
     kept = search.rank_fresh(pb, effects, fresh, N_FRESH_KEEP, base.dead)
     return warm + [(f"fresh{i}", s) for i, s in enumerate(kept)]
@@ -608,9 +645,7 @@ def _not_worse(pb, effects, new: str, base, b):
     if not b.cost > fit.start_cost(pb, base.effects, full, base.dead):
         return b
     st = dict(full)
-    st.update(no_effect(pb, new))
-    if "saturation" in effects:
-        st = _sat_start(pb, base, st)
+    st.update(on_sim(pb, base, no_effect(pb, new)))
     # a dead time has no no-effect value: its shortest, one sample of the
     # simulation rate, is the nearest to the model without it
     dead = 1 if new == "dead_time" else base.dead

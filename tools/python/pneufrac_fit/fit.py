@@ -406,22 +406,24 @@ def start_basis(taus, n: int) -> np.ndarray:
     """The basis of these time constants over samples 0..n-1 (n x m), read
     only. Every evaluation of a problem's model adds it (model_output), and
     its n m exponentials cost about a tenth of the simulation: made once
-    for each (taus, n) and kept (_BASES)."""
-    key = (tuple(float(t) for t in taus), int(n))
+    for each set of taus, at the longest n asked for, and kept (_BASES);
+    a shorter one is its first rows (each row depends on its sample alone,
+    so they are the same numbers)."""
+    key = tuple(float(t) for t in taus)
     b = _BASES.get(key)
-    if b is None:
+    if b is None or b.shape[0] < n:
         i = np.arange(n, dtype=float)[:, None]
-        t = np.asarray(key[0], float)
+        t = np.asarray(key, float)
         b = np.exp(-i / t[None, :]) if t.size else np.zeros((n, 0))
         b.flags.writeable = False
-        if len(_BASES) >= BASES_KEPT:
+        if key not in _BASES and len(_BASES) >= BASES_KEPT:
             _BASES.clear()
         _BASES[key] = b
-    return b
+    return b[:n]
 
 
-# start_basis's bases, by (taus, n): a diagnosis uses a few (the whole fit
-# part and its exploration copy, a few burns), each at most a few MB
+# start_basis's bases, by taus: a diagnosis uses a few sets (the record's
+# and its exploration copy's, a few burns), each at most a few MB
 _BASES: dict = {}
 BASES_KEPT = 8
 
@@ -449,6 +451,8 @@ def _fixed_regressors(pb: Problem, parts: list):
     else:
         Q, R = np.zeros((yw.size, 0)), np.zeros((0, 0))
     out = (Q, R, yw, yw - Q @ (Q.T @ yw))
+    for a in out:            # shared by every evaluation: read only
+        a.flags.writeable = False
     _remember(key, pb.y, out)
     return out
 

@@ -204,7 +204,10 @@ def confirm_starts(fr, ref, current) -> list[tuple[str, dict]]:
 
 
 def _run(args):
-    return try_effect(*args)
+    """One test of a round: (the test, whether its reference is the model
+    so far: _as_made_here)."""
+    t = try_effect(*args)
+    return t, t.ref is args[1]
 
 
 def _hint(t) -> dict:
@@ -214,6 +217,12 @@ def _hint(t) -> dict:
     if t is None or not t.peak >= guards.MATERIAL_SIGMAS:
         return {}
     h = _own(t.model, t.effect)
+    if "sat_lo" in h:
+        # in the record's terms (the fit's limits are on its simulated
+        # deviation, before its own offset): candidates.on_sim puts them on
+        # the next fit's, whose offset is its model so far's
+        c = candidates._sat_shift(t.pb, t.model)
+        h = {**h, "sat_lo": h["sat_lo"] + c, "sat_hi": h["sat_hi"] + c}
     if t.effect == "dead_time":
         h["dead"] = t.model.dead
     return h
@@ -230,8 +239,7 @@ def _own(fr, effect) -> dict:
 
 def run_round(pb, current, effects, seed, jobs, say, previous=None):
     prev = {t.effect: t for t in (previous or [])}
-    tasks = [(pb, current, e, seed + 101 * (model.CAUSES.index(e) + 1), _hint(prev.get(e)))
-             for e in effects]
+    tasks = [(pb, current, e, _seed_of(seed, e), _hint(prev.get(e))) for e in effects]
     _corners_made(pb, current, effects)
     out = {}
     # the costliest tests first: the last test running alone is a short one
@@ -240,10 +248,27 @@ def run_round(pb, current, effects, seed, jobs, say, previous=None):
             done = map(_run, tasks)
         else:
             done = pool.imap_unordered(_run, candidates.by_cost(tasks))
-        for t in done:
+        for t, same in done:
+            t = _as_made_here(t, current, same)
             _say(say, t)
             out[t.effect] = t
     return [out[e] for e in effects]
+
+
+def _seed_of(seed: int, effect: str) -> int:
+    """The seed of an effect's test in a round seeded `seed` (its fresh
+    starts): the same whether the test is made first or again."""
+    return seed + 101 * (model.CAUSES.index(effect) + 1)
+
+
+def _as_made_here(t, current, ref_is_current: bool):
+    """t, made in a worker process, with its reference the model so far
+    itself where it was that model there, not a pickled copy of it:
+    models_without and best_same_fit tell the model so far from another
+    fit of the same effects by identity."""
+    if ref_is_current:
+        t.ref = current
+    return t
 
 
 def _corners_made(pb, current, effects):
@@ -310,15 +335,17 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None, _tried=None):
         tests = run_round(cur_pb, current, remaining, seed + 7 * len(rounds), jobs, say,
                           rounds[-1] if rounds else None)
         rounds.append(tests)
-        tested_on[id(current)] = tests
+        tests = from_better(cur_pb, current, tests, seed + 7 * len(rounds) + 9, say)
+        tests = refine_winner(cur_pb, current, tests, seed + 7 * len(rounds) + 11, say)
+        rounds[-1] = tested_on[id(current)] = tests
+        # a rival of the last winner that fails on top of it, judged on its
+        # best fit: one that failed only because its search stopped short of
+        # a better model so far (from_better) is not lost
         lost = [t for t in tests if t.effect in rivals and not t.passes]
         if lost:
             current, cur_pb = _ambiguous(rounds[-2], current, lost, before, say, notes,
                                          sets)
             break
-        tests = from_better(cur_pb, current, tests, seed + 7 * len(rounds) + 9, say)
-        tests = refine_winner(cur_pb, current, tests, seed + 7 * len(rounds) + 11, say)
-        rounds[-1] = tested_on[id(current)] = tests
         if not _passing(tests, current, cur_pb, len(rounds), say):
             break
         tests = refit_rivals(cur_pb, current, tests, seed + 7 * len(rounds) + 5, say, jobs)
@@ -499,30 +526,36 @@ def refit_rivals(pb, current, tests, seed, say, jobs: int = 1):
         args = [(pb, current, tests[i], win, seed) for i in todo]
         with _workers(jobs, len(args)) as pool:
             got = list(map(_refit, args) if pool is None else pool.map(_refit, args, 1))
-        for i, (t2, ref_is_current) in zip(todo, got):
-            t = tests[i]
-            if t2 is None:
-                continue    # no better fit: the test stands, and its guards need no rerun
-            if ref_is_current:
-                t2.ref = current    # as made here: the model so far itself, not a copy
-            if t2.model.cost < t.model.cost * (1 - 1e-6):
-                say(f"  {t.effect} refitted from the {win.effect} fit's optimum: val NRMSE "
-                    f"{t.model.nrmse_val:.4f} -> {t2.model.nrmse_val:.4f} -> "
-                    + ("passes" if t2.passes else "fails: " + "; ".join(t2.reasons[:2])))
-                tests[i] = t2
+        for i, (t2, same) in zip(todo, got):
+            if t2 is not None:  # else no better fit: the test stands, its guards need no rerun
+                _say_again(say, tests[i], t2, f"refitted from the {win.effect} fit's optimum")
+                tests[i] = _as_made_here(t2, current, same)
 
 
 def _refit(args):
     """One refit of refit_rivals: (the test again on the refit, whether its
-    reference is the model so far), or (None, False) when the refit is no
-    better than the test's own fit."""
+    reference is the model so far: _as_made_here), or (None, False) when
+    the refit is no better than the test's own fit (_test_again)."""
     pb, current, t, win, seed = args
-    fr2 = rival_fit(pb, current, t.effect, t.model, win)
-    if not fr2.cost < t.model.cost * (1 - 1e-6):
-        return None, False
-    t2 = try_effect(pb, current, t.effect, seed + 101 * (model.CAUSES.index(t.effect) + 1),
-                    fitted=fr2)
-    return t2, t2.ref is current
+    t2 = _test_again(pb, current, t, rival_fit(pb, current, t.effect, t.model, win), seed)
+    return t2, t2 is not None and t2.ref is current
+
+
+def _test_again(pb, current, t, fr, seed):
+    """t's effect tested again on fr, a fit of its model found after its
+    test, when fr fits the fit part better (the fit criterion, never the
+    held-out part), and still does after the test's own refinement; every
+    guard is applied to it as to any test's fit. None otherwise."""
+    if not fr.cost < t.model.cost * (1 - 1e-6):
+        return None
+    t2 = try_effect(pb, current, t.effect, _seed_of(seed, t.effect), fitted=fr)
+    return t2 if t2.model.cost < t.model.cost * (1 - 1e-6) else None
+
+
+def _say_again(say, t, t2, why):
+    say(f"  {t.effect} {why}: cost {t.model.cost:.6g} -> {t2.model.cost:.6g}, val NRMSE "
+        f"{t.model.nrmse_val:.4f} -> {t2.model.nrmse_val:.4f} -> "
+        + ("passes" if t2.passes else "fails: " + "; ".join(t2.reasons[:2])))
 
 
 # Refining the round's winner from its own optimum: a few times the
@@ -533,20 +566,12 @@ WINNER_ITER = 4 * search.REFINE_ITER
 
 
 def _retested(pb, current, tests, i, fr, seed, say, why):
-    """tests with tests[i] tested again on fr, a fit of its model found
-    after its test, when fr fits the fit part better (the fit criterion,
-    never the held-out part); every guard is applied to it as to any
-    test's fit."""
-    t = tests[i]
-    if not fr.cost < t.model.cost * (1 - 1e-6):
+    """tests with tests[i] tested again on fr where it fits better
+    (_test_again)."""
+    t2 = _test_again(pb, current, tests[i], fr, seed)
+    if t2 is None:
         return tests
-    t2 = try_effect(pb, current, t.effect, seed + 101 * (model.CAUSES.index(t.effect) + 1),
-                    fitted=fr)
-    if not t2.model.cost < t.model.cost * (1 - 1e-6):
-        return tests
-    say(f"  {t.effect} {why}: cost {t.model.cost:.6g} -> {t2.model.cost:.6g}, val NRMSE "
-        f"{t.model.nrmse_val:.4f} -> {t2.model.nrmse_val:.4f} -> "
-        + ("passes" if t2.passes else "fails: " + "; ".join(t2.reasons[:2])))
+    _say_again(say, tests[i], t2, why)
     tests = list(tests)
     tests[i] = t2
     return tests
