@@ -20,6 +20,7 @@ threshold depends on it.
 (The lag is not named on top of the dead band: its fit is no better on
 the held-out part.)"""
 import copy
+import hashlib
 import pickle
 import sys
 import types
@@ -141,3 +142,19 @@ def test_the_corner_key_is_the_same_in_a_worker(clean_corner):
     later = copy.copy(pbx)
     later.burn += 1
     assert candidates._corner_key(later, d.baseline) != key
+
+
+def test_the_corner_key_names_functions_and_stops_at_cycles():
+    """Whatever a problem comes to hold, its digest is made: a function by
+    its name (two functions, two digests), an object met inside itself as
+    a back reference (no recursion without end)."""
+    def digest(x):
+        h = hashlib.blake2b(digest_size=20)
+        candidates._digest_into(h, x)
+        return h.digest()
+
+    loop = {"n": 1}
+    loop["self"] = loop
+    assert digest(loop) != digest({"n": 1, "self": {"n": 1}})
+    assert digest({"f": len}) != digest({"f": abs})
+    assert digest(np.arange(3.0)) != digest(np.arange(3))

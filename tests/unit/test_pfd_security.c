@@ -34,6 +34,14 @@ static pfd_slot_view slot(uint32_t addr, int active, int heard, int64_t since_ms
     return v;
 }
 
+/* The table of the policy tests: 8 slots, at most 4 clients and 8 per
+ * address, a newcomer from address 9 at t = 10 s; an active client is
+ * protected for 2 s after its last request. */
+static pfd_slot_choice choose(const pfd_slot_view *v)
+{
+    return pfd_slots_choose(v, 8, 9, 4, 8, 10000 * MS, 2000 * MS);
+}
+
 static void slots_free_table(void **state)
 {
     pfd_slot_view v[4];
@@ -57,7 +65,7 @@ static void slots_full_table_order(void **state)
     v[2] = slot(3, 0, 0, 9500); /* silent newcomer */
     v[3] = slot(4, 0, 0, 9900); /* younger silent newcomer */
     /* 4 of 4 taken: the oldest silent newcomer goes first */
-    c = pfd_slots_choose(v, 8, 9, 4, 8, 10000 * MS, 2000 * MS);
+    c = choose(v);
     assert_int_equal(c.victim, 2);
     assert_int_equal(c.slot, 4);
     assert_string_equal(c.why, "max-clients");
@@ -65,12 +73,12 @@ static void slots_full_table_order(void **state)
     v[4] = slot(5, 1, 1, 9990);
     v[5] = slot(6, 1, 1, 9990);
     /* then the newcomer that spoke */
-    c = pfd_slots_choose(v, 8, 9, 4, 8, 10000 * MS, 2000 * MS);
+    c = choose(v);
     assert_int_equal(c.victim, 1);
     v[1].evicted = 1;
     v[6] = slot(7, 1, 1, 9995);
     /* then the active client idle longest, once idle past the protection */
-    c = pfd_slots_choose(v, 8, 9, 4, 8, 10000 * MS, 2000 * MS);
+    c = choose(v);
     assert_int_equal(c.victim, 0);
     /* no one idle long enough: refused, nobody evicted */
     c = pfd_slots_choose(v, 8, 9, 4, 8, 10000 * MS, 20000 * MS);
@@ -78,7 +86,7 @@ static void slots_full_table_order(void **state)
     assert_int_equal(c.victim, -1);
     /* a busy one is never a victim */
     v[0].busy = 1;
-    c = pfd_slots_choose(v, 8, 9, 4, 8, 10000 * MS, 2000 * MS);
+    c = choose(v);
     assert_int_equal(c.slot, -1);
 }
 
@@ -98,16 +106,16 @@ static void slots_pending_request(void **state)
     v[2] = slot(3, 1, 1, 0);    /* active, idle 10 s, its poll waiting */
     v[2].pending = 1;
     v[3] = slot(4, 1, 1, 1000); /* active, idle 9 s */
-    c = pfd_slots_choose(v, 8, 9, 4, 8, 10000 * MS, 2000 * MS);
+    c = choose(v);
     assert_int_equal(c.victim, 1);
     v[1].evicted = 1;
     v[4] = slot(5, 1, 1, 9990);
-    c = pfd_slots_choose(v, 8, 9, 4, 8, 10000 * MS, 2000 * MS);
+    c = choose(v);
     assert_int_equal(c.victim, 3);
     v[3].evicted = 1;
     v[5] = slot(6, 1, 1, 9995);
     /* only pending and protected ones left: refused */
-    c = pfd_slots_choose(v, 8, 9, 4, 8, 10000 * MS, 2000 * MS);
+    c = choose(v);
     assert_int_equal(c.slot, -1);
     assert_int_equal(c.victim, -1);
     /* the same within one address */

@@ -14,6 +14,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import hashlib
+import inspect
 import math
 import pickle
 
@@ -249,40 +250,59 @@ def _corner_key(pb, base) -> bytes:
     return h.digest()
 
 
-def _digest_into(h, x) -> None:
+def _digest_into(h, x, path: frozenset = frozenset()) -> None:
     """Feed x's value to the hash h, tagged by kind so that no two values
     of different kinds feed the same bytes: arrays by dtype, shape and
     contents, numpy scalars as the Python numbers they equal, mappings in
-    key order, objects by their class and every attribute."""
+    key order, functions and classes by their names, objects by their
+    class and every attribute. An object met again inside itself (path:
+    the containers above x) is fed as a back reference: no recursion
+    without end."""
     if isinstance(x, np.ndarray):
         a = np.ascontiguousarray(x)
         h.update(b"A" + a.dtype.str.encode() + repr(a.shape).encode())
-        h.update(a.tobytes())
+        h.update(memoryview(a).cast("B"))
     elif isinstance(x, np.generic):
-        _digest_into(h, x.item())
+        _digest_into(h, x.item(), path)
     elif x is None or isinstance(x, (bool, int, float, str, bytes)):
         h.update(b"S" + repr((type(x).__name__, x)).encode())
-    elif isinstance(x, dict):
+    elif isinstance(x, type) or inspect.isroutine(x):
+        h.update(b"F" + _name_of(x))
+    elif id(x) in path:
+        h.update(b"R")
+    else:
+        _digest_container(h, x, path | {id(x)})
+
+
+def _digest_container(h, x, path: frozenset) -> None:
+    if isinstance(x, dict):
         h.update(b"D%d" % len(x))
         for k in sorted(x, key=repr):
-            _digest_into(h, k)
-            _digest_into(h, x[k])
+            _digest_into(h, k, path)
+            _digest_into(h, x[k], path)
     elif isinstance(x, (list, tuple)):
         h.update(b"L%d" % len(x))
         for v in x:
-            _digest_into(h, v)
+            _digest_into(h, v, path)
     elif isinstance(x, (set, frozenset)):
         h.update(b"E%d" % len(x))
         for v in sorted(x, key=repr):
-            _digest_into(h, v)
+            _digest_into(h, v, path)
     elif hasattr(x, "__dict__"):
-        h.update(b"O" + type(x).__qualname__.encode())
-        _digest_into(h, vars(x))
+        h.update(b"O" + _name_of(type(x)))
+        _digest_into(h, vars(x), path)
     elif dataclasses.is_dataclass(x):          # slotted or frozen without a __dict__
-        h.update(b"O" + type(x).__qualname__.encode())
-        _digest_into(h, {f.name: getattr(x, f.name) for f in dataclasses.fields(x)})
+        h.update(b"O" + _name_of(type(x)))
+        _digest_into(h, {f.name: getattr(x, f.name) for f in dataclasses.fields(x)}, path)
     else:
         h.update(b"P" + pickle.dumps(x, pickle.HIGHEST_PROTOCOL))
+
+
+def _name_of(x) -> bytes:
+    """module:qualname, length first: two names never run into the bytes
+    that follow them."""
+    n = f"{getattr(x, '__module__', '')}:{getattr(x, '__qualname__', repr(x))}".encode()
+    return b"%d:" % len(n) + n
 
 
 def _corner_freed(pb, base) -> tuple[dict, list[str]] | None:
