@@ -42,6 +42,15 @@ static pfd_slot_choice choose(const pfd_slot_view *v)
     return pfd_slots_choose(v, 8, 9, 4, 8, 10000 * MS, 2000 * MS);
 }
 
+/* The policy picks `victim` (choose); it is evicted, and the newcomer it
+ * made room for takes slot `at`. */
+static void evict(pfd_slot_view *v, int victim, int at, pfd_slot_view newcomer)
+{
+    assert_int_equal(choose(v).victim, victim);
+    v[victim].evicted = 1;
+    v[at] = newcomer;
+}
+
 static void slots_free_table(void **state)
 {
     pfd_slot_view v[4];
@@ -73,13 +82,9 @@ static void slots_full_table_order(void **state)
     v[4] = slot(5, 1, 1, 9990);
     v[5] = slot(6, 1, 1, 9990);
     /* then the newcomer that spoke */
-    c = choose(v);
-    assert_int_equal(c.victim, 1);
-    v[1].evicted = 1;
-    v[6] = slot(7, 1, 1, 9995);
+    evict(v, 1, 6, slot(7, 1, 1, 9995));
     /* then the active client idle longest, once idle past the protection */
-    c = choose(v);
-    assert_int_equal(c.victim, 0);
+    assert_int_equal(choose(v).victim, 0);
     /* no one idle long enough: refused, nobody evicted */
     c = pfd_slots_choose(v, 8, 9, 4, 8, 10000 * MS, 20000 * MS);
     assert_int_equal(c.slot, -1);
@@ -106,14 +111,8 @@ static void slots_pending_request(void **state)
     v[2] = slot(3, 1, 1, 0);    /* active, idle 10 s, its poll waiting */
     v[2].pending = 1;
     v[3] = slot(4, 1, 1, 1000); /* active, idle 9 s */
-    c = choose(v);
-    assert_int_equal(c.victim, 1);
-    v[1].evicted = 1;
-    v[4] = slot(5, 1, 1, 9990);
-    c = choose(v);
-    assert_int_equal(c.victim, 3);
-    v[3].evicted = 1;
-    v[5] = slot(6, 1, 1, 9995);
+    evict(v, 1, 4, slot(5, 1, 1, 9990));
+    evict(v, 3, 5, slot(6, 1, 1, 9995));
     /* only pending and protected ones left: refused */
     c = choose(v);
     assert_int_equal(c.slot, -1);
