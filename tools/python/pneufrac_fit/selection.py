@@ -601,8 +601,9 @@ def from_better(pb, current, tests, seed, say):
         "effect that explains part of the residual is refitted from it")
     for i in todo:
         t = tests[i]
-        pbx = candidates.for_model(_problem_of(pb, current, t.effect), t.model)
-        fr = from_model(pbx, current, t.effect, t.model, better, (),
+        # t.pb: the problem its test fitted (_try_effect), saturation where
+        # its fit placed it
+        fr = from_model(t.pb, current, t.effect, t.model, better, (),
                         f"from a better {current.effect} fit")
         tests = _retested(pb, current, tests, i, fr, seed, say,
                           f"refitted from the better {current.effect} fit")
