@@ -113,9 +113,33 @@ static int transfer(pfd_conn *c, void *buf, size_t n, int writing, int gap_ms,
     return 0;
 }
 
-int pfd_conn_read(pfd_conn *c, void *buf, size_t n, int gap_ms, int64_t deadline_ns)
+int pfd_conn_records_only(pfd_conn *c)
 {
-    return transfer(c, buf, n, 0, gap_ms, deadline_ns);
+    BIO *b = BIO_new(BIO_s_mem());
+    if (b == NULL)
+        return PFD_CONN_CLOSED;
+    /* empty: "try again" (SSL_ERROR_WANT_READ), not the end of the stream */
+    BIO_set_mem_eof_return(b, -1);
+    /* frees the socket BIO's read reference; the write side keeps it */
+    SSL_set0_rbio(c->ssl, b);
+    return 0;
+}
+
+int pfd_conn_give(pfd_conn *c, const void *rec, size_t n)
+{
+    return BIO_write(SSL_get_rbio(c->ssl), rec, (int)n) == (int)n ? 0 : PFD_CONN_CLOSED;
+}
+
+long pfd_conn_take(pfd_conn *c, void *buf, size_t n)
+{
+    int k = SSL_read(c->ssl, buf, (int)n);
+    if (k > 0)
+        return k;
+    k = SSL_get_error(c->ssl, k);
+    ERR_clear_error();
+    if (k == SSL_ERROR_WANT_READ)
+        return 0;
+    return k == SSL_ERROR_ZERO_RETURN ? PFD_CONN_CLOSED : PFD_CONN_BAD;
 }
 
 int pfd_conn_write(pfd_conn *c, const void *buf, size_t n, int ms)
