@@ -8,6 +8,7 @@ client is pymodbus's TLS client, or Python's ssl module where a handshake
 is meant to fail."""
 
 import datetime
+import os
 import re
 import socket
 import ssl
@@ -225,6 +226,70 @@ def test_plain_tcp_next_to_tls(daemon, pki):
                                                               device_id=1)) is None
     d2 = start(daemon, pki, "--plain-access", "none")
     assert "msg=listening addr=none" in d2.log()
+
+
+# A request as raw MBAP bytes: FC04, two input registers from 0, unit 1;
+# its answer is 13 bytes (MBAP 7, function, byte count, 4 data).
+READ_IR = struct.pack(">HHHBBHH", 1, 0, 6, 1, 4, 0, 2)
+READ_IR_ANSWER = 13
+
+
+def tls_socket(d, pki):
+    raw = socket.create_connection(("127.0.0.1", d.tls_port), timeout=5 * SLOW)
+    return client_ctx(pki, "viewer").wrap_socket(raw)
+
+
+def recv_exactly(s, n):
+    got = b""
+    while len(got) < n:
+        part = s.recv(n - len(got))
+        assert part, f"closed after {len(got)} of {n} bytes"
+        got += part
+    return got
+
+
+def test_requests_across_records(daemon, pki):
+    """The daemon takes TLS records whole and keeps the decrypted bytes
+    of the next request: two requests in one record are both answered, and
+    one split over three records is answered once it is whole."""
+    d = start(daemon, pki)
+    s = tls_socket(d, pki)
+    s.sendall(READ_IR + READ_IR)
+    answers = recv_exactly(s, 2 * READ_IR_ANSWER)
+    assert answers[:2] == READ_IR[:2] and answers[READ_IR_ANSWER:][:2] == READ_IR[:2]
+    for part in (READ_IR[:3], READ_IR[3:9], READ_IR[9:]):
+        s.sendall(part)
+        time.sleep(0.05)
+    assert recv_exactly(s, READ_IR_ANSWER)[:2] == READ_IR[:2]
+    s.close()
+
+
+@pytest.mark.parametrize("what,reason", [("bad-frame", "bad-frame"),
+                                         ("junk-record", "bad-record"),
+                                         ("huge-record", "bad-record")])
+def test_junk_after_the_handshake_ends_the_connection(daemon, pki, what, reason):
+    """A whole application-data record waiting keeps a TLS connection from
+    eviction (docs/pneufracd.md, "The shield on TLS connections"), so one
+    that does not decrypt, one longer than TLS allows, and one that holds
+    a bad MBAP header (protocol id 7) must each end the connection, as a
+    bad plain frame does."""
+    d = start(daemon, pki, "--verbose")
+    s = tls_socket(d, pki)
+    port = s.getsockname()[1]
+    if what == "bad-frame":
+        s.sendall(READ_IR[:2] + b"\x00\x07" + READ_IR[4:])
+    else:  # on the wire, under the TLS layer
+        raw = socket.socket(fileno=os.dup(s.fileno()))
+        n = 40 if what == "junk-record" else 16384 + 2048 + 1
+        raw.sendall(bytes([0x17, 3, 3, n >> 8, n & 0xFF]) + (os.urandom(n) if n == 40 else b""))
+        raw.close()
+    pat = rf"msg=client-closed peer=127\.0\.0\.1:{port} reason=(\S+)"
+    deadline = time.monotonic() + 10 * SLOW
+    while not re.search(pat, d.log()):
+        assert time.monotonic() < deadline, d.log()[-2000:]
+        time.sleep(0.02)
+    assert re.search(pat, d.log()).group(1) == reason
+    s.close()
 
 
 def test_tls_needs_its_files(tmp_path):
