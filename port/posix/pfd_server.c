@@ -200,7 +200,10 @@ static int tls_held(pfd_client *c, const char **why)
  * after the first-request or idle deadline ends the connection: a client
  * that sends such records without end must not keep its slot past them,
  * while one whose thread comes late still has every byte of its request
- * read. @return its length, or a PFD_CONN_* code with @p why set. */
+ * read. Such a record before any byte of a request is no request begun:
+ * the thread goes back to its idle wait (byte_timeout_ms is for the rest
+ * of a request). @return its length, 0 for no request yet, or a
+ * PFD_CONN_* code with @p why set. */
 static int read_tls(pfd_client *c, uint8_t *req, const char **why)
 {
     uint8_t rec[PFD_TLS_HDR + PFD_TLS_BODY_MAX];
@@ -219,10 +222,16 @@ static int read_tls(pfd_client *c, uint8_t *req, const char **why)
         if (len < 0)
             return len;
         __atomic_store_n(&c->busy, 0, SEQ); /* holds no whole frame */
-        deadline = deadline_of(c);
-        if (c->n_held == before && deadline > 0 && pfd_now_ns() >= deadline) {
-            *why = __atomic_load_n(&c->active, SEQ) ? "idle-timeout" : "first-request-timeout";
-            return PFD_CONN_TIMEOUT;
+        if (c->n_held == before) { /* the last record brought nothing */
+            deadline = deadline_of(c);
+            if (deadline > 0 && pfd_now_ns() >= deadline) {
+                *why = __atomic_load_n(&c->active, SEQ) ? "idle-timeout"
+                                                         : "first-request-timeout";
+                return PFD_CONN_TIMEOUT;
+            }
+            /* no request begun: back to the idle wait, not the byte gap */
+            if (c->n_held == 0)
+                return 0;
         }
         len = take_unit(c, rec, why);
         if (len < 0)
@@ -287,6 +296,8 @@ static void *client_main(void *arg)
         len = c->tls ? read_tls(c, req, &why) : take_unit(c, req, &why);
         if (len < 0)
             break;
+        if (len == 0)
+            continue;
         rc = pfd_request(d, s, req, len, rsp);
         if (rc < 0) {
             why = pfd_stopping(d) ? "shutdown" : "bad-frame";

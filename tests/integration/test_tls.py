@@ -13,6 +13,7 @@ import re
 import socket
 import ssl
 import struct
+import subprocess
 import time
 
 import pytest
@@ -290,6 +291,41 @@ def test_junk_after_the_handshake_ends_the_connection(daemon, pki, what, reason)
         time.sleep(0.02)
     assert re.search(pat, d.log()).group(1) == reason
     s.close()
+
+
+def test_records_without_a_request_end_at_the_deadline(daemon, pki):
+    """TLS 1.3 key updates are records that bring no byte of a request
+    (as empty records are): each keeps a whole record waiting, and so the
+    slot, until the client's thread takes it. A client that sends them
+    without end must still be closed at its first-request deadline
+    (openssl s_client sends one for each input line "k")."""
+    first_ms = int(1000 * SLOW)
+    d = start(daemon, pki, "--verbose", "--first-request-timeout-ms", str(first_ms))
+    p = subprocess.Popen(["openssl", "s_client", "-connect", f"127.0.0.1:{d.tls_port}",
+                          "-CAfile", pki["ca"], "-cert", pki["viewer"][0],
+                          "-key", pki["viewer"][1], "-tls1_3", "-no_ign_eof"],
+                         stdin=subprocess.PIPE, stdout=subprocess.DEVNULL,
+                         stderr=subprocess.DEVNULL)
+    closed = re.compile(r"msg=client-closed peer=127\.0\.0\.1:\d+ reason=(\S+)")
+    try:
+        deadline = time.monotonic() + 10 * SLOW
+        while "msg=client-connected" not in d.log():
+            assert time.monotonic() < deadline, d.log()[-2000:]
+            time.sleep(0.02)
+        end = time.monotonic() + 5 * first_ms / 1000
+        while not closed.search(d.log()) and time.monotonic() < end:
+            try:
+                p.stdin.write(b"k\n")
+                p.stdin.flush()
+            except BrokenPipeError:
+                break
+            time.sleep(0.05)
+        # closed while the key updates still came, not once they stopped
+        m = closed.search(d.log())
+    finally:
+        p.kill()
+        p.wait()
+    assert m and m.group(1) == "first-request-timeout", d.log()[-2000:]
 
 
 def test_tls_needs_its_files(tmp_path):
