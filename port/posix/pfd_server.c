@@ -308,10 +308,10 @@ static void *client_main(void *arg)
         /* in this order: see slot_view() */
         __atomic_store_n(&c->since_ns, pfd_now_ns(), SEQ);
         __atomic_store_n(&c->active, 1, SEQ);
+        /* still busy if a TLS thread holds its next request whole */
+        __atomic_store_n(&c->busy, rc >= 0 && c->tls && tls_held(c, &ignored) > 0, SEQ);
         if (rc < 0)
             break;
-        /* still busy if a TLS thread holds its next request whole */
-        __atomic_store_n(&c->busy, c->tls && tls_held(c, &ignored) > 0, SEQ);
     }
     if (pfd_stopping(d))
         why = "shutdown";
