@@ -62,7 +62,7 @@ step_asan() {
 # finding fails the step (--error-exitcode).
 step_lint() {
   local dirs=(lib/src tools/host tools/cli)
-  [[ -d port/posix ]] && dirs+=(port/posix)
+  [[ -d port ]] && dirs+=(port)
   cppcheck --std=c99 --enable=warning,performance,portability --inline-suppr \
     --quiet --error-exitcode=1 -UPF_CONFIG_HEADER -Ilib/include -Ilib/src \
     "${dirs[@]}"

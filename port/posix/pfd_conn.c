@@ -55,21 +55,22 @@ int pfd_conn_wait_until(pfd_conn *c, int ms, int64_t deadline_ns)
     return wait_fd(c->fd, POLLIN, ms, deadline_ns);
 }
 
-/* One read or write attempt. @return bytes moved (> 0), 0 to wait for
- * *events, or PFD_CONN_CLOSED. */
-static long io_once(pfd_conn *c, void *buf, size_t n, int writing, short *events)
+/* One write attempt. @return bytes written (> 0), 0 to wait for *events,
+ * or PFD_CONN_CLOSED. (Reads go through pfd_server.c's take_unit(): whole
+ * frames on plain TCP, whole records given to the TLS session.) */
+static long write_once(pfd_conn *c, const void *buf, size_t n, short *events)
 {
     if (c->ssl == NULL) {
-        ssize_t k = writing ? send(c->fd, buf, n, MSG_NOSIGNAL) : recv(c->fd, buf, n, 0);
+        ssize_t k = send(c->fd, buf, n, MSG_NOSIGNAL);
         if (k > 0)
             return (long)k;
         if (k < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) {
-            *events = writing ? POLLOUT : POLLIN;
+            *events = POLLOUT;
             return 0;
         }
-        return PFD_CONN_CLOSED; /* 0: the peer closed */
+        return PFD_CONN_CLOSED;
     } else {
-        int k = writing ? SSL_write(c->ssl, buf, (int)n) : SSL_read(c->ssl, buf, (int)n);
+        int k = SSL_write(c->ssl, buf, (int)n);
         if (k > 0)
             return k;
         switch (SSL_get_error(c->ssl, k)) {
@@ -86,16 +87,43 @@ static long io_once(pfd_conn *c, void *buf, size_t n, int writing, short *events
     }
 }
 
-/* Move all @p n bytes: each wait at most @p gap_ms, and none past
- * @p deadline_ns (0: none). */
-static int transfer(pfd_conn *c, void *buf, size_t n, int writing, int gap_ms,
-                    int64_t deadline_ns)
+int pfd_conn_records_only(pfd_conn *c)
 {
-    unsigned char *p = (unsigned char *)buf;
+    BIO *b = BIO_new(BIO_s_mem());
+    if (b == NULL)
+        return PFD_CONN_CLOSED;
+    /* empty: "try again" (SSL_ERROR_WANT_READ), not the end of the stream */
+    BIO_set_mem_eof_return(b, -1);
+    /* frees the socket BIO's read reference; the write side keeps it */
+    SSL_set0_rbio(c->ssl, b);
+    return 0;
+}
+
+int pfd_conn_give(pfd_conn *c, const void *rec, size_t n)
+{
+    return BIO_write(SSL_get_rbio(c->ssl), rec, (int)n) == (int)n ? 0 : PFD_CONN_CLOSED;
+}
+
+long pfd_conn_take(pfd_conn *c, void *buf, size_t n)
+{
+    int k = SSL_read(c->ssl, buf, (int)n);
+    if (k > 0)
+        return k;
+    k = SSL_get_error(c->ssl, k);
+    ERR_clear_error();
+    if (k == SSL_ERROR_WANT_READ)
+        return 0;
+    return k == SSL_ERROR_ZERO_RETURN ? PFD_CONN_CLOSED : PFD_CONN_BAD;
+}
+
+int pfd_conn_write(pfd_conn *c, const void *buf, size_t n, int ms)
+{
+    const unsigned char *p = (const unsigned char *)buf;
+    const int64_t deadline_ns = pfd_now_ns() + (int64_t)ms * 1000000;
     while (n > 0) {
         short ev = 0;
         /* OpenSSL retries a write with the same buffer and length. */
-        long k = io_once(c, p, n, writing, &ev);
+        long k = write_once(c, p, n, &ev);
         int w;
         if (k < 0)
             return PFD_CONN_CLOSED;
@@ -104,23 +132,13 @@ static int transfer(pfd_conn *c, void *buf, size_t n, int writing, int gap_ms,
             n -= (size_t)k;
             continue;
         }
-        w = wait_fd(c->fd, ev, gap_ms, deadline_ns);
+        w = wait_fd(c->fd, ev, ms, deadline_ns);
         if (w < 0)
             return PFD_CONN_CLOSED;
         if (w == 0)
             return PFD_CONN_TIMEOUT;
     }
     return 0;
-}
-
-int pfd_conn_read(pfd_conn *c, void *buf, size_t n, int gap_ms, int64_t deadline_ns)
-{
-    return transfer(c, buf, n, 0, gap_ms, deadline_ns);
-}
-
-int pfd_conn_write(pfd_conn *c, const void *buf, size_t n, int ms)
-{
-    return transfer(c, (void *)buf, n, 1, ms, pfd_now_ns() + (int64_t)ms * 1000000);
 }
 
 int pfd_conn_handshake(pfd_conn *c, int64_t deadline_ns, char *why, size_t n)

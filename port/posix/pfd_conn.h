@@ -33,10 +33,25 @@ int pfd_conn_wait(pfd_conn *c, int ms);
  *  wait, if it has passed). */
 int pfd_conn_wait_until(pfd_conn *c, int ms, int64_t deadline_ns);
 
-/** Read exactly @p n bytes: each further byte within @p gap_ms, the last
- *  by @p deadline_ns (0: none). @return 0, PFD_CONN_CLOSED or
- *  PFD_CONN_TIMEOUT. */
-int pfd_conn_read(pfd_conn *c, void *buf, size_t n, int gap_ms, int64_t deadline_ns);
+/** TLS, once the handshake is done: from now on the session decrypts only
+ *  the records given to it (pfd_conn_give()) and never reads the socket
+ *  itself, so that it never holds part of a record: the client thread
+ *  takes a record from the socket only once all of it has come, and what
+ *  waits in the socket then starts at a record (pfd_server.c, unread()).
+ *  @return 0 or PFD_CONN_CLOSED (out of memory). */
+int pfd_conn_records_only(pfd_conn *c);
+
+/** Give the session one whole record of @p n bytes. @return 0 or
+ *  PFD_CONN_CLOSED (out of memory). */
+int pfd_conn_give(pfd_conn *c, const void *rec, size_t n);
+
+/** A record that does not decrypt, or is not allowed here. */
+#define PFD_CONN_BAD (-3)
+
+/** Up to @p n decrypted bytes of the records given. @return a count, 0
+ *  when nothing more has been given, PFD_CONN_CLOSED (the peer's
+ *  close_notify) or PFD_CONN_BAD. */
+long pfd_conn_take(pfd_conn *c, void *buf, size_t n);
 
 /** Write all @p n bytes within @p ms. @return 0, PFD_CONN_CLOSED or
  *  PFD_CONN_TIMEOUT. */

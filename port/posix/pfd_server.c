@@ -40,7 +40,12 @@ typedef struct pfd_client {
     /* what the slot policy reads (atomic) */
     int64_t since_ns; /* last completed request, or accepted */
     int active, heard, busy, evicted;
-    int frames;       /* frames its thread has taken (atomic, see unread()) */
+    int frames;       /* frames (TLS: records) its thread has taken (atomic,
+                         see unread()) */
+    int tls_up;       /* TLS: handshake done, client authenticated (atomic) */
+    /* TLS, the client thread's own: decrypted bytes of the next frame(s) */
+    uint8_t held[PFD_ADU_MAX];
+    int n_held;
 } pfd_client;
 
 static pfd_ratelimit rl_refused = PFD_RATELIMIT("client-refused");
@@ -75,9 +80,11 @@ static int tls_start(pfd_client *c, pfd_session *s, char *role, size_t n, const 
     rc = pfd_conn_handshake(&c->conn, deadline_of(c), reason, sizeof reason);
     if (rc == 0) {
         s->who.access = pfd_tls_peer(d->server.tls, c->conn.ssl, role, n);
-        if (s->who.access >= 0)
+        if (s->who.access >= 0 && pfd_conn_records_only(&c->conn) == 0) {
+            __atomic_store_n(&c->tls_up, 1, SEQ);
             return 0;
-        snprintf(reason, sizeof reason, "no role");
+        }
+        snprintf(reason, sizeof reason, s->who.access >= 0 ? "out of memory" : "no role");
     }
     if (!pfd_stopping(d) && pfd_log_ratelimit(&rl_tls))
         pfd_log(PFD_LOG_WARN, "tls-refused", "peer=%s reason=\"%s\"", c->peer, reason);
@@ -85,44 +92,60 @@ static int tls_start(pfd_client *c, pfd_session *s, char *role, size_t n, const 
     return -1;
 }
 
-/* Peek at the MBAP frame first in plain TCP socket @p fd, into @p buf
- * (PFD_ADU_MAX bytes). @return its length (0: the header has not all
- * come; -1: not a frame), with the bytes waiting in *k (0: none, -2: the
- * peer closed or the socket failed). */
-static int peek_frame(int fd, uint8_t *buf, ssize_t *k)
+/* Peek at the start of what waits in socket @p fd: up to @p n bytes into
+ * @p buf. @return the bytes waiting (at least those peeked), 0 none, -2
+ * the peer closed or the socket failed. */
+static ssize_t peek_fd(int fd, uint8_t *buf, size_t n)
 {
-    *k = recv(fd, buf, PFD_ADU_MAX, MSG_PEEK | MSG_DONTWAIT);
-    if (*k < 0)
-        *k = errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR ? 0 : -2;
-    else if (*k == 0)
-        *k = -2;
-    return *k >= PFD_MBAP_LEN ? pfd_mbap_length(buf) : 0;
+    int avail = 0;
+    ssize_t k = recv(fd, buf, n, MSG_PEEK | MSG_DONTWAIT);
+    if (k < 0)
+        return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR ? 0 : -2;
+    if (k == 0)
+        return -2;
+    if (ioctl(fd, FIONREAD, &avail) == 0 && avail > k)
+        k = avail;
+    return k;
 }
 
-/* Plain TCP: read one request ADU into @p req, only once all of it is in
- * the socket, and say busy (and count the frame) before taking it. The
- * thread so never holds part of a frame, and a request that has come is
- * always either in the socket, whole, or being served: what unread()
- * needs. SO_RCVLOWAT makes poll() wait for the bytes the frame lacks
- * rather than wake at each; a wait of byte_timeout_ms that brings no byte
- * ends the connection, and the whole request has until the deadline.
+/* The unit first in socket @p fd: an MBAP frame (plain TCP), or a TLS
+ * record (@p tls), its header into @p h. @return its whole length (0: the
+ * header has not all come; -1: not a frame, or no record TLS allows),
+ * with the bytes waiting in *k (as peek_fd()). */
+static int peek_unit(int tls, int fd, uint8_t *h, ssize_t *k)
+{
+    const ssize_t hl = tls ? PFD_TLS_HDR : PFD_MBAP_LEN;
+    *k = peek_fd(fd, h, (size_t)hl);
+    if (*k < hl)
+        return 0;
+    return tls ? pfd_tls_record_length(h) : pfd_mbap_length(h);
+}
+
+/* Take the unit first in the socket (peek_unit(): a plain client's
+ * request, a TLS client's record) into @p buf, only once all of it is in
+ * the socket, and say busy (and count the unit) before taking it. The
+ * thread so never holds part of a unit, and what has come is always
+ * either in the socket, whole units from the first byte, or taken: what
+ * unread() needs. SO_RCVLOWAT makes poll() wait for the bytes the unit
+ * lacks rather than wake at each; a wait of byte_timeout_ms that brings
+ * no byte ends the connection, and the whole unit has until the deadline.
  * @return its length, or a PFD_CONN_* code with @p why set. */
-static int read_plain(pfd_client *c, uint8_t *req, const char **why)
+static int take_unit(pfd_client *c, uint8_t *buf, const char **why)
 {
     const int fd = c->conn.fd, one = 1;
     ssize_t k, had = -1;
     int len, lowat, ready = 0;
 
     for (;;) {
-        len = peek_frame(fd, req, &k);
+        len = peek_unit(c->tls, fd, buf, &k);
         if (len < 0 || k < 0) {
-            *why = len < 0 ? "bad-frame" : "peer-closed";
+            *why = len < 0 ? (c->tls ? "bad-record" : "bad-frame") : "peer-closed";
             return PFD_CONN_CLOSED;
         }
         if (len > 0 && k >= len) {
             __atomic_store_n(&c->busy, 1, SEQ);
             __atomic_add_fetch(&c->frames, 1, SEQ);
-            if (recv(fd, req, (size_t)len, MSG_DONTWAIT) == len)
+            if (recv(fd, buf, (size_t)len, MSG_DONTWAIT) == len)
                 return len;
             *why = "peer-closed";
             return PFD_CONN_CLOSED;
@@ -132,7 +155,7 @@ static int read_plain(pfd_client *c, uint8_t *req, const char **why)
             return ready ? PFD_CONN_CLOSED : PFD_CONN_TIMEOUT;
         }
         had = k;
-        lowat = len > 0 ? len : PFD_MBAP_LEN;
+        lowat = len > 0 ? len : c->tls ? PFD_TLS_HDR : PFD_MBAP_LEN;
         setsockopt(fd, SOL_SOCKET, SO_RCVLOWAT, &lowat, sizeof lowat);
         ready = pfd_conn_wait_until(&c->conn, c->d->set.byte_timeout_ms, deadline_of(c));
         setsockopt(fd, SOL_SOCKET, SO_RCVLOWAT, &one, sizeof one);
@@ -143,31 +166,82 @@ static int read_plain(pfd_client *c, uint8_t *req, const char **why)
     }
 }
 
-/* Read one request ADU into @p req, and say busy. @return its length, or
- * a PFD_CONN_* code with @p why set. */
-static int read_request(pfd_client *c, uint8_t *req, const char **why)
+/* TLS: decrypt what the session was given into c->held, up to the end of
+ * the frame it starts with (a record may hold part of a frame, or more
+ * than one). @return that frame's length once all of it is held, 0 if not
+ * yet, or PFD_CONN_CLOSED with @p why. */
+static int tls_held(pfd_client *c, const char **why)
 {
-    const int gap = c->d->set.byte_timeout_ms;
-    int rc, len;
-
-    if (!c->tls)
-        return read_plain(c, req, why);
-    rc = pfd_conn_read(&c->conn, req, PFD_MBAP_LEN, gap, deadline_of(c));
-    if (rc == 0) {
-        len = pfd_mbap_length(req);
-        if (len < 0) {
+    for (;;) {
+        int need = c->n_held < PFD_MBAP_LEN ? PFD_MBAP_LEN : pfd_mbap_length(c->held);
+        long k;
+        if (need < 0) {
             *why = "bad-frame";
             return PFD_CONN_CLOSED;
         }
-        rc = pfd_conn_read(&c->conn, req + PFD_MBAP_LEN, (size_t)(len - PFD_MBAP_LEN), gap,
-                           deadline_of(c));
-        if (rc == 0) {
+        if (c->n_held >= PFD_MBAP_LEN && c->n_held >= need)
+            return need;
+        k = pfd_conn_take(&c->conn, c->held + c->n_held, (size_t)(need - c->n_held));
+        if (k < 0) {
+            *why = k == PFD_CONN_BAD ? "bad-record" : "peer-closed";
+            return PFD_CONN_CLOSED;
+        }
+        if (k == 0)
+            return 0;
+        c->n_held += (int)k;
+    }
+}
+
+/* TLS: read one request ADU into @p req, and say busy. Records are taken
+ * whole (take_unit()), so the session never holds part of one; the
+ * thread says busy whenever it holds a whole frame, so that a request
+ * that has come is always whole records in the socket, or held and busy.
+ * A record that brings no byte of a frame (an empty one, a key update)
+ * after the first-request or idle deadline ends the connection: a client
+ * that sends such records without end must not keep its slot past them,
+ * while one whose thread comes late still has every byte of its request
+ * read. Such a record before any byte of a request is no request begun:
+ * the thread goes back to its idle wait (byte_timeout_ms is for the rest
+ * of a request). @return its length, 0 for no request yet, or a
+ * PFD_CONN_* code with @p why set. */
+static int read_tls(pfd_client *c, uint8_t *req, const char **why)
+{
+    uint8_t rec[PFD_TLS_HDR + PFD_TLS_BODY_MAX];
+    int len, before = -1; /* bytes held before the last record given */
+
+    for (;;) {
+        int64_t deadline;
+        len = tls_held(c, why);
+        if (len > 0) {
             __atomic_store_n(&c->busy, 1, SEQ);
+            memcpy(req, c->held, (size_t)len);
+            c->n_held -= len;
+            memmove(c->held, c->held + len, (size_t)c->n_held);
             return len;
         }
+        if (len < 0)
+            return len;
+        __atomic_store_n(&c->busy, 0, SEQ); /* holds no whole frame */
+        if (c->n_held == before) { /* the last record brought nothing */
+            deadline = deadline_of(c);
+            if (deadline > 0 && pfd_now_ns() >= deadline) {
+                *why = __atomic_load_n(&c->active, SEQ) ? "idle-timeout"
+                                                         : "first-request-timeout";
+                return PFD_CONN_TIMEOUT;
+            }
+            /* no request begun: back to the idle wait, not the byte gap */
+            if (c->n_held == 0)
+                return 0;
+        }
+        len = take_unit(c, rec, why);
+        if (len < 0)
+            return len;
+        if (pfd_conn_give(&c->conn, rec, (size_t)len) != 0) {
+            *why = "out-of-memory";
+            return PFD_CONN_CLOSED;
+        }
+        before = c->n_held;
     }
-    *why = rc == PFD_CONN_TIMEOUT ? "byte-timeout" : "peer-closed";
-    return rc;
 }
 
 static void *client_main(void *arg)
@@ -177,7 +251,7 @@ static void *client_main(void *arg)
     pfd_session *s = calloc(1, sizeof *s);
     uint8_t req[PFD_ADU_MAX], rsp[PFD_ADU_MAX];
     char role[PFD_ROLE_NAME_MAX] = "plain";
-    const char *why = "closed";
+    const char *why = "closed", *ignored;
 
     if (s == NULL) {
         why = "out-of-memory";
@@ -196,7 +270,8 @@ static void *client_main(void *arg)
         int64_t deadline;
         int rc, len;
 
-        rc = pfd_conn_wait(&c->conn, POLL_MS);
+        /* a TLS thread may hold the start of its next request already */
+        rc = c->n_held > 0 ? 1 : pfd_conn_wait(&c->conn, POLL_MS);
         if (rc > 0)
             __atomic_store_n(&c->heard, 1, __ATOMIC_RELEASE);
         if (__atomic_load_n(&c->evicted, __ATOMIC_ACQUIRE)) {
@@ -218,9 +293,11 @@ static void *client_main(void *arg)
             }
             continue;
         }
-        len = read_request(c, req, &why);
+        len = c->tls ? read_tls(c, req, &why) : take_unit(c, req, &why);
         if (len < 0)
             break;
+        if (len == 0)
+            continue;
         rc = pfd_request(d, s, req, len, rsp);
         if (rc < 0) {
             why = pfd_stopping(d) ? "shutdown" : "bad-frame";
@@ -231,7 +308,8 @@ static void *client_main(void *arg)
         /* in this order: see slot_view() */
         __atomic_store_n(&c->since_ns, pfd_now_ns(), SEQ);
         __atomic_store_n(&c->active, 1, SEQ);
-        __atomic_store_n(&c->busy, 0, SEQ);
+        /* still busy if a TLS thread holds its next request whole */
+        __atomic_store_n(&c->busy, rc >= 0 && c->tls && tls_held(c, &ignored) > 0, SEQ);
         if (rc < 0)
             break;
     }
@@ -294,27 +372,39 @@ static void evict(pfd_client *v, const char *for_peer, const char *why)
  * thread has not got round to it (under load, or before it first runs):
  * *heard if any byte, *pending if a whole request (pfd_slots.h: such a
  * client is late only by the daemon's fault). Its thread never holds part
- * of a frame (read_plain()), so the first bytes waiting are a frame's
- * start; it counts each frame, after saying busy, before it takes it: a
- * count that moved during the look means the look may have seen the
- * socket after the thread took from it, so the look judges nothing (the
- * slot's busy, loaded after, tells). Plain TCP only: TLS bytes are
- * records, not frames, and a TLS newcomer's first wait is its handshake,
- * which first_request_timeout_ms bounds. */
+ * of a unit (take_unit()), so the first bytes waiting are a unit's start:
+ * on plain TCP a frame, whole or not; on TLS, past the handshake, a
+ * record. A whole application-data record waiting is judged a request:
+ * it may hold only part of one, or none (TLS 1.3 gives alerts and key
+ * updates the same outer type), but only an authenticated client gets
+ * that far, a record that does not decrypt or holds a bad frame ends the
+ * connection, and read_tls() bounds records that bring nothing by the
+ * deadlines. The thread counts each unit, after saying busy, before it
+ * takes it: a count that moved during the look means the look may have
+ * seen the socket after the thread took from it. On plain TCP the look
+ * then judges nothing (busy, loaded after, tells: the request is being
+ * served); on TLS the thread may have taken a record that did not
+ * complete its request, with the rest whole behind it, so the slot counts
+ * as pending for this look: its thread is running, not late. During the
+ * handshake nothing is pending: anyone can send a ClientHello, and
+ * first_request_timeout_ms bounds that wait. */
 static void unread(const pfd_client *c, int *heard, int *pending)
 {
-    uint8_t buf[PFD_ADU_MAX];
+    uint8_t h[PFD_MBAP_LEN]; /* a record's header is shorter */
     ssize_t k;
-    int frames, len;
+    int frames, len, moved;
 
-    *pending = 0;
-    if (c->tls)
-        return;
     frames = __atomic_load_n(&c->frames, SEQ);
-    len = peek_frame(c->conn.fd, buf, &k);
+    len = peek_unit(c->tls, c->conn.fd, h, &k);
+    moved = __atomic_load_n(&c->frames, SEQ) != frames;
     if (k > 0)
         *heard = 1;
-    *pending = len > 0 && k >= len && __atomic_load_n(&c->frames, SEQ) == frames;
+    if (!c->tls)
+        *pending = !moved && len > 0 && k >= len;
+    else if (__atomic_load_n(&c->tls_up, SEQ)) /* loaded after the look */
+        *pending = moved || (len > 0 && k >= len && h[0] == PFD_TLS_APP_DATA);
+    else
+        *pending = 0;
 }
 
 /* Whether client @p id holds a lock: a holder is never evicted, or a

@@ -163,3 +163,9 @@ int pfd_tls_peer(pfd_tls *t, SSL *ssl, char *role, size_t n)
     X509_free(cert);
     return access;
 }
+
+int pfd_tls_record_length(const unsigned char *h)
+{
+    int len = h[3] << 8 | h[4];
+    return len > PFD_TLS_BODY_MAX ? -1 : PFD_TLS_HDR + len;
+}

@@ -37,4 +37,18 @@ struct ssl_st *pfd_tls_session(pfd_tls *t, int fd);
  *  which checked the role). */
 int pfd_tls_peer(pfd_tls *t, struct ssl_st *ssl, char *role, size_t n);
 
+/** A TLS record's header: content type, version, length (RFC 8446 5.1,
+ *  RFC 5246 6.2.1). */
+#define PFD_TLS_HDR 5
+/** The longest record body TLS allows: 2^14 bytes of plaintext and 2048
+ *  of expansion (RFC 5246 6.2.3; TLS 1.3 allows 256). */
+#define PFD_TLS_BODY_MAX (16384 + 2048)
+/** The content type application_data; in TLS 1.3 every record after the
+ *  handshake carries it outside (alerts and key updates too). */
+#define PFD_TLS_APP_DATA 0x17
+
+/** The whole length (header included) of the record whose header is
+ *  @p h (PFD_TLS_HDR bytes), or -1 if TLS allows no such record. */
+int pfd_tls_record_length(const unsigned char *h);
+
 #endif

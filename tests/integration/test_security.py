@@ -19,6 +19,7 @@ import time
 import pytest
 
 from pfd import DAEMON, HANG_S, REG, SLOW, Daemon, Raw, Regs, exception_code, simulate, wait_until
+from test_tls import client_ctx, pki, start as start_tls  # noqa: F401 (pki: a fixture)
 
 
 def fc03(addr, count):
@@ -210,11 +211,24 @@ def closed_reason(d, port, seconds):
         time.sleep(0.01)
 
 
-def waiting_request_round(d, r, split):
-    """One round of test_waiting_request_keeps_its_slot. @return whether
-    the client was answered, and its port."""
+# The first bytes of a TLS ClientHello: a handshake record's header that
+# announces 200 bytes, which never come (a half-open TLS socket).
+HALF_HELLO = bytes([0x16, 0x03, 0x01, 0x00, 0xC8])
+
+
+def waiting_request_round(d, r, split, tls=None):
+    """One round of test_waiting_request_keeps_its_slot; @p tls: the
+    client's SSLContext, for the TLS listener. @return whether the client
+    was answered, and its port."""
     req = adu(r + 1, 1, fc03(0, 2))
-    legit = connect_from("127.0.0.1", d.port)
+    legit = connect_from("127.0.0.1", d.tls_port if tls else d.port)
+    if tls:
+        # The handshake, with the daemon running; TLS 1.3's client is done
+        # before the server has checked its Finished, so wait for the
+        # client's thread to be past the handshake.
+        legit = tls.wrap_socket(legit)
+        me = rf"msg=client-connected peer=127\.0\.0\.1:{legit.getsockname()[1]} "
+        wait_until(lambda: re.search(me, d.log()), 10, "the TLS handshake")
     if split:  # the header now, and time for the client's thread to take it
         legit.sendall(req[:7])
         time.sleep(0.2)
@@ -225,9 +239,10 @@ def waiting_request_round(d, r, split):
             legit.sendall(req[7:] if split else req)
         except OSError:
             pass  # closed already: the recv below says so
-        hostile = [connect_from(f"127.0.3.{k + 1}", d.port) for k in range(4)]
+        hostile = [connect_from(f"127.0.3.{k + 1}", d.tls_port if tls else d.port)
+                   for k in range(4)]
         for s in hostile:
-            s.sendall(adu(0, 1, fc03(0, 2))[:5])
+            s.sendall(HALF_HELLO if tls else adu(0, 1, fc03(0, 2))[:5])
     finally:
         os.kill(d.proc.pid, signal.SIGCONT)
     try:
@@ -249,8 +264,9 @@ def waiting_request_round(d, r, split):
     return answered, port
 
 
-@pytest.mark.parametrize("split", [False, True], ids=["whole", "split"])
-def test_waiting_request_keeps_its_slot(daemon, split):
+@pytest.mark.parametrize("tls,split", [(False, False), (False, True), (True, False), (True, True)],
+                         ids=["whole", "split", "tls-whole", "tls-split"])
+def test_waiting_request_keeps_its_slot(daemon, request, tls, split):
     """A client whose whole request waits unread, because the daemon's
     threads have not run yet, keeps its slot against sockets that sent
     half a header. Under load 12-14 test_1000_hostile_sockets lost its
@@ -265,14 +281,24 @@ def test_waiting_request_keeps_its_slot(daemon, split):
     the fix the client lost 30 of 40 rounds (whole; 5 runs, load 8.5); one
     round of 8 lost (accepted, then closed unanswered) fails the test. A
     round in which the client was refused instead (its previous
-    connection's slot not yet reaped) is tried again, at most 5 times."""
-    d = daemon("--max-clients", "1", "--first-request-timeout-ms", "60000",
-               "--byte-timeout-ms", "10000", "--verbose")
+    connection's slot not yet reaped) is tried again, at most 5 times.
+    With TLS the client's handshake is done before the daemon stops (each
+    record of the request is one sendall), and the hostile sockets send
+    the start of a ClientHello: without the TLS shield the client lost
+    every round."""
+    args = ("--max-clients", "1", "--first-request-timeout-ms", "60000",
+            "--byte-timeout-ms", "10000", "--verbose")
+    ctx = None
+    if tls:
+        d = start_tls(daemon, request.getfixturevalue("pki"), *args)
+        ctx = client_ctx(request.getfixturevalue("pki"), "viewer")
+    else:
+        d = daemon(*args)
     pin_to_one_cpu(d.proc.pid)
     lost, refused = [], 0
     for r in range(8):
         for _ in range(5):
-            answered, port = waiting_request_round(d, r, split)
+            answered, port = waiting_request_round(d, r, split, ctx)
             # an answered client's slot must be free again before the next round
             # A client closed unanswered had been accepted: it lost its slot
             # (reason=evicted; before the fix, send-failed for one evicted

@@ -8,10 +8,12 @@ client is pymodbus's TLS client, or Python's ssl module where a handshake
 is meant to fail."""
 
 import datetime
+import os
 import re
 import socket
 import ssl
 import struct
+import subprocess
 import time
 
 import pytest
@@ -225,6 +227,105 @@ def test_plain_tcp_next_to_tls(daemon, pki):
                                                               device_id=1)) is None
     d2 = start(daemon, pki, "--plain-access", "none")
     assert "msg=listening addr=none" in d2.log()
+
+
+# A request as raw MBAP bytes: FC04, two input registers from 0, unit 1;
+# its answer is 13 bytes (MBAP 7, function, byte count, 4 data).
+READ_IR = struct.pack(">HHHBBHH", 1, 0, 6, 1, 4, 0, 2)
+READ_IR_ANSWER = 13
+
+
+def tls_socket(d, pki):
+    raw = socket.create_connection(("127.0.0.1", d.tls_port), timeout=5 * SLOW)
+    return client_ctx(pki, "viewer").wrap_socket(raw)
+
+
+def recv_exactly(s, n):
+    got = b""
+    while len(got) < n:
+        part = s.recv(n - len(got))
+        assert part, f"closed after {len(got)} of {n} bytes"
+        got += part
+    return got
+
+
+def test_requests_across_records(daemon, pki):
+    """The daemon takes TLS records whole and keeps the decrypted bytes
+    of the next request: two requests in one record are both answered, and
+    one split over three records is answered once it is whole."""
+    d = start(daemon, pki)
+    s = tls_socket(d, pki)
+    s.sendall(READ_IR + READ_IR)
+    answers = recv_exactly(s, 2 * READ_IR_ANSWER)
+    assert answers[:2] == READ_IR[:2] and answers[READ_IR_ANSWER:][:2] == READ_IR[:2]
+    for part in (READ_IR[:3], READ_IR[3:9], READ_IR[9:]):
+        s.sendall(part)
+        time.sleep(0.05)
+    assert recv_exactly(s, READ_IR_ANSWER)[:2] == READ_IR[:2]
+    s.close()
+
+
+@pytest.mark.parametrize("what,reason", [("bad-frame", "bad-frame"),
+                                         ("junk-record", "bad-record"),
+                                         ("huge-record", "bad-record")])
+def test_junk_after_the_handshake_ends_the_connection(daemon, pki, what, reason):
+    """A whole application-data record waiting keeps a TLS connection from
+    eviction (docs/pneufracd.md, "The shield on TLS connections"), so one
+    that does not decrypt, one longer than TLS allows, and one that holds
+    a bad MBAP header (protocol id 7) must each end the connection, as a
+    bad plain frame does."""
+    d = start(daemon, pki, "--verbose")
+    s = tls_socket(d, pki)
+    port = s.getsockname()[1]
+    if what == "bad-frame":
+        s.sendall(READ_IR[:2] + b"\x00\x07" + READ_IR[4:])
+    else:  # on the wire, under the TLS layer
+        raw = socket.socket(fileno=os.dup(s.fileno()))
+        n = 40 if what == "junk-record" else 16384 + 2048 + 1
+        raw.sendall(bytes([0x17, 3, 3, n >> 8, n & 0xFF]) + (os.urandom(n) if n == 40 else b""))
+        raw.close()
+    pat = rf"msg=client-closed peer=127\.0\.0\.1:{port} reason=(\S+)"
+    deadline = time.monotonic() + 10 * SLOW
+    while not re.search(pat, d.log()):
+        assert time.monotonic() < deadline, d.log()[-2000:]
+        time.sleep(0.02)
+    assert re.search(pat, d.log()).group(1) == reason
+    s.close()
+
+
+def test_records_without_a_request_end_at_the_deadline(daemon, pki):
+    """TLS 1.3 key updates are records that bring no byte of a request
+    (as empty records are): each keeps a whole record waiting, and so the
+    slot, until the client's thread takes it. A client that sends them
+    without end must still be closed at its first-request deadline
+    (openssl s_client sends one for each input line "k")."""
+    first_ms = int(1000 * SLOW)
+    d = start(daemon, pki, "--verbose", "--first-request-timeout-ms", str(first_ms))
+    p = subprocess.Popen(["openssl", "s_client", "-connect", f"127.0.0.1:{d.tls_port}",
+                          "-CAfile", pki["ca"], "-cert", pki["viewer"][0],
+                          "-key", pki["viewer"][1], "-tls1_3", "-no_ign_eof"],
+                         stdin=subprocess.PIPE, stdout=subprocess.DEVNULL,
+                         stderr=subprocess.DEVNULL)
+    closed = re.compile(r"msg=client-closed peer=127\.0\.0\.1:\d+ reason=(\S+)")
+    try:
+        deadline = time.monotonic() + 10 * SLOW
+        while "msg=client-connected" not in d.log():
+            assert time.monotonic() < deadline, d.log()[-2000:]
+            time.sleep(0.02)
+        end = time.monotonic() + 5 * first_ms / 1000
+        while not closed.search(d.log()) and time.monotonic() < end:
+            try:
+                p.stdin.write(b"k\n")
+                p.stdin.flush()
+            except BrokenPipeError:
+                break
+            time.sleep(0.05)
+        # closed while the key updates still came, not once they stopped
+        m = closed.search(d.log())
+    finally:
+        p.kill()
+        p.wait()
+    assert m and m.group(1) == "first-request-timeout", d.log()[-2000:]
 
 
 def test_tls_needs_its_files(tmp_path):

@@ -19,6 +19,7 @@
 #include "pfd_settings.h"
 #include "pfd_slots.h"
 #include "pfd_stage.h"
+#include "pfd_tls.h"
 
 #define MS 1000000LL
 
@@ -123,6 +124,24 @@ static void slots_pending_request(void **state)
     v[0].pending = 0;
     c = pfd_slots_choose(v, 8, 1, 16, 1, 10000 * MS, 2000 * MS);
     assert_int_equal(c.victim, 0);
+}
+
+/* The record header the TLS shield reads (pfd_server.c, unread()): the
+ * whole length from the header's last two bytes, and none beyond what TLS
+ * allows (a record the session would refuse is never whole). */
+static void tls_record_header(void **state)
+{
+    const unsigned char app[PFD_TLS_HDR] = {PFD_TLS_APP_DATA, 3, 3, 0x00, 0x20};
+    const unsigned char empty[PFD_TLS_HDR] = {PFD_TLS_APP_DATA, 3, 3, 0, 0};
+    const unsigned char most[PFD_TLS_HDR] = {PFD_TLS_APP_DATA, 3, 3, 0x48, 0x00};
+    const unsigned char over[PFD_TLS_HDR] = {PFD_TLS_APP_DATA, 3, 3, 0x48, 0x01};
+    const unsigned char junk[PFD_TLS_HDR] = {0, 0, 0, 0xFF, 0xFF};
+    (void)state;
+    assert_int_equal(pfd_tls_record_length(app), 5 + 32);
+    assert_int_equal(pfd_tls_record_length(empty), 5);
+    assert_int_equal(pfd_tls_record_length(most), 5 + 16384 + 2048);
+    assert_int_equal(pfd_tls_record_length(over), -1);
+    assert_int_equal(pfd_tls_record_length(junk), -1);
 }
 
 static void slots_per_address(void **state)
@@ -293,6 +312,7 @@ int main(void)
         cmocka_unit_test(slots_full_table_order),
         cmocka_unit_test(slots_per_address),
         cmocka_unit_test(slots_pending_request),
+        cmocka_unit_test(tls_record_header),
         cmocka_unit_test(roles),
         cmocka_unit_test(access_per_register),
         cmocka_unit_test(staging),
