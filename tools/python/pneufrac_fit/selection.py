@@ -21,7 +21,8 @@ Three mechanisms, each used everywhere it applies:
    the round's effects were refitted from a better optimum of the model so
    far that the round found (from_better), the winner refined from its own
    optimum (refine_winner), and every explanation of the round refitted
-   from the winner's optimum (refit_rivals); pairs when a round
+   from the winner's optimum (refit_rivals), a winner that this promotes
+   refined as the first was (refine_promoted); pairs when a round
    adds nothing and the model is inadequate (pairs); a backward check of
    every named effect against the final model without it (backward), and
    rounds again on top of the model it leaves when it drops one. The
@@ -40,16 +41,20 @@ import numpy as np
 from . import baseline, candidates, fit, guards, lib, model, search, signals
 
 
-def reference(pb, effects, fr, prior):
+def reference(pb, effects, fr, prior, more=()):
     """The model `effects` refitted with pb's freedoms, from the extended
-    fit's optimum (its other values) and from the prior fit of `effects`."""
+    fit's optimum (its other values), from the prior fit of `effects`, and
+    from each further fit of `effects` in `more` (a better optimum of the
+    model so far that the round found: from_better)."""
     effects = model.canonical(effects)
     dead = fr.dead if "dead_time" in effects else 0
-    a = dict(fr.values)
-    b = {**prior.groups, **prior.values}
-    if "saturation" in effects and "K" not in b:
-        b["K"] = fr.values["K"]
-    r = search.refine(pb, effects, [("from extended", a), ("prior", b)], dead=dead)
+    starts = [("from extended", dict(fr.values))]
+    for label, p in [("prior", prior)] + [("better prior", m) for m in more]:
+        b = {**p.groups, **p.values}
+        if "saturation" in effects and "K" not in b:
+            b["K"] = fr.values["K"]
+        starts.append((label, b))
+    r = search.refine(pb, effects, starts, dead=dead)
     # the delay free as in the extended fit (candidates.fit_extended)
     return candidates.profile_dead(pb, effects, r) if dead else r
 
@@ -89,7 +94,8 @@ def _problem_of(pb, current, effect: str):
     return problem_for(candidates.for_model(pb, current), (effect,))
 
 
-def try_effect(pb, current, effect: str, seed: int, hint: dict | None = None, fitted=None):
+def try_effect(pb, current, effect: str, seed: int, hint: dict | None = None, fitted=None,
+               better=None):
     """Fit current + effect, its reference, and the guards. Groups the
     baseline held because they were entangled with others, or because they
     sat at a bound, are freed again (the missing effect may be what
@@ -98,10 +104,13 @@ def try_effect(pb, current, effect: str, seed: int, hint: dict | None = None, fi
     its own starts, or from a rival's optimum: rival_fit). A fit the
     library refuses on the way (a parameter set it cannot design, reached
     by a search step or a start) fails this test, with that reason; it
-    does not end the diagnosis."""
+    does not end the diagnosis. better: a better optimum of the model so
+    far than `current` (from_better): the reference and its confirmation
+    are searched from it too, as the effect's fit was."""
     t0 = time.monotonic()
+    more = () if better is None else (better,)
     try:
-        return _try_effect(pb, current, effect, seed, hint, fitted, t0)
+        return _try_effect(pb, current, effect, seed, hint, fitted, t0, more)
     except lib.ModelError as ex:
         t = guards.Test(effect, current, current)
         t.reasons.append(f"the library refused a fit of it ({ex})")
@@ -110,7 +119,7 @@ def try_effect(pb, current, effect: str, seed: int, hint: dict | None = None, fi
         return t
 
 
-def _try_effect(pb, current, effect, seed, hint, fitted, t0):
+def _try_effect(pb, current, effect, seed, hint, fitted, t0, more=()):
     rng = np.random.default_rng(seed)
     pbx = _problem_of(pb, current, effect)
     pb = candidates.for_model(pb, current)   # the reference's problem, for the guards
@@ -119,13 +128,13 @@ def _try_effect(pb, current, effect, seed, hint, fitted, t0):
     pbx = candidates.for_model(pbx, fr)      # saturation where the fit placed it
     if fr.cost < fit.start_cost(pbx, current.effects, {**current.groups, **current.values},
                                 current.dead) * (1 - 1e-6):
-        ref = reference(pbx, current.effects, fr, current)
+        ref = reference(pbx, current.effects, fr, current, more)
     else:       # no better than the model without it: no reference needed
         ref = current
     fit.uncertainty(pbx, fr)
     t = guards.test(pbx, effect, fr, ref, pb if ref is current else pbx, current)
     if t.passes:
-        t = confirm(pbx, effect, fr, t, current, rng)
+        t = confirm(pbx, effect, fr, t, current, rng, more)
     t.pb = pbx
     t.elapsed = time.monotonic() - t0
     return t
@@ -170,7 +179,7 @@ def from_model(pb, current, effect, fr, src, own, label):
     return candidates.profile_dead(pb, effects, r) if dead else r
 
 
-def confirm(pb, effect, fr, t, current, rng):
+def confirm(pb, effect, fr, t, current, rng, more=()):
     """Before an effect passes, its reference gets the baseline's whole
     search (the paper's values, fresh starts, the extended fit's groups,
     successive halving, a longer refinement): a gain that a better optimum
@@ -180,6 +189,7 @@ def confirm(pb, effect, fr, t, current, rng):
     gain that only leaving the corner brings is the reference's too."""
     effects = model.canonical(current.effects)
     st = confirm_starts(fr, t.ref, current)
+    st += [("better prior", {**m.groups, **m.values}) for m in more]
     if not effects:
         st += baseline.starts(pb, rng)
     dead = fr.dead if "dead_time" in effects else 0
@@ -337,6 +347,7 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None, _tried=None):
         rounds.append(tests)
         tests = from_better(cur_pb, current, tests, seed + 7 * len(rounds) + 9, say)
         tests = refine_winner(cur_pb, current, tests, seed + 7 * len(rounds) + 11, say)
+        refined = _winner(tests)
         rounds[-1] = tested_on[id(current)] = tests
         # a rival of the last winner that fails on top of it, judged on its
         # best fit: one that failed only because its search stopped short of
@@ -349,6 +360,8 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None, _tried=None):
         if not _passing(tests, current, cur_pb, len(rounds), say):
             break
         tests = refit_rivals(cur_pb, current, tests, seed + 7 * len(rounds) + 5, say, jobs)
+        tests = refine_promoted(cur_pb, current, tests, refined,
+                                seed + 7 * len(rounds) + 11, say)
         rounds[-1] = tested_on[id(current)] = tests
         ok = _passing(tests, current, cur_pb, len(rounds), say)   # refits bring new references
         if not ok:
@@ -541,14 +554,15 @@ def _refit(args):
     return t2, t2 is not None and t2.ref is current
 
 
-def _test_again(pb, current, t, fr, seed):
+def _test_again(pb, current, t, fr, seed, better=None):
     """t's effect tested again on fr, a fit of its model found after its
     test, when fr fits the fit part better (the fit criterion, never the
     held-out part), and still does after the test's own refinement; every
-    guard is applied to it as to any test's fit. None otherwise."""
+    guard is applied to it as to any test's fit (better: try_effect).
+    None otherwise."""
     if not fr.cost < t.model.cost * (1 - 1e-6):
         return None
-    t2 = try_effect(pb, current, t.effect, _seed_of(seed, t.effect), fitted=fr)
+    t2 = try_effect(pb, current, t.effect, _seed_of(seed, t.effect), fitted=fr, better=better)
     return t2 if t2.model.cost < t.model.cost * (1 - 1e-6) else None
 
 
@@ -565,10 +579,10 @@ def _say_again(say, t, t2, why):
 WINNER_ITER = 4 * search.REFINE_ITER
 
 
-def _retested(pb, current, tests, i, fr, seed, say, why):
+def _retested(pb, current, tests, i, fr, seed, say, why, better=None):
     """tests with tests[i] tested again on fr where it fits better
     (_test_again)."""
-    t2 = _test_again(pb, current, tests[i], fr, seed)
+    t2 = _test_again(pb, current, tests[i], fr, seed, better)
     if t2 is None:
         return tests
     _say_again(say, tests[i], t2, why)
@@ -605,8 +619,12 @@ def from_better(pb, current, tests, seed, say):
         # its fit placed it
         fr = from_model(t.pb, current, t.effect, t.model, better, (),
                         f"from a better {current.effect} fit")
+        # the effect's fit starts from the better model so far, and so does
+        # its reference: a reference searched only from the poorer model so
+        # far and the effect's fit can end short of the better one, and the
+        # effect would be credited with what a better fit without it does
         tests = _retested(pb, current, tests, i, fr, seed, say,
-                          f"refitted from the better {current.effect} fit")
+                          f"refitted from the better {current.effect} fit", better)
     return tests
 
 
@@ -620,11 +638,11 @@ def refine_winner(pb, current, tests, seed, say):
     missed, not for what the record says; the rivals get the winner's
     optimum (refit_rivals), the winner gets its own. Kept only when it
     fits the fit part better (_retested), then every guard again."""
-    ok = [i for i, t in enumerate(tests) if t.passes]
-    if not ok:
+    win = _winner(tests)
+    if win is None:
         return tests
-    i = min(ok, key=lambda j: tests[j].model.nrmse_val)
-    w = tests[i].model
+    i = next(j for j, t in enumerate(tests) if t is win)
+    w = win.model
     p = candidates.for_model(tests[i].pb, w)
     # the same start's fit, refined further: it keeps that start's label
     # (candidates.corner_notes tells where a named effect's fit came from)
@@ -633,6 +651,28 @@ def refine_winner(pb, current, tests, seed, say):
     if "dead_time" in w.effects:
         fr = candidates.profile_dead(p, fr.effects, fr)
     return _retested(pb, current, tests, i, fr, seed, say, "refined from its own optimum")
+
+
+def _winner(tests):
+    """The round's winner: the passing test that predicts the held-out part
+    best (None when none passes)."""
+    ok = [t for t in tests if t.passes]
+    return min(ok, key=lambda t: t.model.nrmse_val) if ok else None
+
+
+def refine_promoted(pb, current, tests, refined, seed, say):
+    """The round's tests, with a winner that refit_rivals promoted (a rival
+    refitted from the first winner's optimum that now predicts the
+    held-out part best) refined from its own optimum, as the first winner
+    was (refine_winner): the refit from the first winner's optimum ran the
+    ordinary refinement only, and the promoted winner meets the models
+    without it (_passing) and the named effects' checks as its search left
+    it. `refined`: the test refine_winner left as the winner; nothing is
+    done when it is still the winner (it was refined already)."""
+    w = _winner(tests)
+    if w is None or w is refined:
+        return tests
+    return refine_winner(pb, current, tests, seed, say)
 
 
 def models_without(tests, current, cur_pb) -> list:
