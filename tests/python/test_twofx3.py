@@ -6,7 +6,7 @@ a better fit of the model so far has its reference searched from that
 better fit too (selection.from_better, try_effect's `better`)."""
 from types import SimpleNamespace
 
-from pneufrac_fit import selection
+from pneufrac_fit import guards, search, selection
 from test_converge import _fit, _problem, _say, _start
 
 
@@ -90,3 +90,40 @@ def test_a_refit_from_a_better_model_so_far_is_referred_to_it(monkeypatch):
     assert out[0] is not t
     assert seen and all(len(m) == 1 and m[0].effects == () for m in seen)
     assert out[0].ref.cost <= seen[0][0].cost * (1 + 1e-9)
+    assert out[0].better is seen[0][0]      # kept for the test's later retests
+
+
+def test_a_retest_keeps_the_better_model_so_far(monkeypatch):
+    """A test from_better made is tested again later (refine_winner,
+    refit_rivals, refine_promoted) without being told the better model so
+    far: its retest's reference is searched from it all the same."""
+    better = SimpleNamespace(cost=0.1)
+    t = guards.Test("lag", SimpleNamespace(cost=1.0), None, better=better)
+    seen = []
+
+    def try_effect(pb, cur, effect, seed, hint=None, fitted=None, better=None):
+        seen.append(better)
+        return SimpleNamespace(model=fitted)
+
+    monkeypatch.setattr(selection, "try_effect", try_effect)
+    assert selection._test_again(None, None, t, SimpleNamespace(cost=0.5), 1) is not None
+    assert seen == [better]
+
+
+def test_a_better_start_does_not_displace_a_deeper_optimum(monkeypatch):
+    """The reference's search goes on from its best start by start cost
+    only. A better model so far that starts lowest but ends in a shallower
+    optimum than another start reaches must not leave the reference above
+    what it was without it (that would favour the effect)."""
+    start_cost = {"from extended": 3.0, "prior": 4.0, "better prior": 1.0}
+    end_cost = {"from extended": 0.5, "prior": 0.7, "better prior": 0.9}
+
+    def refine(pb, effects, starts, dead=0, iters=search.REFINE_ITER):
+        lab = min(starts, key=lambda s: start_cost[s[0]])[0]
+        return SimpleNamespace(cost=end_cost[lab], start=lab)
+
+    monkeypatch.setattr(search, "refine", refine)
+    fr = SimpleNamespace(dead=0, values={})
+    prior = better = SimpleNamespace(groups={}, values={})
+    r = selection.reference(None, (), fr, prior, (better,))
+    assert r.cost == 0.5 and r.start == "from extended"

@@ -63,6 +63,7 @@ class Test:
     passes: bool = False
     reasons: list = field(default_factory=list)    # why it fails, in words
     nm: object = None
+    better: object = None        # a better model so far its reference was searched from
 
     @property
     def significant(self) -> bool:

@@ -19,7 +19,8 @@ Three mechanisms, each used everywhere it applies:
    added only if it predicts better than every model without it the round
    found, fitted on the same samples (models_without, winner_on), after
    the round's effects were refitted from a better optimum of the model so
-   far that the round found (from_better), the winner refined from its own
+   far that the round found, their references searched from it too
+   (from_better), the winner refined from its own
    optimum (refine_winner), and every explanation of the round refitted
    from the winner's optimum (refit_rivals), a winner that this promotes
    refined as the first was (refine_promoted); pairs when a round
@@ -54,7 +55,13 @@ def reference(pb, effects, fr, prior, more=()):
         if "saturation" in effects and "K" not in b:
             b["K"] = fr.values["K"]
         starts.append((label, b))
-    r = search.refine(pb, effects, starts, dead=dead)
+    # search.refine goes on from its best start only: the better model so
+    # far is refined apart, not put in competition by start cost, so that a
+    # start of the others that reaches a deeper optimum is still refined
+    # (a reference left above where it was would favour the effect)
+    n = len(starts) - len(more)
+    r = min((search.refine(pb, effects, s, dead=dead) for s in (starts[:n], starts[n:]) if s),
+            key=lambda f: f.cost)
     # the delay free as in the extended fit (candidates.fit_extended)
     return candidates.profile_dead(pb, effects, r) if dead else r
 
@@ -136,6 +143,7 @@ def _try_effect(pb, current, effect, seed, hint, fitted, t0, more=()):
     if t.passes:
         t = confirm(pbx, effect, fr, t, current, rng, more)
     t.pb = pbx
+    t.better = more[0] if more else None
     t.elapsed = time.monotonic() - t0
     return t
 
@@ -366,7 +374,7 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None, _tried=None):
         ok = _passing(tests, current, cur_pb, len(rounds), say)   # refits bring new references
         if not ok:
             break
-        win = min(ok, key=lambda t: t.model.nrmse_val)
+        win = _winner(ok)
         rivals = rivals_of(win, tests)
         before = (current, cur_pb)
         say(f"round {len(rounds)}: {win.effect} added"
@@ -459,7 +467,7 @@ def _passing(tests, current, cur_pb, n_round: int, say) -> list:
     ok = [t for t in tests if t.passes]
     if not ok:
         return []
-    best = min(ok, key=lambda t: t.model.nrmse_val)
+    best = _winner(ok)
     for r, burn in models_without(tests, current, cur_pb):
         if r is not current and burn > cur_pb.burn and not r.nrmse_val < current.nrmse_val:
             # Fitted on fewer samples and predicting no better than the
@@ -525,10 +533,9 @@ def refit_rivals(pb, current, tests, seed, say, jobs: int = 1):
     tests = list(tests)
     done = set()
     while True:
-        ok = [t for t in tests if t.passes]
-        if not ok:
+        win = _winner(tests)
+        if win is None:
             return tests
-        win = min(ok, key=lambda t: t.model.nrmse_val)
         todo = [i for i, t in enumerate(tests) if t is not win and explains(t)
                 and (t.effect, win.effect) not in done]
         if not todo:
@@ -558,10 +565,13 @@ def _test_again(pb, current, t, fr, seed, better=None):
     """t's effect tested again on fr, a fit of its model found after its
     test, when fr fits the fit part better (the fit criterion, never the
     held-out part), and still does after the test's own refinement; every
-    guard is applied to it as to any test's fit (better: try_effect).
+    guard is applied to it as to any test's fit (better: try_effect; by
+    default the one t's reference was searched from, so that a later
+    refinement of a test from_better made keeps its reference's start).
     None otherwise."""
     if not fr.cost < t.model.cost * (1 - 1e-6):
         return None
+    better = t.better if better is None else better
     t2 = try_effect(pb, current, t.effect, _seed_of(seed, t.effect), fitted=fr, better=better)
     return t2 if t2.model.cost < t.model.cost * (1 - 1e-6) else None
 
