@@ -12,6 +12,7 @@
 #define PF_BIG 1e30f
 #define PF_EPS 1.1920929e-07f /* FLT_EPSILON */
 #define PF_SUM_LANES 1 /* one running sum: see pf_float_ops.h, op_update */
+#define PF_LINEAR_FIRST 0 /* the loop solve on every sample: pf_ctrl_float.inc */
 #include "pf_float_ops.h"
 #include "pf_ctrl_float.inc"
 

@@ -12,6 +12,7 @@
 #define PF_BIG 1e300
 #define PF_EPS 2.220446049250313e-16 /* DBL_EPSILON */
 #define PF_SUM_LANES 2 /* two partial sums: see pf_float_ops.h, op_update */
+#define PF_LINEAR_FIRST 1 /* the loop solve skipped inside the limits: pf_ctrl_float.inc */
 #include "pf_float_ops.h"
 #include "pf_ctrl_float.inc"
 

@@ -148,10 +148,10 @@ def _try_effect(pb, current, effect, seed, hint, fitted, t0, more=()):
     return t
 
 
-def rival_fit(pb, current, effect, fr, rival):
-    """from_rival on the problem try_effect fits current + effect on."""
-    pbx = _problem_of(pb, current, effect)
-    return from_rival(candidates.for_model(pbx, fr), current, effect, fr, rival)
+def rival_fit(t, current, rival):
+    """from_rival for test t, on the problem its test fitted (t.pb:
+    _try_effect's, saturation where its fit placed it)."""
+    return from_rival(t.pb, current, t.effect, t.model, rival)
 
 
 def from_rival(pb, current, effect, fr, rival):
@@ -319,9 +319,11 @@ def _workers(jobs: int, n: int):
         yield None
         return
     threads = fit._threads
-    with ctx.Pool(min(jobs, n), initializer=fit.set_threads, initargs=(threads,)) as pool:
-        yield pool
-    fit.set_threads(threads)
+    try:
+        with ctx.Pool(min(jobs, n), initializer=fit.set_threads, initargs=(threads,)) as pool:
+            yield pool
+    finally:    # the parent's threads again, also when a fit in the pool raised
+        fit.set_threads(threads)
 
 
 def _say(say, t):
@@ -557,7 +559,7 @@ def _refit(args):
     reference is the model so far: _as_made_here), or (None, False) when
     the refit is no better than the test's own fit (_test_again)."""
     pb, current, t, win, seed = args
-    t2 = _test_again(pb, current, t, rival_fit(pb, current, t.effect, t.model, win), seed)
+    t2 = _test_again(pb, current, t, rival_fit(t, current, win), seed)
     return t2, t2 is not None and t2.ref is current
 
 
