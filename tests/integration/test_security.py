@@ -19,7 +19,7 @@ import time
 import pytest
 
 from pfd import DAEMON, HANG_S, REG, SLOW, Daemon, Raw, Regs, exception_code, simulate, wait_until
-from test_tls import client_ctx, pki, start as start_tls  # noqa: F401 (pki: a fixture)
+from tlspki import client_ctx, start as start_tls
 
 
 def fc03(addr, count):
