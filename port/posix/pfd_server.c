@@ -13,6 +13,7 @@
 #include <sys/ioctl.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "pfd_conn.h"
@@ -63,6 +64,13 @@ static int64_t deadline_of(const pfd_client *c)
     if (!__atomic_load_n(&c->active, __ATOMIC_ACQUIRE))
         return since + (int64_t)set->first_request_ms * 1000000;
     return set->idle_timeout_s > 0 ? since + (int64_t)set->idle_timeout_s * 1000000000 : 0;
+}
+
+/* The reason a connection ends at deadline_of(): the first request, or
+ * the next one, did not come (whole) in time. */
+static const char *deadline_why(const pfd_client *c)
+{
+    return __atomic_load_n(&c->active, __ATOMIC_ACQUIRE) ? "idle-timeout" : "first-request-timeout";
 }
 
 /* The TLS handshake and the client's role. @return 0, or -1 with @p why. */
@@ -127,14 +135,23 @@ static int peek_unit(int tls, int fd, uint8_t *h, ssize_t *k)
  * thread so never holds part of a unit, and what has come is always
  * either in the socket, whole units from the first byte, or taken: what
  * unread() needs. SO_RCVLOWAT makes poll() wait for the bytes the unit
- * lacks rather than wake at each; a wait of byte_timeout_ms that brings
- * no byte ends the connection, and the whole unit has until the deadline.
+ * lacks rather than wake at each; byte_timeout_ms without a new byte ends
+ * the connection, and the whole unit has until the deadline. poll() may
+ * say readable while the unit is still short, with no new byte and no
+ * end of stream: Linux caps SO_RCVLOWAT (at half of tcp_rmem[2], or of a
+ * locked SO_RCVBUF) and wakes readers below the mark under memory
+ * pressure. That is one more wait (a short nap, as poll() would return at
+ * once), still bounded by the byte gap and the deadline; the peer's close
+ * shows as recv() 0 (peek_fd()) once nothing waits, and a close after
+ * part of a unit ends at the byte gap.
  * @return its length, or a PFD_CONN_* code with @p why set. */
 static int take_unit(pfd_client *c, uint8_t *buf, const char **why)
 {
     const int fd = c->conn.fd, one = 1;
+    const int64_t gap_ns = (int64_t)c->d->set.byte_timeout_ms * 1000000;
     ssize_t k, had = -1;
     int len, lowat, ready = 0;
+    int64_t now, gap_end = 0, deadline;
 
     for (;;) {
         len = peek_unit(c->tls, fd, buf, &k);
@@ -150,14 +167,25 @@ static int take_unit(pfd_client *c, uint8_t *buf, const char **why)
             *why = "peer-closed";
             return PFD_CONN_CLOSED;
         }
-        if (k <= had) { /* no byte came: timed out, or readable for the end */
-            *why = ready ? "peer-closed" : "byte-timeout";
-            return ready ? PFD_CONN_CLOSED : PFD_CONN_TIMEOUT;
+        now = pfd_now_ns();
+        deadline = deadline_of(c);
+        if (k > had) {
+            had = k;
+            gap_end = now + gap_ns;
+        } else if (deadline > 0 && now >= deadline) { /* the deadline's own reason */
+            *why = deadline_why(c);
+            return PFD_CONN_TIMEOUT;
+        } else if (now >= gap_end) {
+            *why = "byte-timeout";
+            return PFD_CONN_TIMEOUT;
+        } else if (ready) { /* readable, no new byte: see above */
+            struct timespec nap = {0, 10 * 1000000};
+            nanosleep(&nap, NULL);
         }
-        had = k;
         lowat = len > 0 ? len : c->tls ? PFD_TLS_HDR : PFD_MBAP_LEN;
         setsockopt(fd, SOL_SOCKET, SO_RCVLOWAT, &lowat, sizeof lowat);
-        ready = pfd_conn_wait_until(&c->conn, c->d->set.byte_timeout_ms, deadline_of(c));
+        ready = pfd_conn_wait_until(&c->conn, (int)((gap_end - now + 999999) / 1000000),
+                                    deadline);
         setsockopt(fd, SOL_SOCKET, SO_RCVLOWAT, &one, sizeof one);
         if (ready < 0) {
             *why = "poll-error";
@@ -225,8 +253,7 @@ static int read_tls(pfd_client *c, uint8_t *req, const char **why)
         if (c->n_held == before) { /* the last record brought nothing */
             deadline = deadline_of(c);
             if (deadline > 0 && pfd_now_ns() >= deadline) {
-                *why = __atomic_load_n(&c->active, SEQ) ? "idle-timeout"
-                                                         : "first-request-timeout";
+                *why = deadline_why(c);
                 return PFD_CONN_TIMEOUT;
             }
             /* no request begun: back to the idle wait, not the byte gap */
@@ -287,8 +314,7 @@ static void *client_main(void *arg)
             /* Look once more: the thread may have slept past the deadline
              * after a poll that found nothing, while bytes came in time. */
             if (deadline > 0 && pfd_now_ns() >= deadline && pfd_conn_wait(&c->conn, 0) == 0) {
-                why = __atomic_load_n(&c->active, __ATOMIC_ACQUIRE) ? "idle-timeout"
-                                                                    : "first-request-timeout";
+                why = deadline_why(c);
                 break;
             }
             continue;
@@ -387,13 +413,18 @@ static void evict(pfd_client *v, const char *for_peer, const char *why)
  * complete its request, with the rest whole behind it, so the slot counts
  * as pending for this look: its thread is running, not late. During the
  * handshake nothing is pending: anyone can send a ClientHello, and
- * first_request_timeout_ms bounds that wait. */
+ * first_request_timeout_ms bounds that wait. tls_up is loaded before the
+ * look: its thread sets it only once the handshake has read its last
+ * record, the client's Finished, which TLS 1.3 sends with the outer type
+ * of application data; a flag loaded after the look could be set while
+ * the look saw that Finished waiting, and judge it a request. */
 static void unread(const pfd_client *c, int *heard, int *pending)
 {
     uint8_t h[PFD_MBAP_LEN]; /* a record's header is shorter */
     ssize_t k;
-    int frames, len, moved;
+    int frames, len, moved, up;
 
+    up = c->tls && __atomic_load_n(&c->tls_up, SEQ);
     frames = __atomic_load_n(&c->frames, SEQ);
     len = peek_unit(c->tls, c->conn.fd, h, &k);
     moved = __atomic_load_n(&c->frames, SEQ) != frames;
@@ -401,7 +432,7 @@ static void unread(const pfd_client *c, int *heard, int *pending)
         *heard = 1;
     if (!c->tls)
         *pending = !moved && len > 0 && k >= len;
-    else if (__atomic_load_n(&c->tls_up, SEQ)) /* loaded after the look */
+    else if (up)
         *pending = moved || (len > 0 && k >= len && h[0] == PFD_TLS_APP_DATA);
     else
         *pending = 0;
