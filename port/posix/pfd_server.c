@@ -211,7 +211,7 @@ static int tls_held(pfd_client *c, const char **why)
             return need;
         k = pfd_conn_take(&c->conn, c->held + c->n_held, (size_t)(need - c->n_held));
         if (k < 0) {
-            *why = k == PFD_CONN_BAD ? "bad-record" : "peer-closed";
+            *why = k == PFD_CONN_BAD ? "bad-record" : k == PFD_CONN_SEND ? "send-failed" : "peer-closed";
             return PFD_CONN_CLOSED;
         }
         if (k == 0)
@@ -278,7 +278,7 @@ static void *client_main(void *arg)
     pfd_session *s = calloc(1, sizeof *s);
     uint8_t req[PFD_ADU_MAX], rsp[PFD_ADU_MAX];
     char role[PFD_ROLE_NAME_MAX] = "plain";
-    const char *why = "closed", *ignored;
+    const char *why = "closed";
 
     if (s == NULL) {
         why = "out-of-memory";
@@ -295,7 +295,7 @@ static void *client_main(void *arg)
 
     while (!pfd_stopping(d)) {
         int64_t deadline;
-        int rc, len;
+        int rc, len, next;
 
         /* a TLS thread may hold the start of its next request already */
         rc = c->n_held > 0 ? 1 : pfd_conn_wait(&c->conn, POLL_MS);
@@ -334,8 +334,13 @@ static void *client_main(void *arg)
         /* in this order: see slot_view() */
         __atomic_store_n(&c->since_ns, pfd_now_ns(), SEQ);
         __atomic_store_n(&c->active, 1, SEQ);
-        /* still busy if a TLS thread holds its next request whole */
-        __atomic_store_n(&c->busy, rc >= 0 && c->tls && tls_held(c, &ignored) > 0, SEQ);
+        /* still busy if a TLS thread holds its next request whole; what
+         * it holds may instead end the connection (a bad frame, a record
+         * that does not decrypt): then with that reason */
+        next = rc >= 0 && c->tls ? tls_held(c, &why) : 0;
+        if (next < 0)
+            rc = -1;
+        __atomic_store_n(&c->busy, next > 0, SEQ);
         if (rc < 0)
             break;
     }
