@@ -26,6 +26,13 @@
 #define POLL_MS 200       /* how often threads look at the stop flag */
 #define SEND_TIMEOUT_MS 1000 /* a client that does not read its answers */
 #define SEQ __ATOMIC_SEQ_CST /* the slot flags below: see unread() */
+/* TLS: records that bring no byte of a request (TLS 1.3 key updates,
+ * empty records) allowed between two requests. A client needs a key
+ * update only after some millions of records under one key (RFC 8446,
+ * 5.5), and never an empty record; each such record waiting keeps the
+ * slot pending (unread()), and with no idle timeout nothing else would
+ * end a client that sends them without end. */
+#define TLS_EMPTY_MAX 32
 
 /* One slot of pfd_daemon.server.clients. */
 typedef struct pfd_client {
@@ -47,6 +54,7 @@ typedef struct pfd_client {
     /* TLS, the client thread's own: decrypted bytes of the next frame(s) */
     uint8_t held[PFD_ADU_MAX];
     int n_held;
+    int empty; /* records that brought nothing since the last frame */
 } pfd_client;
 
 static pfd_ratelimit rl_refused = PFD_RATELIMIT("client-refused");
@@ -228,7 +236,8 @@ static int tls_held(pfd_client *c, const char **why)
  * after the first-request or idle deadline ends the connection: a client
  * that sends such records without end must not keep its slot past them,
  * while one whose thread comes late still has every byte of its request
- * read. Such a record before any byte of a request is no request begun:
+ * read; and more than TLS_EMPTY_MAX of them between two requests end it
+ * at once (an idle timeout may be none). Such a record before any byte of a request is no request begun:
  * the thread goes back to its idle wait (byte_timeout_ms is for the rest
  * of a request). @return its length, 0 for no request yet, or a
  * PFD_CONN_* code with @p why set. */
@@ -242,6 +251,7 @@ static int read_tls(pfd_client *c, uint8_t *req, const char **why)
         len = tls_held(c, why);
         if (len > 0) {
             __atomic_store_n(&c->busy, 1, SEQ);
+            c->empty = 0;
             memcpy(req, c->held, (size_t)len);
             c->n_held -= len;
             memmove(c->held, c->held + len, (size_t)c->n_held);
@@ -251,6 +261,10 @@ static int read_tls(pfd_client *c, uint8_t *req, const char **why)
             return len;
         __atomic_store_n(&c->busy, 0, SEQ); /* holds no whole frame */
         if (c->n_held == before) { /* the last record brought nothing */
+            if (++c->empty > TLS_EMPTY_MAX) {
+                *why = "empty-records";
+                return PFD_CONN_CLOSED;
+            }
             deadline = deadline_of(c);
             if (deadline > 0 && pfd_now_ns() >= deadline) {
                 *why = deadline_why(c);

@@ -226,6 +226,40 @@ def test_records_without_a_request_end_at_the_deadline(daemon, pki):
     assert m and m.group(1) == "first-request-timeout", d.log()[-2000:]
 
 
+def test_records_without_a_request_are_bounded(daemon, pki):
+    """Key updates from an authenticated client whose deadline is far off
+    (an idle timeout may even be none): each whole record waiting keeps
+    the slot pending, so more than 32 of them between two requests end
+    the connection at once, with its own reason (before: only the
+    deadline, here a minute away, ended it)."""
+    d = start(daemon, pki, "--verbose", "--first-request-timeout-ms", "60000")
+    p = subprocess.Popen(["openssl", "s_client", "-connect", f"127.0.0.1:{d.tls_port}",
+                          "-CAfile", pki["ca"], "-cert", pki["viewer"][0],
+                          "-key", pki["viewer"][1], "-tls1_3", "-no_ign_eof"],
+                         stdin=subprocess.PIPE, stdout=subprocess.DEVNULL,
+                         stderr=subprocess.DEVNULL)
+    closed = re.compile(r"msg=client-closed peer=127\.0\.0\.1:\d+ reason=(\S+)")
+    try:
+        deadline = time.monotonic() + 10 * SLOW
+        while "msg=client-connected" not in d.log():
+            assert time.monotonic() < deadline, d.log()[-2000:]
+            time.sleep(0.02)
+        for _ in range(200):  # 10 s at most, far past 33 key updates
+            if closed.search(d.log()):
+                break
+            try:
+                p.stdin.write(b"k\n")
+                p.stdin.flush()
+            except BrokenPipeError:
+                break
+            time.sleep(0.05)
+        m = closed.search(d.log())
+    finally:
+        p.kill()
+        p.wait()
+    assert m and m.group(1) == "empty-records", d.log()[-2000:]
+
+
 def test_tls_needs_its_files(tmp_path):
     import subprocess
     from pfd import DAEMON
