@@ -449,12 +449,8 @@ static void unread(const pfd_client *c, int *heard, int *pending)
     moved = __atomic_load_n(&c->frames, SEQ) != frames;
     if (k > 0)
         *heard = 1;
-    if (!c->tls)
-        *pending = !moved && len > 0 && k >= len;
-    else if (up)
-        *pending = moved || (len > 0 && k >= len && h[0] == PFD_TLS_APP_DATA);
-    else
-        *pending = 0;
+    *pending = pfd_slots_pending(c->tls, up, moved, len > 0 && k >= len,
+                                 c->tls && h[0] == PFD_TLS_APP_DATA);
 }
 
 /* Whether client @p id holds a lock: a holder is never evicted, or a
