@@ -19,10 +19,16 @@ void Reset_Handler(void);
  * differs from what the object model says. */
 extern uint32_t _estack[], _sdata[], _edata[], _sidata[], _sbss[], _ebss[];
 
-/* Words from @p start up to @p end (linker symbols, 4-byte aligned). */
+/* Words from @p start up to @p end (linker symbols), a part word counted
+ * whole as the old `while (dst < end)` loop did, and 0 when end <= start
+ * (an empty section, or symbols out of order: nothing to copy, rather
+ * than a difference that wraps to 4 G words). Whole words are copied and
+ * cleared, so the linker script must keep the four symbols 4-byte
+ * aligned (example.ld says so next to them); then nothing is rounded. */
 static uint32_t words(const uint32_t *start, const uint32_t *end)
 {
-    return (uint32_t)(((uintptr_t)end - (uintptr_t)start) / sizeof(uint32_t));
+    const uintptr_t s = (uintptr_t)start, e = (uintptr_t)end;
+    return e > s ? (uint32_t)((e - s + sizeof(uint32_t) - 1) / sizeof(uint32_t)) : 0u;
 }
 
 void Reset_Handler(void)

@@ -113,6 +113,10 @@ long pfd_conn_take(pfd_conn *c, void *buf, size_t n)
     ERR_clear_error();
     if (k == SSL_ERROR_WANT_READ)
         return 0;
+    /* the read side is a memory BIO (pfd_conn_records_only()): a
+     * system call or a write that would block is the socket's write side */
+    if (k == SSL_ERROR_WANT_WRITE || k == SSL_ERROR_SYSCALL)
+        return PFD_CONN_SEND;
     return k == SSL_ERROR_ZERO_RETURN ? PFD_CONN_CLOSED : PFD_CONN_BAD;
 }
 

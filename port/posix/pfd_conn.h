@@ -48,9 +48,13 @@ int pfd_conn_give(pfd_conn *c, const void *rec, size_t n);
 /** A record that does not decrypt, or is not allowed here. */
 #define PFD_CONN_BAD (-3)
 
+/** A write the session needed while reading (e.g. its answer to a key
+ *  update) could not be made. */
+#define PFD_CONN_SEND (-4)
+
 /** Up to @p n decrypted bytes of the records given. @return a count, 0
  *  when nothing more has been given, PFD_CONN_CLOSED (the peer's
- *  close_notify) or PFD_CONN_BAD. */
+ *  close_notify), PFD_CONN_BAD or PFD_CONN_SEND. */
 long pfd_conn_take(pfd_conn *c, void *buf, size_t n);
 
 /** Write all @p n bytes within @p ms. @return 0, PFD_CONN_CLOSED or

@@ -13,6 +13,7 @@
 #include <sys/ioctl.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "pfd_conn.h"
@@ -25,6 +26,13 @@
 #define POLL_MS 200       /* how often threads look at the stop flag */
 #define SEND_TIMEOUT_MS 1000 /* a client that does not read its answers */
 #define SEQ __ATOMIC_SEQ_CST /* the slot flags below: see unread() */
+/* TLS: records that bring no byte of a request (TLS 1.3 key updates,
+ * empty records) allowed between two requests. A client needs a key
+ * update only after some millions of records under one key (RFC 8446,
+ * 5.5), and never an empty record; each such record waiting keeps the
+ * slot pending (unread()), and with no idle timeout nothing else would
+ * end a client that sends them without end. */
+#define TLS_EMPTY_MAX 32
 
 /* One slot of pfd_daemon.server.clients. */
 typedef struct pfd_client {
@@ -46,6 +54,7 @@ typedef struct pfd_client {
     /* TLS, the client thread's own: decrypted bytes of the next frame(s) */
     uint8_t held[PFD_ADU_MAX];
     int n_held;
+    int empty; /* records that brought nothing since the last frame */
 } pfd_client;
 
 static pfd_ratelimit rl_refused = PFD_RATELIMIT("client-refused");
@@ -63,6 +72,13 @@ static int64_t deadline_of(const pfd_client *c)
     if (!__atomic_load_n(&c->active, __ATOMIC_ACQUIRE))
         return since + (int64_t)set->first_request_ms * 1000000;
     return set->idle_timeout_s > 0 ? since + (int64_t)set->idle_timeout_s * 1000000000 : 0;
+}
+
+/* The reason a connection ends at deadline_of(): the first request, or
+ * the next one, did not come (whole) in time. */
+static const char *deadline_why(const pfd_client *c)
+{
+    return __atomic_load_n(&c->active, __ATOMIC_ACQUIRE) ? "idle-timeout" : "first-request-timeout";
 }
 
 /* The TLS handshake and the client's role. @return 0, or -1 with @p why. */
@@ -127,14 +143,23 @@ static int peek_unit(int tls, int fd, uint8_t *h, ssize_t *k)
  * thread so never holds part of a unit, and what has come is always
  * either in the socket, whole units from the first byte, or taken: what
  * unread() needs. SO_RCVLOWAT makes poll() wait for the bytes the unit
- * lacks rather than wake at each; a wait of byte_timeout_ms that brings
- * no byte ends the connection, and the whole unit has until the deadline.
+ * lacks rather than wake at each; byte_timeout_ms without a new byte ends
+ * the connection, and the whole unit has until the deadline. poll() may
+ * say readable while the unit is still short, with no new byte and no
+ * end of stream: Linux caps SO_RCVLOWAT (at half of tcp_rmem[2], or of a
+ * locked SO_RCVBUF) and wakes readers below the mark under memory
+ * pressure. That is one more wait (a short nap, as poll() would return at
+ * once), still bounded by the byte gap and the deadline; the peer's close
+ * shows as recv() 0 (peek_fd()) once nothing waits, and a close after
+ * part of a unit ends at the byte gap.
  * @return its length, or a PFD_CONN_* code with @p why set. */
 static int take_unit(pfd_client *c, uint8_t *buf, const char **why)
 {
     const int fd = c->conn.fd, one = 1;
+    const int64_t gap_ns = (int64_t)c->d->set.byte_timeout_ms * 1000000;
     ssize_t k, had = -1;
     int len, lowat, ready = 0;
+    int64_t now, gap_end = 0, deadline;
 
     for (;;) {
         len = peek_unit(c->tls, fd, buf, &k);
@@ -150,14 +175,25 @@ static int take_unit(pfd_client *c, uint8_t *buf, const char **why)
             *why = "peer-closed";
             return PFD_CONN_CLOSED;
         }
-        if (k <= had) { /* no byte came: timed out, or readable for the end */
-            *why = ready ? "peer-closed" : "byte-timeout";
-            return ready ? PFD_CONN_CLOSED : PFD_CONN_TIMEOUT;
+        now = pfd_now_ns();
+        deadline = deadline_of(c);
+        if (k > had) {
+            had = k;
+            gap_end = now + gap_ns;
+        } else if (deadline > 0 && now >= deadline) { /* the deadline's own reason */
+            *why = deadline_why(c);
+            return PFD_CONN_TIMEOUT;
+        } else if (now >= gap_end) {
+            *why = "byte-timeout";
+            return PFD_CONN_TIMEOUT;
+        } else if (ready) { /* readable, no new byte: see above */
+            struct timespec nap = {0, 10 * 1000000};
+            nanosleep(&nap, NULL);
         }
-        had = k;
         lowat = len > 0 ? len : c->tls ? PFD_TLS_HDR : PFD_MBAP_LEN;
         setsockopt(fd, SOL_SOCKET, SO_RCVLOWAT, &lowat, sizeof lowat);
-        ready = pfd_conn_wait_until(&c->conn, c->d->set.byte_timeout_ms, deadline_of(c));
+        ready = pfd_conn_wait_until(&c->conn, (int)((gap_end - now + 999999) / 1000000),
+                                    deadline);
         setsockopt(fd, SOL_SOCKET, SO_RCVLOWAT, &one, sizeof one);
         if (ready < 0) {
             *why = "poll-error";
@@ -183,7 +219,7 @@ static int tls_held(pfd_client *c, const char **why)
             return need;
         k = pfd_conn_take(&c->conn, c->held + c->n_held, (size_t)(need - c->n_held));
         if (k < 0) {
-            *why = k == PFD_CONN_BAD ? "bad-record" : "peer-closed";
+            *why = k == PFD_CONN_BAD ? "bad-record" : k == PFD_CONN_SEND ? "send-failed" : "peer-closed";
             return PFD_CONN_CLOSED;
         }
         if (k == 0)
@@ -200,7 +236,8 @@ static int tls_held(pfd_client *c, const char **why)
  * after the first-request or idle deadline ends the connection: a client
  * that sends such records without end must not keep its slot past them,
  * while one whose thread comes late still has every byte of its request
- * read. Such a record before any byte of a request is no request begun:
+ * read; and more than TLS_EMPTY_MAX of them between two requests end it
+ * at once (an idle timeout may be none). Such a record before any byte of a request is no request begun:
  * the thread goes back to its idle wait (byte_timeout_ms is for the rest
  * of a request). @return its length, 0 for no request yet, or a
  * PFD_CONN_* code with @p why set. */
@@ -214,6 +251,7 @@ static int read_tls(pfd_client *c, uint8_t *req, const char **why)
         len = tls_held(c, why);
         if (len > 0) {
             __atomic_store_n(&c->busy, 1, SEQ);
+            c->empty = 0;
             memcpy(req, c->held, (size_t)len);
             c->n_held -= len;
             memmove(c->held, c->held + len, (size_t)c->n_held);
@@ -223,10 +261,13 @@ static int read_tls(pfd_client *c, uint8_t *req, const char **why)
             return len;
         __atomic_store_n(&c->busy, 0, SEQ); /* holds no whole frame */
         if (c->n_held == before) { /* the last record brought nothing */
+            if (++c->empty > TLS_EMPTY_MAX) {
+                *why = "empty-records";
+                return PFD_CONN_CLOSED;
+            }
             deadline = deadline_of(c);
             if (deadline > 0 && pfd_now_ns() >= deadline) {
-                *why = __atomic_load_n(&c->active, SEQ) ? "idle-timeout"
-                                                         : "first-request-timeout";
+                *why = deadline_why(c);
                 return PFD_CONN_TIMEOUT;
             }
             /* no request begun: back to the idle wait, not the byte gap */
@@ -251,7 +292,7 @@ static void *client_main(void *arg)
     pfd_session *s = calloc(1, sizeof *s);
     uint8_t req[PFD_ADU_MAX], rsp[PFD_ADU_MAX];
     char role[PFD_ROLE_NAME_MAX] = "plain";
-    const char *why = "closed", *ignored;
+    const char *why = "closed";
 
     if (s == NULL) {
         why = "out-of-memory";
@@ -268,7 +309,7 @@ static void *client_main(void *arg)
 
     while (!pfd_stopping(d)) {
         int64_t deadline;
-        int rc, len;
+        int rc, len, next;
 
         /* a TLS thread may hold the start of its next request already */
         rc = c->n_held > 0 ? 1 : pfd_conn_wait(&c->conn, POLL_MS);
@@ -287,8 +328,7 @@ static void *client_main(void *arg)
             /* Look once more: the thread may have slept past the deadline
              * after a poll that found nothing, while bytes came in time. */
             if (deadline > 0 && pfd_now_ns() >= deadline && pfd_conn_wait(&c->conn, 0) == 0) {
-                why = __atomic_load_n(&c->active, __ATOMIC_ACQUIRE) ? "idle-timeout"
-                                                                    : "first-request-timeout";
+                why = deadline_why(c);
                 break;
             }
             continue;
@@ -308,8 +348,13 @@ static void *client_main(void *arg)
         /* in this order: see slot_view() */
         __atomic_store_n(&c->since_ns, pfd_now_ns(), SEQ);
         __atomic_store_n(&c->active, 1, SEQ);
-        /* still busy if a TLS thread holds its next request whole */
-        __atomic_store_n(&c->busy, rc >= 0 && c->tls && tls_held(c, &ignored) > 0, SEQ);
+        /* still busy if a TLS thread holds its next request whole; what
+         * it holds may instead end the connection (a bad frame, a record
+         * that does not decrypt): then with that reason */
+        next = rc >= 0 && c->tls ? tls_held(c, &why) : 0;
+        if (next < 0)
+            rc = -1;
+        __atomic_store_n(&c->busy, next > 0, SEQ);
         if (rc < 0)
             break;
     }
@@ -387,24 +432,25 @@ static void evict(pfd_client *v, const char *for_peer, const char *why)
  * complete its request, with the rest whole behind it, so the slot counts
  * as pending for this look: its thread is running, not late. During the
  * handshake nothing is pending: anyone can send a ClientHello, and
- * first_request_timeout_ms bounds that wait. */
+ * first_request_timeout_ms bounds that wait. tls_up is loaded before the
+ * look: its thread sets it only once the handshake has read its last
+ * record, the client's Finished, which TLS 1.3 sends with the outer type
+ * of application data; a flag loaded after the look could be set while
+ * the look saw that Finished waiting, and judge it a request. */
 static void unread(const pfd_client *c, int *heard, int *pending)
 {
     uint8_t h[PFD_MBAP_LEN]; /* a record's header is shorter */
     ssize_t k;
-    int frames, len, moved;
+    int frames, len, moved, up;
 
+    up = c->tls && __atomic_load_n(&c->tls_up, SEQ);
     frames = __atomic_load_n(&c->frames, SEQ);
     len = peek_unit(c->tls, c->conn.fd, h, &k);
     moved = __atomic_load_n(&c->frames, SEQ) != frames;
     if (k > 0)
         *heard = 1;
-    if (!c->tls)
-        *pending = !moved && len > 0 && k >= len;
-    else if (__atomic_load_n(&c->tls_up, SEQ)) /* loaded after the look */
-        *pending = moved || (len > 0 && k >= len && h[0] == PFD_TLS_APP_DATA);
-    else
-        *pending = 0;
+    *pending = pfd_slots_pending(c->tls, up, moved, len > 0 && k >= len,
+                                 c->tls && h[0] == PFD_TLS_APP_DATA);
 }
 
 /* Whether client @p id holds a lock: a holder is never evicted, or a

@@ -75,3 +75,10 @@ pfd_slot_choice pfd_slots_choose(const pfd_slot_view *v, int n, uint32_t addr,
     }
     return c;
 }
+
+int pfd_slots_pending(int tls, int up, int moved, int whole, int app_data)
+{
+    if (!tls)
+        return !moved && whole;
+    return up && (moved || (whole && app_data));
+}

@@ -51,4 +51,16 @@ pfd_slot_choice pfd_slots_choose(const pfd_slot_view *v, int n, uint32_t addr,
                                  int max_clients, int max_per_addr,
                                  int64_t now_ns, int64_t protect_ns);
 
+/** Whether a look at a slot's socket (pfd_server.c, unread()) finds a
+ *  request waiting unread. @p whole: a whole unit is first in the socket
+ *  (plain TCP: a frame; TLS: a record, @p app_data if its outer type is
+ *  application data); @p moved: the thread's unit count moved during the
+ *  look; @p up: TLS, the handshake was done before the look. Plain TCP: a
+ *  whole frame, if the count did not move (if it did, the thread is
+ *  serving and says busy). TLS: nothing during the handshake; past it, a
+ *  whole application-data record, or a count that moved (the thread took
+ *  a record that may have left it with part of a frame, the rest whole
+ *  behind it: it runs, it is not late). */
+int pfd_slots_pending(int tls, int up, int moved, int whole, int app_data);
+
 #endif

@@ -7,6 +7,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from pfd import Daemon  # noqa: E402
+from tlspki import make_pki  # noqa: E402
 
 
 @pytest.fixture
@@ -29,3 +30,9 @@ def daemon(tmp_path):
             if rc != 0:
                 bad.append((d.args, rc, d.log()[-3000:]))
     assert not bad, bad
+
+
+@pytest.fixture(scope="module")
+def pki(tmp_path_factory):
+    """The CA and certificates of the TLS tests (tlspki.make_pki())."""
+    return make_pki(tmp_path_factory.mktemp("pki"))

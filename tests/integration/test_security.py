@@ -9,8 +9,10 @@ import os
 import random
 import re
 import resource
+import shutil
 import signal
 import socket
+import ssl
 import struct
 import subprocess
 import threading
@@ -19,7 +21,7 @@ import time
 import pytest
 
 from pfd import DAEMON, HANG_S, REG, SLOW, Daemon, Raw, Regs, exception_code, simulate, wait_until
-from test_tls import client_ctx, pki, start as start_tls  # noqa: F401 (pki: a fixture)
+from tlspki import client_ctx, start as start_tls
 
 
 def fc03(addr, count):
@@ -738,3 +740,132 @@ def test_audit_log(daemon):
                 r"reason=locked"]:
         assert re.search(pat, log), (pat, log)
     assert log.count("msg=write-refused") == 10
+
+
+# The request of the tests below: FC03, two holding registers from 0;
+# its answer is 13 bytes (MBAP 7, function, byte count, 4 data).
+READ_HR = adu(1, 1, fc03(0, 2))
+READ_HR_ANSWER = 13
+
+
+class TlsByHand:
+    """A TLS session to daemon @p d over a plain socket, through memory
+    BIOs, so that a test can cut one record's bytes on the wire."""
+
+    def __init__(self, d, pki):
+        self.sock = socket.create_connection(("127.0.0.1", d.tls_port), timeout=5 * SLOW)
+        self.inc, self.out = ssl.MemoryBIO(), ssl.MemoryBIO()
+        self.obj = client_ctx(pki, "viewer").wrap_bio(self.inc, self.out)
+        while True:
+            try:
+                self.obj.do_handshake()
+                break
+            except ssl.SSLWantReadError:
+                self.sock.sendall(self.out.read())
+                self._more()
+        self.sock.sendall(self.out.read())  # the client's Finished
+
+    def _more(self):
+        data = self.sock.recv(65536)
+        assert data, "closed by the daemon"
+        self.inc.write(data)
+
+    def record(self, data):
+        """@p data as the bytes of one record on the wire."""
+        self.obj.write(data)
+        return self.out.read()
+
+    def read(self, n):
+        got = b""
+        while len(got) < n:
+            try:
+                got += self.obj.read(n - len(got))
+            except ssl.SSLWantReadError:
+                self._more()
+        return got
+
+
+def connected(d, request, tls):
+    """(a way to send bytes of one request on the wire, to read n bytes of
+    its answer, the local port) on a connection to daemon @p d."""
+    if tls:
+        t = TlsByHand(d, request.getfixturevalue("pki"))
+        return t.record, t.sock.sendall, t.read, t.sock.getsockname()[1]
+    s = socket.create_connection(("127.0.0.1", d.port), timeout=5 * SLOW)
+
+    def read(n):
+        got = b""
+        while len(got) < n:
+            part = s.recv(n - len(got))
+            assert part, "closed by the daemon"
+            got += part
+        return got
+    return (lambda data: data), s.sendall, read, s.getsockname()[1]
+
+
+@pytest.mark.parametrize("tls", [False, True], ids=["plain", "tls"])
+def test_a_request_cut_by_the_deadline_says_so(daemon, request, tls):
+    """Part of the first request, then nothing: the connection ends at the
+    first-request deadline (the byte gap is far longer), with that reason
+    (before: byte-timeout, the wait's own)."""
+    args = ("--first-request-timeout-ms", str(int(1000 * SLOW)), "--byte-timeout-ms", "10000",
+            "--verbose")
+    d = start_tls(daemon, request.getfixturevalue("pki"), *args) if tls else daemon(*args)
+    wire, send, _, port = connected(d, request, tls)
+    send(wire(READ_HR[:3]))
+    assert closed_reason(d, port, 10) == "first-request-timeout", d.log()[-2000:]
+
+
+SHIM = r"""
+#define _GNU_SOURCE
+#include <dlfcn.h>
+#include <sys/socket.h>
+/* SO_RCVLOWAT ignored: poll() says readable at any byte, as Linux does
+ * below a capped mark or under memory pressure. */
+int setsockopt(int fd, int level, int name, const void *v, socklen_t n)
+{
+    static int (*real)(int, int, int, const void *, socklen_t);
+    if (level == SOL_SOCKET && name == SO_RCVLOWAT)
+        return 0;
+    if (real == 0)
+        real = (int (*)(int, int, int, const void *, socklen_t))dlsym(RTLD_NEXT, "setsockopt");
+    return real(fd, level, name, v, n);
+}
+"""
+
+
+@pytest.fixture(scope="module")
+def no_rcvlowat(tmp_path_factory):
+    cc = shutil.which("cc")
+    if cc is None:
+        pytest.skip("no C compiler for the SO_RCVLOWAT shim")
+    tmp = tmp_path_factory.mktemp("shim")
+    (tmp / "shim.c").write_text(SHIM)
+    subprocess.run([cc, "-shared", "-fPIC", "-o", str(tmp / "shim.so"), str(tmp / "shim.c"),
+                    "-ldl"], check=True)
+    return str(tmp / "shim.so")
+
+
+@pytest.mark.parametrize("tls", [False, True], ids=["plain", "tls"])
+def test_readable_below_the_mark_is_a_wait(daemon, request, tls, no_rcvlowat, monkeypatch):
+    """Linux may say a socket is readable while fewer bytes than
+    SO_RCVLOWAT have come (the mark is capped at half of tcp_rmem[2]; under
+    memory pressure any byte wakes the reader). Readable with no new byte
+    and no end of stream is one more wait, not the peer's close: with the
+    mark ignored (a shim preloaded into the daemon), a request (TLS: its
+    record) cut in two on the wire, the parts 0.3 s apart, is answered
+    (before: closed as peer-closed at the first part)."""
+    monkeypatch.setenv("LD_PRELOAD", no_rcvlowat)
+    # the ASan build wants its runtime first; the shim only wraps a call
+    monkeypatch.setenv("ASAN_OPTIONS",
+                       os.environ.get("ASAN_OPTIONS", "") + ":verify_asan_link_order=0")
+    args = ("--byte-timeout-ms", "10000", "--verbose")
+    d = start_tls(daemon, request.getfixturevalue("pki"), *args) if tls else daemon(*args)
+    monkeypatch.delenv("LD_PRELOAD")
+    wire, send, read, port = connected(d, request, tls)
+    data = wire(READ_HR)
+    send(data[:3])
+    time.sleep(0.3)
+    send(data[3:])
+    assert read(READ_HR_ANSWER)[:2] == READ_HR[:2], d.log()[-2000:]
+    assert closed_reason(d, port, 0) is None

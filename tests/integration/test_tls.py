@@ -3,11 +3,10 @@
 authentication, the client's role in its certificate (extension OID
 1.3.6.1.4.1.50316.802.1, a UTF8String), and the role's access enforced per
 function code and register, by the same request path as plain TCP. The CA
-and every certificate are made here, with the cryptography package; the
-client is pymodbus's TLS client, or Python's ssl module where a handshake
+and every certificate are made by tlspki.py (the pki fixture: conftest.py);
+the client is pymodbus's TLS client, or Python's ssl module where a handshake
 is meant to fail."""
 
-import datetime
 import os
 import re
 import socket
@@ -17,111 +16,10 @@ import subprocess
 import time
 
 import pytest
-from cryptography import x509
-from cryptography.hazmat.primitives import hashes, serialization
-from cryptography.hazmat.primitives.asymmetric import ec
-from cryptography.x509.oid import NameOID
 from pymodbus.client import ModbusTcpClient, ModbusTlsClient
 
 from pfd import REG, SLOW, Regs
-
-ROLE_OID = x509.ObjectIdentifier("1.3.6.1.4.1.50316.802.1")
-NOW = datetime.datetime.now(datetime.timezone.utc)
-DAY = datetime.timedelta(days=1)
-
-
-def utf8string(text):
-    """DER of an ASN.1 UTF8String (short form: the roles are short)."""
-    raw = text.encode()
-    assert len(raw) < 128
-    return bytes([0x0C, len(raw)]) + raw
-
-
-def make_ca(name):
-    key = ec.generate_private_key(ec.SECP256R1())
-    subject = x509.Name([x509.NameAttribute(NameOID.COMMON_NAME, name)])
-    cert = (x509.CertificateBuilder().subject_name(subject).issuer_name(subject)
-            .public_key(key.public_key()).serial_number(x509.random_serial_number())
-            .not_valid_before(NOW - DAY).not_valid_after(NOW + 30 * DAY)
-            .add_extension(x509.BasicConstraints(ca=True, path_length=None), critical=True)
-            .add_extension(x509.KeyUsage(digital_signature=True, key_cert_sign=True,
-                                         crl_sign=True, content_commitment=False,
-                                         key_encipherment=False, data_encipherment=False,
-                                         key_agreement=False, encipher_only=False,
-                                         decipher_only=False), critical=True)
-            .sign(key, hashes.SHA256()))
-    return key, cert
-
-
-def make_cert(ca, name, role=None, server=False, expired=False, role_der=None):
-    ca_key, ca_cert = ca
-    key = ec.generate_private_key(ec.SECP256R1())
-    b = (x509.CertificateBuilder()
-         .subject_name(x509.Name([x509.NameAttribute(NameOID.COMMON_NAME, name)]))
-         .issuer_name(ca_cert.subject).public_key(key.public_key())
-         .serial_number(x509.random_serial_number()))
-    if expired:
-        b = b.not_valid_before(NOW - 30 * DAY).not_valid_after(NOW - DAY)
-    else:
-        b = b.not_valid_before(NOW - DAY).not_valid_after(NOW + 30 * DAY)
-    if server:
-        import ipaddress
-        b = b.add_extension(x509.SubjectAlternativeName(
-            [x509.IPAddress(ipaddress.ip_address("127.0.0.1"))]), critical=False)
-    if role is not None or role_der is not None:
-        b = b.add_extension(x509.UnrecognizedExtension(
-            ROLE_OID, role_der if role_der is not None else utf8string(role)), critical=False)
-    return key, b.sign(ca_key, hashes.SHA256())
-
-
-def save(tmp, stem, key, cert):
-    kp, cp = tmp / f"{stem}.key", tmp / f"{stem}.pem"
-    kp.write_bytes(key.private_bytes(serialization.Encoding.PEM,
-                                     serialization.PrivateFormat.PKCS8,
-                                     serialization.NoEncryption()))
-    cp.write_bytes(cert.public_bytes(serialization.Encoding.PEM))
-    return str(cp), str(kp)
-
-
-@pytest.fixture(scope="module")
-def pki(tmp_path_factory):
-    tmp = tmp_path_factory.mktemp("pki")
-    ca = make_ca("pneufrac test CA")
-    other = make_ca("another CA")
-    (tmp / "ca.pem").write_bytes(ca[1].public_bytes(serialization.Encoding.PEM))
-    files = {"ca": str(tmp / "ca.pem"),
-             "server": save(tmp, "server", *make_cert(ca, "pneufracd", server=True))}
-    for role in ("viewer", "operator", "engineer", "auditor", "intruder"):
-        files[role] = save(tmp, role, *make_cert(ca, f"client {role}", role=role))
-    files["norole"] = save(tmp, "norole", *make_cert(ca, "client without role"))
-    files["expired"] = save(tmp, "expired", *make_cert(ca, "old", role="engineer",
-                                                       expired=True))
-    files["otherca"] = save(tmp, "otherca", *make_cert(other, "stranger", role="engineer"))
-    files["badder"] = save(tmp, "badder", *make_cert(ca, "bad role encoding",
-                                                     role_der=b"\x13\x08engineer"))
-    return files
-
-
-def start(daemon, pki, *extra):
-    d = daemon("--tls-listen", "127.0.0.1:0", "--tls-cert", pki["server"][0],
-               "--tls-key", pki["server"][1], "--tls-ca", pki["ca"],
-               "--tls-roles", "viewer:read,operator:operate,engineer:engineer,auditor:none",
-               *extra)
-    d.tls_port = int(re.search(r"msg=listening-tls addr=\S+ port=(\d+)", d.log()).group(1))
-    return d
-
-
-def client_ctx(pki, who, max_version=None):
-    ctx = ssl.SSLContext(ssl.PROTOCOL_TLS_CLIENT)
-    # pymodbus wraps its socket without a server name, so the chain is
-    # verified (CERT_REQUIRED) but not the name.
-    ctx.check_hostname = False
-    ctx.load_verify_locations(pki["ca"])
-    if who is not None:
-        ctx.load_cert_chain(*pki[who])
-    if max_version is not None:
-        ctx.maximum_version = max_version
-    return ctx
+from tlspki import client_ctx, start
 
 
 def tls_client(d, pki, who):
@@ -298,7 +196,9 @@ def test_records_without_a_request_end_at_the_deadline(daemon, pki):
     (as empty records are): each keeps a whole record waiting, and so the
     slot, until the client's thread takes it. A client that sends them
     without end must still be closed at its first-request deadline
-    (openssl s_client sends one for each input line "k")."""
+    (openssl s_client sends one for each input line "k"). They come 16 to
+    the deadline, below the count that ends a connection at once
+    (test_records_without_a_request_are_bounded)."""
     first_ms = int(1000 * SLOW)
     d = start(daemon, pki, "--verbose", "--first-request-timeout-ms", str(first_ms))
     p = subprocess.Popen(["openssl", "s_client", "-connect", f"127.0.0.1:{d.tls_port}",
@@ -319,13 +219,47 @@ def test_records_without_a_request_end_at_the_deadline(daemon, pki):
                 p.stdin.flush()
             except BrokenPipeError:
                 break
-            time.sleep(0.05)
+            time.sleep(first_ms / 16000)
         # closed while the key updates still came, not once they stopped
         m = closed.search(d.log())
     finally:
         p.kill()
         p.wait()
     assert m and m.group(1) == "first-request-timeout", d.log()[-2000:]
+
+
+def test_records_without_a_request_are_bounded(daemon, pki):
+    """Key updates from an authenticated client whose deadline is far off
+    (an idle timeout may even be none): each whole record waiting keeps
+    the slot pending, so more than 32 of them between two requests end
+    the connection at once, with its own reason (before: only the
+    deadline, here a minute away, ended it)."""
+    d = start(daemon, pki, "--verbose", "--first-request-timeout-ms", "60000")
+    p = subprocess.Popen(["openssl", "s_client", "-connect", f"127.0.0.1:{d.tls_port}",
+                          "-CAfile", pki["ca"], "-cert", pki["viewer"][0],
+                          "-key", pki["viewer"][1], "-tls1_3", "-no_ign_eof"],
+                         stdin=subprocess.PIPE, stdout=subprocess.DEVNULL,
+                         stderr=subprocess.DEVNULL)
+    closed = re.compile(r"msg=client-closed peer=127\.0\.0\.1:\d+ reason=(\S+)")
+    try:
+        deadline = time.monotonic() + 10 * SLOW
+        while "msg=client-connected" not in d.log():
+            assert time.monotonic() < deadline, d.log()[-2000:]
+            time.sleep(0.02)
+        for _ in range(200):  # 10 s at most, far past 33 key updates
+            if closed.search(d.log()):
+                break
+            try:
+                p.stdin.write(b"k\n")
+                p.stdin.flush()
+            except BrokenPipeError:
+                break
+            time.sleep(0.05)
+        m = closed.search(d.log())
+    finally:
+        p.kill()
+        p.wait()
+    assert m and m.group(1) == "empty-records", d.log()[-2000:]
 
 
 def test_tls_needs_its_files(tmp_path):

@@ -126,6 +126,28 @@ static void slots_pending_request(void **state)
     assert_int_equal(c.victim, 0);
 }
 
+/* What a look at a socket means (pfd_slots_pending()). Plain TCP: a whole
+ * frame waiting, unless the thread's count moved (it is serving). TLS:
+ * never during the handshake (a ClientHello is anyone's, and a TLS 1.3
+ * Finished has the outer type of application data); past it, a whole
+ * application-data record, and a count that moved during the look even
+ * with nothing whole waiting (the thread took a record that may have left
+ * it part of a frame, the rest whole behind it). */
+static void slots_pending_look(void **state)
+{
+    (void)state;
+    /* tls, up, moved, whole, app_data */
+    assert_int_equal(pfd_slots_pending(0, 0, 0, 1, 0), 1);
+    assert_int_equal(pfd_slots_pending(0, 0, 1, 1, 0), 0);
+    assert_int_equal(pfd_slots_pending(0, 0, 0, 0, 0), 0);
+    assert_int_equal(pfd_slots_pending(1, 1, 0, 1, 1), 1);
+    assert_int_equal(pfd_slots_pending(1, 1, 1, 0, 0), 1);
+    assert_int_equal(pfd_slots_pending(1, 1, 0, 1, 0), 0);
+    assert_int_equal(pfd_slots_pending(1, 1, 0, 0, 1), 0);
+    assert_int_equal(pfd_slots_pending(1, 0, 0, 1, 1), 0);
+    assert_int_equal(pfd_slots_pending(1, 0, 1, 1, 1), 0);
+}
+
 /* The record header the TLS shield reads (pfd_server.c, unread()): the
  * whole length from the header's last two bytes, and none beyond what TLS
  * allows (a record the session would refuse is never whole). */
@@ -312,6 +334,7 @@ int main(void)
         cmocka_unit_test(slots_full_table_order),
         cmocka_unit_test(slots_per_address),
         cmocka_unit_test(slots_pending_request),
+        cmocka_unit_test(slots_pending_look),
         cmocka_unit_test(tls_record_header),
         cmocka_unit_test(roles),
         cmocka_unit_test(access_per_register),
