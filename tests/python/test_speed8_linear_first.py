@@ -46,6 +46,11 @@ def test_limits_that_never_bind_are_the_model_without_them(config, kind):
 
 @pytest.mark.parametrize("config", ["p", "dd", "id", "pid"])
 def test_limits_that_bind_still_clip(config):
+    """The output still clips where the limits bind. This cannot tell
+    whether the loop solve ran on those samples (the final clip and the
+    count of limited samples happen whatever x is): the C test
+    test_effects' lever check (x = ce e - cy y on every sample, every
+    placement) is what fails if the solve were skipped where it binds."""
     e = _input()
     free, _ = _run(config, {}, e)
     lo, hi = float(free.min()), float(free.max())
