@@ -419,24 +419,24 @@ static void evict(pfd_client *v, const char *for_peer, const char *why)
  * client is late only by the daemon's fault). Its thread never holds part
  * of a unit (take_unit()), so the first bytes waiting are a unit's start:
  * on plain TCP a frame, whole or not; on TLS, past the handshake, a
- * record. A whole application-data record waiting is judged a request:
- * it may hold only part of one, or none (TLS 1.3 gives alerts and key
- * updates the same outer type), but only an authenticated client gets
- * that far, a record that does not decrypt or holds a bad frame ends the
- * connection, and read_tls() bounds records that bring nothing by the
+ * record. A whole application-data record waiting is judged a request: it
+ * may hold only part of one, or none (TLS 1.3 gives alerts and key updates
+ * the same outer type), but only an authenticated client gets that far, a
+ * record that does not decrypt or holds a bad frame ends the connection,
+ * and read_tls() bounds records that bring nothing by a count and the
  * deadlines. The thread counts each unit, after saying busy, before it
  * takes it: a count that moved during the look means the look may have
  * seen the socket after the thread took from it. On plain TCP the look
  * then judges nothing (busy, loaded after, tells: the request is being
- * served); on TLS the thread may have taken a record that did not
- * complete its request, with the rest whole behind it, so the slot counts
- * as pending for this look: its thread is running, not late. During the
+ * served); on TLS the thread may have taken a record that did not complete
+ * its request, with the rest whole behind it, so the slot counts as
+ * pending for this look: its thread is running, not late. During the
  * handshake nothing is pending: anyone can send a ClientHello, and
  * first_request_timeout_ms bounds that wait. tls_up is loaded before the
  * look: its thread sets it only once the handshake has read its last
  * record, the client's Finished, which TLS 1.3 sends with the outer type
- * of application data; a flag loaded after the look could be set while
- * the look saw that Finished waiting, and judge it a request. */
+ * of application data; a flag loaded after the look could be set while the
+ * look saw that Finished waiting, and judge it a request. */
 static void unread(const pfd_client *c, int *heard, int *pending)
 {
     uint8_t h[PFD_MBAP_LEN]; /* a record's header is shorter */
