@@ -1,4 +1,7 @@
 /* SPDX-License-Identifier: MIT */
+/* POLLRDHUP (Linux): the peer's close behind bytes still waiting
+ * (take_unit()); without it, the byte gap ends such a connection. */
+#define _GNU_SOURCE
 #include "pfd_server.h"
 
 #include <arpa/inet.h>
@@ -137,6 +140,19 @@ static int peek_unit(int tls, int fd, uint8_t *h, ssize_t *k)
     return tls ? pfd_tls_record_length(h) : pfd_mbap_length(h);
 }
 
+/* Whether the peer of @p fd has closed its side, with bytes possibly
+ * still waiting (recv() then returns them, not 0). */
+static int peer_done(int fd)
+{
+#ifdef POLLRDHUP
+    struct pollfd p = {fd, POLLRDHUP, 0};
+    return poll(&p, 1, 0) > 0 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR)) != 0;
+#else
+    (void)fd;
+    return 0;
+#endif
+}
+
 /* Take the unit first in the socket (peek_unit(): a plain client's
  * request, a TLS client's record) into @p buf, only once all of it is in
  * the socket, and say busy (and count the unit) before taking it. The
@@ -149,9 +165,10 @@ static int peek_unit(int tls, int fd, uint8_t *h, ssize_t *k)
  * end of stream: Linux caps SO_RCVLOWAT (at half of tcp_rmem[2], or of a
  * locked SO_RCVBUF) and wakes readers below the mark under memory
  * pressure. That is one more wait (a short nap, as poll() would return at
- * once), still bounded by the byte gap and the deadline; the peer's close
- * shows as recv() 0 (peek_fd()) once nothing waits, and a close after
- * part of a unit ends at the byte gap.
+ * once), still bounded by the byte gap and the deadline, unless the peer
+ * has closed its side (peer_done(); recv() 0, peek_fd(), once nothing
+ * waits): a client that sends part of a unit and closes must free its
+ * slot at once, or a flood of such connections holds the table.
  * @return its length, or a PFD_CONN_* code with @p why set. */
 static int take_unit(pfd_client *c, uint8_t *buf, const char **why)
 {
@@ -188,6 +205,10 @@ static int take_unit(pfd_client *c, uint8_t *buf, const char **why)
             return PFD_CONN_TIMEOUT;
         } else if (ready) { /* readable, no new byte: see above */
             struct timespec nap = {0, 10 * 1000000};
+            if (peer_done(fd)) {
+                *why = "peer-closed";
+                return PFD_CONN_CLOSED;
+            }
             nanosleep(&nap, NULL);
         }
         lowat = len > 0 ? len : c->tls ? PFD_TLS_HDR : PFD_MBAP_LEN;

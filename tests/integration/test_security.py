@@ -869,3 +869,17 @@ def test_readable_below_the_mark_is_a_wait(daemon, request, tls, no_rcvlowat, mo
     send(data[3:])
     assert read(READ_HR_ANSWER)[:2] == READ_HR[:2], d.log()[-2000:]
     assert closed_reason(d, port, 0) is None
+
+
+def test_part_of_a_request_then_close_frees_the_slot_at_once(daemon):
+    """Part of a request, then the client's close: the daemon ends the
+    connection at once as peer-closed, not after the byte gap (10 s here),
+    or a flood of such connections would hold the slot table (as the fuzz
+    test's did when "readable with no new byte" became a wait)."""
+    d = daemon("--byte-timeout-ms", "10000", "--verbose")
+    s = socket.create_connection(("127.0.0.1", d.port), timeout=5 * SLOW)
+    port = s.getsockname()[1]
+    s.sendall(READ_HR[:3])
+    time.sleep(0.1)
+    s.close()
+    assert closed_reason(d, port, 2) == "peer-closed", d.log()[-2000:]
