@@ -112,12 +112,14 @@ static int tls_start(pfd_client *c, pfd_session *s, char *role, size_t n, const 
 }
 
 /* Peek at the start of what waits in socket @p fd: up to @p n bytes into
- * @p buf. @return the bytes waiting (at least those peeked), 0 none, -2
- * the peer closed or the socket failed. */
-static ssize_t peek_fd(int fd, uint8_t *buf, size_t n)
+ * @p buf, their number in *got (only those are this peek's: the rest of
+ * @p buf is older). @return the bytes waiting (at least those peeked), 0
+ * none, -2 the peer closed or the socket failed. */
+static ssize_t peek_fd(int fd, uint8_t *buf, size_t n, ssize_t *got)
 {
     int avail = 0;
     ssize_t k = recv(fd, buf, n, MSG_PEEK | MSG_DONTWAIT);
+    *got = k > 0 ? k : 0;
     if (k < 0)
         return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR ? 0 : -2;
     if (k == 0)
@@ -134,23 +136,32 @@ static ssize_t peek_fd(int fd, uint8_t *buf, size_t n)
 static int peek_unit(int tls, int fd, uint8_t *h, ssize_t *k)
 {
     const ssize_t hl = tls ? PFD_TLS_HDR : PFD_MBAP_LEN;
-    *k = peek_fd(fd, h, (size_t)hl);
-    if (*k < hl)
+    ssize_t got;
+    *k = peek_fd(fd, h, (size_t)hl, &got);
+    /* the header from this peek's own bytes: the rest of the header may
+     * come between the peek and FIONREAD, and h beyond them is older */
+    if (got < hl)
         return 0;
     return tls ? pfd_tls_record_length(h) : pfd_mbap_length(h);
 }
 
-/* Whether the peer of @p fd has closed its side, with bytes possibly
- * still waiting (recv() then returns them, not 0). */
-static int peer_done(int fd)
+/* Why the stream of @p fd can bring no more of a unit, with bytes possibly
+ * still waiting (recv() then returns them, not 0): the peer closed its
+ * side, or sent TCP urgent data, which no Modbus client sends and which
+ * stops every peek and FIONREAD at its mark, so the unit would stay short
+ * to the end of the byte gap. NULL while it can. */
+static const char *stream_stuck(const pfd_client *c)
 {
 #ifdef POLLRDHUP
-    struct pollfd p = {fd, POLLRDHUP, 0};
-    return poll(&p, 1, 0) > 0 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR)) != 0;
-#else
-    (void)fd;
-    return 0;
+    struct pollfd p = {c->conn.fd, POLLRDHUP | POLLPRI, 0};
+#else /* POLLHUP and POLLERR are always reported: a reset, or both sides shut */
+    struct pollfd p = {c->conn.fd, POLLPRI, 0};
 #endif
+    if (poll(&p, 1, 0) <= 0 || p.revents == 0)
+        return NULL;
+    if (p.revents == POLLPRI)
+        return c->tls ? "bad-record" : "bad-frame";
+    return "peer-closed";
 }
 
 /* Take the unit first in the socket (peek_unit(): a plain client's
@@ -166,7 +177,7 @@ static int peer_done(int fd)
  * locked SO_RCVBUF) and wakes readers below the mark under memory
  * pressure. That is one more wait (a short nap, as poll() would return at
  * once), still bounded by the byte gap and the deadline, unless the peer
- * has closed its side (peer_done(); recv() 0, peek_fd(), once nothing
+ * has closed its side (stream_stuck(); recv() 0, peek_fd(), once nothing
  * waits): a client that sends part of a unit and closes must free its
  * slot at once, or a flood of such connections holds the table.
  * @return its length, or a PFD_CONN_* code with @p why set. */
@@ -204,16 +215,31 @@ static int take_unit(pfd_client *c, uint8_t *buf, const char **why)
             *why = "byte-timeout";
             return PFD_CONN_TIMEOUT;
         } else if (ready) { /* readable, no new byte: see above */
-            struct timespec nap = {0, 10 * 1000000};
-            if (peer_done(fd)) {
-                *why = "peer-closed";
+            int64_t nap_ns = 10 * 1000000;
+            struct timespec nap = {0, 0};
+            /* an eviction's or a stop's shutdown() ends the thread at once:
+             * where no POLLRDHUP tells the peer's close from it, the nap
+             * would otherwise hold the slot to the end of the gap */
+            const char *stuck = stream_stuck(c);
+            if (stuck != NULL || __atomic_load_n(&c->evicted, SEQ) || pfd_stopping(c->d)) {
+                /* client_main names an eviction or a stop */
+                *why = stuck != NULL ? stuck : "peer-closed";
                 return PFD_CONN_CLOSED;
             }
+            if (gap_end - now < nap_ns)
+                nap_ns = gap_end - now;
+            if (deadline > 0 && deadline - now < nap_ns)
+                nap_ns = deadline - now;
+            nap.tv_nsec = (long)nap_ns;
             nanosleep(&nap, NULL);
+            now = pfd_now_ns();
         }
         lowat = len > 0 ? len : c->tls ? PFD_TLS_HDR : PFD_MBAP_LEN;
         setsockopt(fd, SOL_SOCKET, SO_RCVLOWAT, &lowat, sizeof lowat);
-        ready = pfd_conn_wait_until(&c->conn, (int)((gap_end - now + 999999) / 1000000),
+        /* never negative: poll() would wait without end (a nap can end
+         * past the gap; the next pass then ends the connection) */
+        ready = pfd_conn_wait_until(&c->conn,
+                                    now < gap_end ? (int)((gap_end - now + 999999) / 1000000) : 0,
                                     deadline);
         setsockopt(fd, SOL_SOCKET, SO_RCVLOWAT, &one, sizeof one);
         if (ready < 0) {
@@ -462,7 +488,7 @@ static void unread(const pfd_client *c, int *heard, int *pending)
 {
     uint8_t h[PFD_MBAP_LEN]; /* a record's header is shorter */
     ssize_t k;
-    int frames, len, moved, up;
+    int frames, len, moved, up, whole;
 
     up = c->tls && __atomic_load_n(&c->tls_up, SEQ);
     frames = __atomic_load_n(&c->frames, SEQ);
@@ -470,8 +496,9 @@ static void unread(const pfd_client *c, int *heard, int *pending)
     moved = __atomic_load_n(&c->frames, SEQ) != frames;
     if (k > 0)
         *heard = 1;
-    *pending = pfd_slots_pending(c->tls, up, moved, len > 0 && k >= len,
-                                 c->tls && h[0] == PFD_TLS_APP_DATA);
+    whole = len > 0 && k >= len; /* then h holds this look's header */
+    *pending = pfd_slots_pending(c->tls, up, moved, whole,
+                                 whole && c->tls && h[0] == PFD_TLS_APP_DATA);
 }
 
 /* Whether client @p id holds a lock: a holder is never evicted, or a
