@@ -191,16 +191,11 @@ def test_junk_after_the_handshake_ends_the_connection(daemon, pki, what, reason)
     s.close()
 
 
-def test_records_without_a_request_end_at_the_deadline(daemon, pki):
-    """TLS 1.3 key updates are records that bring no byte of a request
-    (as empty records are): each keeps a whole record waiting, and so the
-    slot, until the client's thread takes it. A client that sends them
-    without end must still be closed at its first-request deadline
-    (openssl s_client sends one for each input line "k"). They come 16 to
-    the deadline, below the count that ends a connection at once
-    (test_records_without_a_request_are_bounded)."""
-    first_ms = int(1000 * SLOW)
-    d = start(daemon, pki, "--verbose", "--first-request-timeout-ms", str(first_ms))
+def key_updates(d, pki, pause, seconds):
+    """Key updates from an authenticated TLS 1.3 client (openssl s_client
+    sends one for each input line "k"), one every @p pause s for at most
+    @p seconds, until daemon @p d closes the connection: @return the
+    reason it logged, None if it did not close it."""
     p = subprocess.Popen(["openssl", "s_client", "-connect", f"127.0.0.1:{d.tls_port}",
                           "-CAfile", pki["ca"], "-cert", pki["viewer"][0],
                           "-key", pki["viewer"][1], "-tls1_3", "-no_ign_eof"],
@@ -212,20 +207,33 @@ def test_records_without_a_request_end_at_the_deadline(daemon, pki):
         while "msg=client-connected" not in d.log():
             assert time.monotonic() < deadline, d.log()[-2000:]
             time.sleep(0.02)
-        end = time.monotonic() + 5 * first_ms / 1000
+        end = time.monotonic() + seconds
         while not closed.search(d.log()) and time.monotonic() < end:
             try:
                 p.stdin.write(b"k\n")
                 p.stdin.flush()
             except BrokenPipeError:
                 break
-            time.sleep(first_ms / 16000)
+            time.sleep(pause)
         # closed while the key updates still came, not once they stopped
         m = closed.search(d.log())
     finally:
         p.kill()
         p.wait()
-    assert m and m.group(1) == "first-request-timeout", d.log()[-2000:]
+    return m.group(1) if m else None
+
+
+def test_records_without_a_request_end_at_the_deadline(daemon, pki):
+    """TLS 1.3 key updates are records that bring no byte of a request
+    (as empty records are): each keeps a whole record waiting, and so the
+    slot, until the client's thread takes it. A client that sends them
+    without end must still be closed at its first-request deadline. They
+    come 16 to the deadline, below the count that ends a connection at
+    once (test_records_without_a_request_are_bounded)."""
+    first_ms = int(1000 * SLOW)
+    d = start(daemon, pki, "--verbose", "--first-request-timeout-ms", str(first_ms))
+    assert key_updates(d, pki, first_ms / 16000, 5 * first_ms / 1000) == \
+        "first-request-timeout", d.log()[-2000:]
 
 
 def test_records_without_a_request_are_bounded(daemon, pki):
@@ -233,33 +241,10 @@ def test_records_without_a_request_are_bounded(daemon, pki):
     (an idle timeout may even be none): each whole record waiting keeps
     the slot pending, so more than 32 of them between two requests end
     the connection at once, with its own reason (before: only the
-    deadline, here a minute away, ended it)."""
+    deadline, here a minute away, ended it). 10 s at most, far past 33
+    key updates."""
     d = start(daemon, pki, "--verbose", "--first-request-timeout-ms", "60000")
-    p = subprocess.Popen(["openssl", "s_client", "-connect", f"127.0.0.1:{d.tls_port}",
-                          "-CAfile", pki["ca"], "-cert", pki["viewer"][0],
-                          "-key", pki["viewer"][1], "-tls1_3", "-no_ign_eof"],
-                         stdin=subprocess.PIPE, stdout=subprocess.DEVNULL,
-                         stderr=subprocess.DEVNULL)
-    closed = re.compile(r"msg=client-closed peer=127\.0\.0\.1:\d+ reason=(\S+)")
-    try:
-        deadline = time.monotonic() + 10 * SLOW
-        while "msg=client-connected" not in d.log():
-            assert time.monotonic() < deadline, d.log()[-2000:]
-            time.sleep(0.02)
-        for _ in range(200):  # 10 s at most, far past 33 key updates
-            if closed.search(d.log()):
-                break
-            try:
-                p.stdin.write(b"k\n")
-                p.stdin.flush()
-            except BrokenPipeError:
-                break
-            time.sleep(0.05)
-        m = closed.search(d.log())
-    finally:
-        p.kill()
-        p.wait()
-    assert m and m.group(1) == "empty-records", d.log()[-2000:]
+    assert key_updates(d, pki, 0.05, 10.0) == "empty-records", d.log()[-2000:]
 
 
 def test_tls_needs_its_files(tmp_path):
