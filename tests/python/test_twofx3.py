@@ -81,16 +81,16 @@ def test_a_refit_from_a_better_model_so_far_is_referred_to_it(monkeypatch):
     seen = []
     real = selection.reference
 
-    def spy(pb_, effects, fr, prior, more=()):
-        seen.append(tuple(more))
-        return real(pb_, effects, fr, prior, *((more,) if more else ()))
+    def spy(pb_, effects, fr, prior, better=None):
+        seen.append(better)
+        return real(pb_, effects, fr, prior, better)
 
     monkeypatch.setattr(selection, "reference", spy)
     out = selection.from_better(pb, poor_lin, [t, other], 1, _say([]))
     assert out[0] is not t
-    assert seen and all(len(m) == 1 and m[0].effects == () for m in seen)
-    assert out[0].ref.cost <= seen[0][0].cost * (1 + 1e-9)
-    assert out[0].better is seen[0][0]      # kept for the test's later retests
+    assert seen and all(m is not None and m.effects == () for m in seen)
+    assert out[0].ref.cost <= seen[0].cost * (1 + 1e-9)
+    assert out[0].better is seen[0]         # kept for the test's later retests
 
 
 def test_a_retest_keeps_the_better_model_so_far(monkeypatch):
@@ -125,5 +125,5 @@ def test_a_better_start_does_not_displace_a_deeper_optimum(monkeypatch):
     monkeypatch.setattr(search, "refine", refine)
     fr = SimpleNamespace(dead=0, values={})
     prior = better = SimpleNamespace(groups={}, values={})
-    r = selection.reference(None, (), fr, prior, (better,))
+    r = selection.reference(None, (), fr, prior, better)
     assert r.cost == 0.5 and r.start == "from extended"

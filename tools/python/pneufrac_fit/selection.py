@@ -42,26 +42,29 @@ import numpy as np
 from . import baseline, candidates, fit, guards, lib, model, search, signals
 
 
-def reference(pb, effects, fr, prior, more=()):
+def reference(pb, effects, fr, prior, better=None):
     """The model `effects` refitted with pb's freedoms, from the extended
     fit's optimum (its other values), from the prior fit of `effects`, and
-    from each further fit of `effects` in `more` (a better optimum of the
-    model so far that the round found: from_better)."""
+    from `better` (a better optimum of the model so far that the round
+    found: from_better)."""
     effects = model.canonical(effects)
     dead = fr.dead if "dead_time" in effects else 0
-    starts = [("from extended", dict(fr.values))]
-    for label, p in [("prior", prior)] + [("better prior", m) for m in more]:
+
+    def start_of(p):
         b = {**p.groups, **p.values}
         if "saturation" in effects and "K" not in b:
             b["K"] = fr.values["K"]
-        starts.append((label, b))
-    # search.refine goes on from its best start only: the better model so
-    # far is refined apart, not put in competition by start cost, so that a
-    # start of the others that reaches a deeper optimum is still refined
-    # (a reference left above where it was would favour the effect)
-    n = len(starts) - len(more)
-    r = min((search.refine(pb, effects, s, dead=dead) for s in (starts[:n], starts[n:]) if s),
-            key=lambda f: f.cost)
+        return b
+
+    r = search.refine(pb, effects, [("from extended", dict(fr.values)),
+                                    ("prior", start_of(prior))], dead=dead)
+    if better is not None:
+        # search.refine goes on from its best start only: the better model
+        # so far is refined apart, not put in competition by start cost, so
+        # that a start of the others that reaches a deeper optimum is still
+        # refined (a reference left above where it was would favour the effect)
+        r = min(r, search.refine(pb, effects, [("better prior", start_of(better))], dead=dead),
+                key=lambda f: f.cost)
     # the delay free as in the extended fit (candidates.fit_extended)
     return candidates.profile_dead(pb, effects, r) if dead else r
 
@@ -115,9 +118,8 @@ def try_effect(pb, current, effect: str, seed: int, hint: dict | None = None, fi
     far than `current` (from_better): the reference and its confirmation
     are searched from it too, as the effect's fit was."""
     t0 = time.monotonic()
-    more = () if better is None else (better,)
     try:
-        return _try_effect(pb, current, effect, seed, hint, fitted, t0, more)
+        return _try_effect(pb, current, effect, seed, hint, fitted, t0, better)
     except lib.ModelError as ex:
         t = guards.Test(effect, current, current)
         t.reasons.append(f"the library refused a fit of it ({ex})")
@@ -126,7 +128,7 @@ def try_effect(pb, current, effect: str, seed: int, hint: dict | None = None, fi
         return t
 
 
-def _try_effect(pb, current, effect, seed, hint, fitted, t0, more=()):
+def _try_effect(pb, current, effect, seed, hint, fitted, t0, better=None):
     rng = np.random.default_rng(seed)
     pbx = _problem_of(pb, current, effect)
     pb = candidates.for_model(pb, current)   # the reference's problem, for the guards
@@ -135,15 +137,15 @@ def _try_effect(pb, current, effect, seed, hint, fitted, t0, more=()):
     pbx = candidates.for_model(pbx, fr)      # saturation where the fit placed it
     if fr.cost < fit.start_cost(pbx, current.effects, {**current.groups, **current.values},
                                 current.dead) * (1 - 1e-6):
-        ref = reference(pbx, current.effects, fr, current, more)
+        ref = reference(pbx, current.effects, fr, current, better)
     else:       # no better than the model without it: no reference needed
         ref = current
     fit.uncertainty(pbx, fr)
     t = guards.test(pbx, effect, fr, ref, pb if ref is current else pbx, current)
     if t.passes:
-        t = confirm(pbx, effect, fr, t, current, rng, more)
+        t = confirm(pbx, effect, fr, t, current, rng, better)
     t.pb = pbx
-    t.better = more[0] if more else None
+    t.better = better
     t.elapsed = time.monotonic() - t0
     return t
 
@@ -187,7 +189,7 @@ def from_model(pb, current, effect, fr, src, own, label):
     return candidates.profile_dead(pb, effects, r) if dead else r
 
 
-def confirm(pb, effect, fr, t, current, rng, more=()):
+def confirm(pb, effect, fr, t, current, rng, better=None):
     """Before an effect passes, its reference gets the baseline's whole
     search (the paper's values, fresh starts, the extended fit's groups,
     successive halving, a longer refinement): a gain that a better optimum
@@ -197,7 +199,8 @@ def confirm(pb, effect, fr, t, current, rng, more=()):
     gain that only leaving the corner brings is the reference's too."""
     effects = model.canonical(current.effects)
     st = confirm_starts(fr, t.ref, current)
-    st += [("better prior", {**m.groups, **m.values}) for m in more]
+    if better is not None:
+        st.append(("better prior", {**better.groups, **better.values}))
     if not effects:
         st += baseline.starts(pb, rng)
     dead = fr.dead if "dead_time" in effects else 0
@@ -655,7 +658,7 @@ def refine_winner(pb, current, tests, seed, say):
         return tests
     i = next(j for j, t in enumerate(tests) if t is win)
     w = win.model
-    p = candidates.for_model(tests[i].pb, w)
+    p = candidates.for_model(win.pb, w)
     # the same start's fit, refined further: it keeps that start's label
     # (candidates.corner_notes tells where a named effect's fit came from)
     fr = search.refine(p, w.effects, [(w.start, {**w.groups, **w.values})],
