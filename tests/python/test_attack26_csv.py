@@ -160,3 +160,20 @@ def test_json_errors_are_a_json_object(capsys, argv, want):
     j = json.loads(cap.out)
     assert rc == 2 and j["status"] == 2 and want in j["error"], cap
     assert cap.err == f"pneufrac-fit: error: {j['error']}\n"
+
+
+@pytest.mark.parametrize("scale,want", [(1e150, "beyond the library's range of levels"),
+                                        (1e-300, "its squared deviations are lost")])
+def test_values_in_units_the_fit_cannot_work_in_are_refused(scale, want):
+    """Both ended in a traceback from the fit (SVD did not converge)."""
+    t, e, pc = _good()
+    with pytest.raises(data.DataError) as ex:
+        data.parse_csv(_text(t, e * scale, pc * scale), "r")
+    assert want in str(ex.value) and "rescale" in str(ex.value), ex.value
+
+
+@pytest.mark.parametrize("scale", [1e6, 1e-12])
+def test_values_in_large_or_small_units_are_read(scale):
+    t, e, pc = _good()
+    rec = data.parse_csv(_text(t, e * scale, pc * scale), "r")
+    assert rec.n == t.size

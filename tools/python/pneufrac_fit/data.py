@@ -234,6 +234,7 @@ def make_record(t, e, pc, source: str = "<data>") -> Record:
                             f"(t index {bad[0]}); {bad.size} bad value(s)")
     if t.size < MIN_SAMPLES:
         raise DataError(f"{source}: too few samples: {t.size} (need at least {MIN_SAMPLES})")
+    _check_levels(e, pc, source)
     try:
         tb = timebase.analyse(t, source)
     except timebase.TimebaseError as exc:
@@ -265,6 +266,32 @@ def rate_range() -> tuple[float, float]:
     seconds ended in a traceback from the fit)."""
     from . import lib, model
     return model.F_SIM_MIN / MAX_STEPS_PER_SAMPLE, lib.param_range("fs").hi
+
+
+# The smallest span of a signal: the fit works with squared deviations, and
+# below the square root of the smallest normal double they are subnormal
+# (precision lost, then zero: values of 1e-300 ended in a traceback).
+MIN_SPAN = float(np.sqrt(np.finfo(float).tiny))
+
+
+def _check_levels(e: np.ndarray, pc: np.ndarray, source: str) -> None:
+    """The record's values in units the library can model: the levels its
+    effects take (saturation limits in output units, dead band and nozzle
+    widths in input units) are bounded by the library's range, so values
+    beyond it cannot be modelled (1e150 ended in a traceback); and spans a
+    fit can square."""
+    from . import lib
+    big = lib.param_range("sat_hi").hi
+    for name, v in (("e", e), ("pc", pc)):
+        k = int(np.argmax(np.abs(v)))
+        if abs(v[k]) > big:
+            raise DataError(f"{source}: {name} is {v[k]:.6g} at sample {k}: beyond the "
+                            f"library's range of levels, +-{big:g}; rescale it (other units)")
+        span = float(np.max(v) - np.min(v))
+        if 0.0 < span < MIN_SPAN:
+            raise DataError(f"{source}: {name} spans only {span:.3g}: below {MIN_SPAN:.3g}, "
+                            "its squared deviations are lost in a double; rescale it (other "
+                            "units)")
 
 
 def _check_rate(fs: float, source: str) -> None:

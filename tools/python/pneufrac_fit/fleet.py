@@ -84,7 +84,8 @@ def read_record(path: Path) -> str:
     if size > MAX_BYTES:
         raise ValueError(f"{size / 2**20:.0f} MiB, over the fleet's limit of "
                          f"{MAX_BYTES / 2**20:.0f} MiB per record")
-    return path.read_text(encoding="utf-8", errors="strict")
+    from . import data
+    return data.decode(path.read_bytes(), str(path))    # as diagnose reads a file
 
 
 def _client(scheduler: str | None, workers: int):
