@@ -292,6 +292,12 @@ if [ -w /dev/full ]; then
   rc=$?
   check "write error on stdout exits 1 with one message" \
     test "$rc" -eq 1 -a "$(wc -l <"$TMP/err")" -eq 1
+  # bode's message said only "error writing the CSV": the reason too
+  "$BIN" bode --config dd --fs 1000 --points 100000 >/dev/full 2>"$TMP/err"
+  rc=$?
+  check "bode: write error names the reason, in one line" \
+    test "$rc" -eq 1 -a "$(wc -l <"$TMP/err")" -eq 1
+  check "bode: write error names the reason" grep -q "No space left on device" "$TMP/err"
 fi
 "$BIN" simulate --config dd --fs 20000 --duration 20 2>"$TMP/err" | head -n 1 >/dev/null
 rc=${PIPESTATUS[0]}
