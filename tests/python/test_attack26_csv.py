@@ -177,3 +177,14 @@ def test_values_in_large_or_small_units_are_read(scale):
     t, e, pc = _good()
     rec = data.parse_csv(_text(t, e * scale, pc * scale), "r")
     assert rec.n == t.size
+
+
+def test_an_operating_point_beyond_the_levels_is_refused(tmp_path, capsys):
+    """--e0 1e300 --pc0 1e300 ended in a traceback from the fit."""
+    t, e, pc = _good()
+    p = tmp_path / "r.csv"
+    p.write_text(_text(t, e, pc))
+    rc = cli.main(["diagnose", str(p), "--config", "p", "--quiet", "--e0", "1e300",
+                   "--pc0", "1e300"])
+    err = capsys.readouterr().err
+    assert rc == 2 and "beyond the library's range of levels" in err, err

@@ -274,14 +274,20 @@ def rate_range() -> tuple[float, float]:
 MIN_SPAN = float(np.sqrt(np.finfo(float).tiny))
 
 
+def max_level() -> float:
+    """The largest magnitude of a record's value or operating point: the
+    library's range of levels (its saturation limits)."""
+    from . import lib
+    return lib.param_range("sat_hi").hi
+
+
 def _check_levels(e: np.ndarray, pc: np.ndarray, source: str) -> None:
     """The record's values in units the library can model: the levels its
     effects take (saturation limits in output units, dead band and nozzle
     widths in input units) are bounded by the library's range, so values
     beyond it cannot be modelled (1e150 ended in a traceback); and spans a
     fit can square."""
-    from . import lib
-    big = lib.param_range("sat_hi").hi
+    big = max_level()
     for name, v in (("e", e), ("pc", pc)):
         k = int(np.argmax(np.abs(v)))
         if abs(v[k]) > big:
@@ -350,6 +356,9 @@ def set_operating_point(rec: Record, e0: float, pc0: float) -> None:
     """An operating point given by the user replaces the detected one."""
     if not (math.isfinite(e0) and math.isfinite(pc0)):
         raise DataError("the operating point e0, pc0 must be finite")
+    if max(abs(e0), abs(pc0)) > max_level():    # as the record's values (_check_levels)
+        raise DataError(f"the operating point e0 = {e0:g}, pc0 = {pc0:g} is beyond the "
+                        f"library's range of levels, +-{max_level():g}")
     rec.notes = [n for n in rec.notes if not n.startswith(("operating point from",
                                                            "the record does not open"))]
     rec.e0, rec.pc0 = float(e0), float(pc0)
