@@ -188,3 +188,13 @@ def test_an_operating_point_beyond_the_levels_is_refused(tmp_path, capsys):
                    "--pc0", "1e300"])
     err = capsys.readouterr().err
     assert rc == 2 and "beyond the library's range of levels" in err, err
+
+
+@pytest.mark.parametrize("seed", ["-1", str(2**64)])
+def test_fleet_reads_the_seed_as_diagnose_does(tmp_path, capsys, seed):
+    """fleet's --seed had its own rule (negative refused, 2**64 taken):
+    now the one diagnose and generate use, before any cluster starts."""
+    with pytest.raises(SystemExit) as ex:
+        cli.main(["fleet", str(tmp_path), "--config", "p", "--seed", seed])
+    err = capsys.readouterr().err
+    assert ex.value.code == 2 and "argument --seed:" in err and "is outside" in err, err

@@ -52,7 +52,7 @@ EXIT_HELP = (f"Exit status: 0 success; {EXIT_USAGE} bad input or arguments (one 
              f"on stderr); {EXIT_LIBRARY} the shared library is missing or does not match.")
 
 
-def _seed(text: str) -> int:
+def seed_arg(text: str) -> int:
     """A seed for numpy's generators: a non-negative integer (a negative one
     used to end in a traceback from numpy)."""
     try:
@@ -92,7 +92,7 @@ def _parser():
                    help="simulate at this multiple of the data rate (default: the "
                         "smallest that reaches 2 kHz)")
     d.add_argument("--order", type=int, default=8, help="Oustaloup order N (default 8)")
-    d.add_argument("--seed", type=_seed, default=0,
+    d.add_argument("--seed", type=seed_arg, default=0,
                    help="seed of the fresh starts (a non-negative integer)")
     d.add_argument("--holdout", default=holdout.DEFAULT, choices=list(holdout.MODES),
                    help="what is held out for validation: 'tail' (default: the last 30 %% "
@@ -113,7 +113,7 @@ def _parser():
                    help="noise sd as a fraction of the output span, 0..1 (default 0.002)")
     g.add_argument("--oversample", type=int, default=4,
                    help="internal rate multiple (default 4)")
-    g.add_argument("--seed", type=_seed, default=1,
+    g.add_argument("--seed", type=seed_arg, default=1,
                    help="seed of the input and the noise (a non-negative integer)")
     g.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="paper parameter of the simulated plant (e.g. tau=0.002)")
