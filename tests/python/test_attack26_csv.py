@@ -198,3 +198,11 @@ def test_fleet_reads_the_seed_as_diagnose_does(tmp_path, capsys, seed):
         cli.main(["fleet", str(tmp_path), "--config", "p", "--seed", seed])
     err = capsys.readouterr().err
     assert ex.value.code == 2 and "argument --seed:" in err and "is outside" in err, err
+
+
+def test_a_device_as_the_file_is_read_bounded(capsys):
+    """/dev/zero was read until the memory ran out (fleet alone had a
+    limit, by the file's size, which a device does not report)."""
+    rc = cli.main(["diagnose", "/dev/zero", "--config", "p", "--quiet"])
+    err = capsys.readouterr().err
+    assert rc == 2 and "/dev/zero: larger than 256 MiB" in err, err

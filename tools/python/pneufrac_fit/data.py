@@ -77,10 +77,29 @@ def parse_columns(text: str) -> dict:
     return out
 
 
+# The largest record file read (fleet's limit before, now diagnose's too: a
+# 10 kHz hour of t,e,pc is about 1 GB; a historian export per loop is far
+# smaller): about 3.5 million rows, some 1.5 GB of memory while parsed.
+# Read in one bounded call, so that
+# a device given as the file (/dev/zero) or a file still growing does not
+# fill the memory.
+MAX_FILE_BYTES = 256 * 2**20
+
+
+def read_bytes(path: str | Path) -> bytes:
+    """A record file's bytes, at most MAX_FILE_BYTES (DataError beyond)."""
+    with open(path, "rb") as f:
+        raw = f.read(MAX_FILE_BYTES + 1)
+    if len(raw) > MAX_FILE_BYTES:
+        raise DataError(f"{path}: larger than {MAX_FILE_BYTES // 2**20} MiB, the most a "
+                        "record file may hold; cut it or decimate it")
+    return raw
+
+
 def read_csv(path: str | Path, columns: dict | None = None) -> Record:
     path = Path(path)
     try:
-        raw = path.read_bytes()
+        raw = read_bytes(path)
     except FileNotFoundError:
         raise DataError(f"{path}: no such file") from None
     except IsADirectoryError:
