@@ -206,3 +206,24 @@ def test_a_device_as_the_file_is_read_bounded(capsys):
     rc = cli.main(["diagnose", "/dev/zero", "--config", "p", "--quiet"])
     err = capsys.readouterr().err
     assert rc == 2 and "/dev/zero: larger than 256 MiB" in err, err
+
+
+def test_json_error_when_stdout_itself_fails(tmp_path):
+    """diagnose --json > /dev/full: the error object could not be written
+    either, and that ended in a traceback (found on this branch's own
+    change); now the one stderr line, status 2."""
+    import subprocess
+    import sys
+    from pathlib import Path
+    if not Path("/dev/full").exists():
+        pytest.skip("no /dev/full")
+    t, e, pc = _good()
+    p = tmp_path / "r.csv"
+    p.write_text(_text(t * 1000.0, e, pc))      # refused for its rate: no fit
+    with open("/dev/full", "w") as full:
+        r = subprocess.run([sys.executable, "-c", "import sys; from pneufrac_fit.cli import "
+                            "main; sys.exit(main())", "diagnose", str(p), "--config", "p",
+                            "--json"], stdout=full, stderr=subprocess.PIPE, text=True,
+                           timeout=120)
+    assert r.returncode == 2 and "Traceback" not in r.stderr, r.stderr
+    assert r.stderr.count("\n") == 1 and "sample rate of 1 Hz" in r.stderr, r.stderr

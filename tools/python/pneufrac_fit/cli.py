@@ -342,7 +342,10 @@ def _fail(message: str, status: int, as_json: bool) -> int:
     print(f"pneufrac-fit: error: {message}", file=sys.stderr)
     if as_json:
         import json
-        print(json.dumps({"error": message, "status": status}))
+        try:
+            print(json.dumps({"error": message, "status": status}), flush=True)
+        except OSError:     # stdout itself failed (a full disk): the line above says so
+            _quiet_broken_pipe()
     return status
 
 
