@@ -91,12 +91,19 @@ int pfd_ini_parse(pfd_ini *ini, char *text, size_t len, int need_checksum,
 {
     unsigned long crc = 0; /* of every byte before the current line */
     int have_sum = 0;
+    size_t bom = 0;
     char *p, *end;
 
     ini->line = 0;
     if (memchr(text, '\0', len) != NULL)
         return pfd_ini_error(ini, "contains NUL bytes: not a text file");
-    for (p = text; p < text + len; p = end + 1) {
+    /* A UTF-8 byte-order mark (Windows editors write one) is not part of
+     * the first line's text; the checksum covers it like any byte. */
+    if (len >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0) {
+        bom = 3;
+        crc = pfd_crc32(0, (const unsigned char *)text, bom);
+    }
+    for (p = text + bom; p < text + len; p = end + 1) {
         unsigned long crc_next;
         char *line;
         int rc;
@@ -106,7 +113,8 @@ int pfd_ini_parse(pfd_ini *ini, char *text, size_t len, int need_checksum,
         /* Every line the daemon writes ends in a newline: a file cut short
          * in the middle of a line is caught here. */
         if (end == NULL)
-            return pfd_ini_error(ini, "last line has no newline: the file is truncated");
+            return pfd_ini_error(ini, "last line has no newline: the file was cut short "
+                                 "(or edited without a final newline: add one)");
         crc_next = pfd_crc32(crc, (const unsigned char *)p, (size_t)(end - p) + 1);
         *end = '\0';
         line = trim(p);

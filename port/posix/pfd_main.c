@@ -145,6 +145,7 @@ static int run(const pfd_cli *a, const pfd_config *c, int fallback)
     pfd_settings set = c->set;
     sigset_t sigs;
     watch *w = calloc(1, sizeof *w); /* nothing seen yet */
+    char err[600];
     int rc = 0;
 
     /* The file's [daemon] section (in a fallback: the defaults with the
@@ -152,6 +153,12 @@ static int run(const pfd_cli *a, const pfd_config *c, int fallback)
     if (fallback)
         pfd_settings_fallback(&set);
     pfd_settings_copy(&set, &a->set, a->given);
+    if (d != NULL && w != NULL && pfd_settings_check(&set, err, sizeof err) != 0) {
+        pfd_fatal("%s", err);
+        free(w);
+        free(d);
+        return PFD_EXIT_USAGE;
+    }
     if (d == NULL || w == NULL || pfd_daemon_init(d, &set) != 0) {
         pfd_fatal("out of memory");
         free(w);

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 #include "pfd_settings.h"
 
+#include <errno.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -413,4 +414,40 @@ void pfd_run_default(pfd_run *run)
     run->fs = ip.fs;
     run->substeps = (int)ip.substeps;
     run->arith = ip.arith;
+}
+
+/* A file the TLS listener loads: readable now, or why not (OpenSSL's own
+ * error for a missing file reads only "failed"). */
+static int check_readable(const char *flag, const char *key, const char *path, char *err,
+                          size_t n)
+{
+    FILE *f = fopen(path, "r");
+    if (f == NULL) {
+        snprintf(err, n, "%s %s (config key %s): cannot read: %s", flag, path, key,
+                 strerror(errno));
+        return -1;
+    }
+    fclose(f);
+    return 0;
+}
+
+int pfd_settings_check(const pfd_settings *s, char *err, size_t n)
+{
+    const int tls = s->tls_listen.addr[0] != '\0';
+
+    if (tls && (s->tls_cert[0] == '\0' || s->tls_key[0] == '\0' || s->tls_ca[0] == '\0')) {
+        snprintf(err, n, "--tls-listen needs --tls-cert, --tls-key and --tls-ca (config "
+                 "keys tls_listen, tls_cert, tls_key, tls_ca)");
+        return -1;
+    }
+    if (tls && (check_readable("--tls-cert", "tls_cert", s->tls_cert, err, n) != 0 ||
+                check_readable("--tls-key", "tls_key", s->tls_key, err, n) != 0 ||
+                check_readable("--tls-ca", "tls_ca", s->tls_ca, err, n) != 0))
+        return -1;
+    if (s->plain_access == PFD_ACCESS_NONE && !tls) {
+        snprintf(err, n, "--plain-access none needs --tls-listen (config keys plain_access, "
+                 "tls_listen): there would be no listener");
+        return -1;
+    }
+    return 0;
 }

@@ -154,6 +154,14 @@ void pfd_settings_default(pfd_settings *s);
  *  that could not be used gives nothing. */
 void pfd_settings_fallback(pfd_settings *s);
 
+/** The rules that tie settings together, checked on the merged settings
+ *  (file, then command line) before anything starts, so that a bad
+ *  combination is refused as bad arguments (exit 2), not found by the
+ *  server after the loop has started: --tls-listen needs its three files,
+ *  each readable; --plain-access none needs --tls-listen. @return 0, or
+ *  -1 with one line in @p err naming the options and their config keys. */
+int pfd_settings_check(const pfd_settings *s, char *err, size_t n);
+
 /** One default instance (pfd_iparams_default), nothing else set. */
 void pfd_run_default(pfd_run *run);
 

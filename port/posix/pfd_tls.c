@@ -91,10 +91,6 @@ pfd_tls *pfd_tls_new(const pfd_settings *set, char *err, size_t n)
 {
     pfd_tls *t;
 
-    if (set->tls_cert[0] == '\0' || set->tls_key[0] == '\0' || set->tls_ca[0] == '\0') {
-        snprintf(err, n, "--tls-listen needs --tls-cert, --tls-key and --tls-ca");
-        return NULL;
-    }
     t = calloc(1, sizeof *t);
     if (t == NULL) {
         snprintf(err, n, "out of memory");

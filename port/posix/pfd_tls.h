@@ -23,7 +23,8 @@ typedef struct pfd_tls pfd_tls;
 /** The role extension's OID (MB-TCP-Security, R-21). */
 #define PFD_TLS_ROLE_OID "1.3.6.1.4.1.50316.802.1"
 
-/** Server context from the tls_* settings: certificate, key, CA, roles.
+/** Server context from the tls_* settings: certificate, key, CA, roles,
+ *  which pfd_settings_check() has found given and readable.
  *  @return the context, or NULL with a message in @p err. */
 pfd_tls *pfd_tls_new(const pfd_settings *set, char *err, size_t n);
 

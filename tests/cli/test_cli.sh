@@ -186,6 +186,9 @@ bad_csv trailing '2: .*1x' 't,e\n0,1x\n'
 bad_csv no_e_column "1: header has no column 'e'" 't,u\n0,1\n'
 bad_csv no_t_column "2: header has no column 't'" '# c\ne,u\n0,1\n'
 bad_csv short_row '3: 1 fields, the header has 2' 't,e\n0,1\n0.001\n'
+# a spreadsheet's ';' or tab separator is named (was "header has no column 'e'")
+bad_csv semicolons "1: the header's fields are separated by ';'" 't;e\n0;1\n0,001;1\n'
+bad_csv tabs "1: the header's fields are separated by '.t'" 't\te\n0\t1\n'
 bad_csv empty_field "2: empty field 'e'" 't,e\n0,\n'
 printf '' >"$TMP/empty.csv"
 bad_csv header_only '1: no data rows' 't,e\n'
@@ -292,6 +295,12 @@ if [ -w /dev/full ]; then
   rc=$?
   check "write error on stdout exits 1 with one message" \
     test "$rc" -eq 1 -a "$(wc -l <"$TMP/err")" -eq 1
+  # bode's message said only "error writing the CSV": the reason too
+  "$BIN" bode --config dd --fs 1000 --points 100000 >/dev/full 2>"$TMP/err"
+  rc=$?
+  check "bode: write error names the reason, in one line" \
+    test "$rc" -eq 1 -a "$(wc -l <"$TMP/err")" -eq 1
+  check "bode: write error names the reason" grep -q "No space left on device" "$TMP/err"
 fi
 "$BIN" simulate --config dd --fs 20000 --duration 20 2>"$TMP/err" | head -n 1 >/dev/null
 rc=${PIPESTATUS[0]}

@@ -330,3 +330,30 @@ def test_bad_command_lines(tmp_path):
         assert p.returncode == 2, (args, p.stderr)
         assert p.stderr.startswith("pneufracd: ") and text in p.stderr, (args, p.stderr)
         assert p.stderr.count("\n") == 1, p.stderr
+
+
+def test_settings_that_go_together_are_refused_before_start(tmp_path):
+    """A combination of settings the server cannot serve is bad arguments
+    (exit 2, one line, nothing started), from the command line or the
+    config file: before, the loop started and the server then exited 1,
+    and a missing certificate file read only "--tls-cert FILE: failed"."""
+    import subprocess
+    from pfd import DAEMON
+    conf = tmp_path / "tls.conf"
+    conf.write_text("[daemon]\ntls_listen = 127.0.0.1:0\n\n[instance 1]\nconfig = p\n")
+    sealed = subprocess.run([DAEMON, "--seal-config", str(conf)], capture_output=True,
+                            text=True, timeout=30)
+    assert sealed.returncode == 0, sealed.stderr
+    missing = str(tmp_path / "none.pem")
+    for args, text in [(["--plain-access", "none"], "--plain-access none needs --tls-listen"),
+                       (["--config", str(conf)], "--tls-listen needs --tls-cert"),
+                       (["--tls-listen", "127.0.0.1:0", "--tls-cert", missing, "--tls-key",
+                         missing, "--tls-ca", missing],
+                        f"--tls-cert {missing} (config key tls_cert): cannot read: No such "
+                        "file")]:
+        p = subprocess.run([DAEMON, "--listen", "127.0.0.1:0", "--rt-priority", "0",
+                            "--no-mlock", *args, "--run-for", "1"], capture_output=True,
+                           text=True, timeout=30)
+        assert p.returncode == 2, (args, p.stderr)
+        assert p.stderr.startswith("pneufracd: ") and text in p.stderr, (args, p.stderr)
+        assert p.stderr.count("\n") == 1, p.stderr       # no loop-start lines before it

@@ -162,7 +162,7 @@ def test_names_stay_apart(tmp_path):
 
 
 def test_a_task_never_raises():
-    flat = "t,e,pc\n" + "".join(f"{i},0,0\n" for i in range(300))
+    flat = "t,e,pc\n" + "".join(f"{i / 1000},0,0\n" for i in range(300))
     row = fleet.diagnose_text("l", flat, "dd")
     assert row["status"] == "error" and "flat" in row["error"]
     row = fleet.diagnose_text("l", "t,e,pc\n", "nonsense")

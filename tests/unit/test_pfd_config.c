@@ -123,7 +123,8 @@ static const struct {
     const char *err;
 } bad[] = {
     {"[a]\nk = v\n", 0, 1, "config F: no checksum line"},
-    {"[a]\nk = v", 0, 0, "config F:2: last line has no newline: the file is truncated"},
+    {"[a]\nk = v", 0, 0, "config F:2: last line has no newline: the file was cut short "
+                        "(or edited without a final newline: add one)"},
     {"[a]\nk = v\nchecksum = 00000000\n", 0, 1, "config F:3: checksum mismatch"},
     {"[a]\nchecksum = 0000000g\n", 0, 0, "config F:2: checksum: '0000000g' is not 8 hex"},
     {"[a]\nchecksum = 00000000\nk = v\n", 0, 0, "config F:3: text after the checksum line"},
@@ -151,6 +152,26 @@ static void ini_format(void **state)
             fail_msg("'%s': got '%s', want '%s'", bad[i].body, err, bad[i].err);
     }
     assert_int_equal(ini("[a]\nk = v\n", 0, 0, &s, err, sizeof err), 0);
+
+    /* A UTF-8 byte-order mark (Notepad's) starts the file, sealed or not:
+     * the first line is the section, and the checksum covers the mark
+     * (before: "expected 'key = value'", the mark read as part of it). */
+    assert_int_equal(ini("\xEF\xBB\xBF[a]\nk = v\n", 1, 1, &s, err, sizeof err), 0);
+    assert_int_equal(s.sections, 1);
+    assert_string_equal(s.last, "k=v");
+    assert_int_equal(ini("\xEF\xBB\xBF[a]\nk = v\n", 0, 0, &s, err, sizeof err), 0);
+    {
+        const char *body = "\xEF\xBB\xBF[a]\nk = v\n";
+        size_t len;
+        char *t = pfd_ini_seal(body, strlen(body), &len);
+        pfd_ini_sink sink = {on_section, on_key, &s};
+        pfd_ini p = {"F", 0, err, sizeof err};
+        assert_non_null(t);
+        /* the mark is sealed too: the file without it is caught */
+        assert_int_equal(pfd_ini_parse(&p, t + 3, len - 3, 1, &sink), -1);
+        assert_non_null(strstr(err, "checksum mismatch"));
+        free(t);
+    }
 
     /* A NUL byte is not text. */
     {

@@ -13,6 +13,7 @@
 
 #include <complex.h>
 #include <math.h>
+#include <errno.h>
 #include <string.h>
 
 #include "cli_args.h"
@@ -151,6 +152,6 @@ int cli_bode_main(int argc, char **argv)
         return CLI_EXIT_IO;
     rc = write_bode(plot.csv, &d, &run.fx, w_lo, w_hi, points);
     if (rc != CLI_EXIT_OK)
-        cli_error("error writing the CSV");
+        cli_error("bode: error writing the CSV: %s", strerror(errno));
     return cli_plot_finish(&plot, "bode", rc);
 }

@@ -142,6 +142,14 @@ static int parse_header(reader *r, char *s, long *tcol, long *ecol,
         }
         i++;
     }
+    /* One field holding ';' or a tab: a spreadsheet export with another
+     * separator (and decimal commas); say so instead of "no column t". */
+    if (i == 1 && strpbrk(s, ";\t") != NULL) {
+        cli_error("%s:%lu: the header's fields are separated by '%s', not commas; "
+                  "--input reads comma-separated values with '.' as the decimal point",
+                  r->name, r->lineno, strchr(s, ';') != NULL ? ";" : "\\t");
+        return -1;
+    }
     if (*tcol < 0 || *ecol < 0) {
         cli_error("%s:%lu: header has no column '%s' (need columns t and e)",
                   r->name, r->lineno, *tcol < 0 ? "t" : "e");

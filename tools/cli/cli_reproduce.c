@@ -170,7 +170,7 @@ static int write_steps(const char *dir, const char *file, const series *cs,
         fprintf(f, "\n");
     }
     if (fclose(f) != 0) {
-        cli_error("reproduce: error writing %s", path);
+        cli_error("reproduce: error writing %s: %s", path, strerror(errno));
         return CLI_EXIT_IO;
     }
     return CLI_EXIT_OK;
@@ -224,7 +224,7 @@ static int write_freq(const char *dir)
         fprintf(f, "\n");
     }
     if (fclose(f) != 0) {
-        cli_error("reproduce: error writing %s", path);
+        cli_error("reproduce: error writing %s: %s", path, strerror(errno));
         return CLI_EXIT_IO;
     }
     return CLI_EXIT_OK;

@@ -36,14 +36,23 @@ MAX_NOISE = 1.0
 MAX_SEED = 2**63 - 1   # numpy's generators take any non-negative integer
 
 
-_Parser = parser_class("pneufrac-fit", EXIT_USAGE)
+class _ArgError(Exception):
+    """argparse refused the command line (its message)."""
+
+
+class _Parser(parser_class("pneufrac-fit", EXIT_USAGE)):
+    """Argument errors come back to main(), which reports every error the
+    same way (one line on stderr, and under --json an object on stdout)."""
+
+    def error(self, message):
+        raise _ArgError(message)
 
 
 EXIT_HELP = (f"Exit status: 0 success; {EXIT_USAGE} bad input or arguments (one line "
              f"on stderr); {EXIT_LIBRARY} the shared library is missing or does not match.")
 
 
-def _seed(text: str) -> int:
+def seed_arg(text: str) -> int:
     """A seed for numpy's generators: a non-negative integer (a negative one
     used to end in a traceback from numpy)."""
     try:
@@ -83,7 +92,7 @@ def _parser():
                    help="simulate at this multiple of the data rate (default: the "
                         "smallest that reaches 2 kHz)")
     d.add_argument("--order", type=int, default=8, help="Oustaloup order N (default 8)")
-    d.add_argument("--seed", type=_seed, default=0,
+    d.add_argument("--seed", type=seed_arg, default=0,
                    help="seed of the fresh starts (a non-negative integer)")
     d.add_argument("--holdout", default=holdout.DEFAULT, choices=list(holdout.MODES),
                    help="what is held out for validation: 'tail' (default: the last 30 %% "
@@ -104,7 +113,7 @@ def _parser():
                    help="noise sd as a fraction of the output span, 0..1 (default 0.002)")
     g.add_argument("--oversample", type=int, default=4,
                    help="internal rate multiple (default 4)")
-    g.add_argument("--seed", type=_seed, default=1,
+    g.add_argument("--seed", type=seed_arg, default=1,
                    help="seed of the input and the noise (a non-negative integer)")
     g.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="paper parameter of the simulated plant (e.g. tau=0.002)")
@@ -134,11 +143,22 @@ def _kv(text: str, what: str) -> tuple[str, float]:
     return k.strip(), finite_number(v, f"{what} '{text}'")
 
 
+def _kv_dict(items, what: str) -> dict:
+    """NAME=VALUE items as a dict; a name given twice is refused (the later
+    value silently winning would hide a typo in a script)."""
+    out = {}
+    for it in items:
+        k, v = _kv(it, what)
+        if k in out:
+            raise UsageError(f"{what} {k}: given twice ({out[k]:g} and {v:g})")
+        out[k] = v
+    return out
+
+
 def parse_fixes(items, config) -> dict:
     out = {}
     groups = model.CONFIG_GROUPS[config]
-    for it in items:
-        k, v = _kv(it, "--fix")
+    for k, v in _kv_dict(items, "--fix").items():
         if k not in groups:
             hint = ""
             if k in ("k1", "k2", "a", "b", "A", "ks", "pmin", "pmax", "RCi"):
@@ -168,7 +188,7 @@ def parse_effect(text: str, fs: float) -> tuple[str, dict]:
     if name not in names:
         raise UsageError(f"--effect {text}: unknown effect '{name}'")
     eff = names[name]
-    kv = dict(_kv(x, "--effect") for x in rest.split(",") if x) if rest else {}
+    kv = _kv_dict([x for x in rest.split(",") if x], f"--effect {name}:")
     need = {"none": [], "dead_time": ["t"], "lag": ["tau"], "backlash": ["width"],
             "nozzle": ["xh"], "saturation": ["lo", "hi"]}[eff]
     optional = ["bias"] if eff == "nozzle" else []
@@ -278,7 +298,7 @@ def cmd_generate(a) -> int:
             raise UsageError(f"--effect {text}: {eff} given twice")
         if eff != "none":
             effects[eff] = ep
-    params = dict(_kv(s, "--set") for s in a.set)
+    params = _kv_dict(a.set, "--set")
     unknown = [k for k in params if k not in model.lib.default_params(a.config)]
     if unknown:
         raise UsageError(f"--set {unknown[0]}: not a paper parameter")
@@ -315,8 +335,34 @@ def _quiet_broken_pipe() -> None:
         pass
 
 
+def _fail(message: str, status: int, as_json: bool) -> int:
+    """Report an error: one line on stderr; with --json also one object on
+    stdout ({"error": ..., "status": ...}), so that a script that parses
+    the output reads the failure instead of choking on an empty stream."""
+    print(f"pneufrac-fit: error: {message}", file=sys.stderr)
+    if as_json:
+        import json
+        try:
+            print(json.dumps({"error": message, "status": status}), flush=True)
+        except OSError:     # stdout itself failed (a full disk): the line above says so
+            _quiet_broken_pipe()
+    return status
+
+
+def _wants_json(argv) -> bool:
+    """--json among the options (before a "--" that ends them): known even
+    when the command line itself is refused."""
+    args = list(sys.argv[1:] if argv is None else argv)
+    args = args[:args.index("--")] if "--" in args else args
+    return "--json" in args
+
+
 def main(argv=None) -> int:
-    a = _parser().parse_args(argv)
+    as_json = _wants_json(argv)
+    try:
+        a = _parser().parse_args(argv)
+    except _ArgError as exc:    # as argparse ends: SystemExit with the status
+        raise SystemExit(_fail(str(exc), EXIT_USAGE, as_json)) from None
     from . import data, lib
     try:
         if a.cmd == "diagnose":
@@ -326,21 +372,17 @@ def main(argv=None) -> int:
             return fleet_cli.run(a, UsageError)
         return cmd_generate(a)
     except (UsageError, data.DataError) as exc:
-        print(f"pneufrac-fit: error: {exc}", file=sys.stderr)
-        return EXIT_USAGE
+        return _fail(str(exc), EXIT_USAGE, as_json)
     except lib.ModelError as exc:
-        print(f"pneufrac-fit: error: the library refused the model: {exc}", file=sys.stderr)
-        return EXIT_USAGE
+        return _fail(f"the library refused the model: {exc}", EXIT_USAGE, as_json)
     except lib.LibraryError as exc:
-        print(f"pneufrac-fit: error: {exc}", file=sys.stderr)
-        return EXIT_LIBRARY
+        return _fail(str(exc), EXIT_LIBRARY, as_json)
     except BrokenPipeError:
         _quiet_broken_pipe()
         return 0
     except OSError as exc:
         where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
-        print(f"pneufrac-fit: error: {where}{exc.strerror or exc}", file=sys.stderr)
-        return EXIT_USAGE
+        return _fail(f"{where}{exc.strerror or exc}", EXIT_USAGE, as_json)
 
 
 if __name__ == "__main__":

@@ -5,8 +5,8 @@ the record may have gaps (timebase); ADC steps, noise and the opening rest
 stretch are read off the signals (signals)."""
 from __future__ import annotations
 
-import io
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -15,6 +15,14 @@ import numpy as np
 from . import holdout, signals, timebase
 
 MIN_SAMPLES = 200
+# The slowest record: the fit simulates at model.F_SIM_MIN or faster, a
+# whole number of steps per sample (model.auto_oversample), so a slower
+# record costs that many more steps per sample in every fit. A time column
+# in ms read as seconds (1 kHz read as 1 Hz) needs 2000 and ran past
+# 10 min where the same record in seconds takes 4 s. The bound is
+# generate's own --oversample bound, so that the slowest record generate
+# writes (cli.MIN_FS) is read.
+MAX_STEPS_PER_SAMPLE = 64
 
 
 class DataError(ValueError):
@@ -51,6 +59,7 @@ def parse_columns(text: str) -> dict:
     """--columns t=time,e=error,pc=output: the header names of the record's
     t, e and pc columns (case-insensitive); any not given keep their name."""
     out = dict(DEFAULT_COLUMNS)
+    given = set()
     for item in (x.strip() for x in text.split(",")):
         if not item:
             continue
@@ -59,59 +68,176 @@ def parse_columns(text: str) -> dict:
         if not sep or k not in out or not v:
             raise DataError(f"--columns {text}: expected t=NAME,e=NAME,pc=NAME "
                             f"(got '{item}')")
+        if k in given:
+            raise DataError(f"--columns {text}: {k} given twice")
+        given.add(k)
         out[k] = v
     if len({v.lower() for v in out.values()}) != 3:
         raise DataError(f"--columns {text}: t, e and pc must be three different columns")
     return out
 
 
+# The largest record file read (fleet's limit before, now diagnose's too: a
+# 10 kHz hour of t,e,pc is about 1 GB; a historian export per loop is far
+# smaller): about 3.5 million rows, some 1.5 GB of memory while parsed.
+# Read in one bounded call, so that
+# a device given as the file (/dev/zero) or a file still growing does not
+# fill the memory.
+MAX_FILE_BYTES = 256 * 2**20
+
+
+def read_bytes(path: str | Path) -> bytes:
+    """A record file's bytes, at most MAX_FILE_BYTES (DataError beyond)."""
+    with open(path, "rb") as f:
+        raw = f.read(MAX_FILE_BYTES + 1)
+    if len(raw) > MAX_FILE_BYTES:
+        raise DataError(f"{path}: larger than {MAX_FILE_BYTES // 2**20} MiB, the most a "
+                        "record file may hold; cut it or decimate it")
+    return raw
+
+
 def read_csv(path: str | Path, columns: dict | None = None) -> Record:
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8", errors="strict")
+        raw = read_bytes(path)
     except FileNotFoundError:
         raise DataError(f"{path}: no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise DataError(f"{path}: cannot read: {exc}") from None
-    return parse_csv(text, str(path), columns)
+    except IsADirectoryError:
+        raise DataError(f"{path}: is a directory, not a CSV file") from None
+    except OSError as exc:
+        raise DataError(f"{path}: cannot read: {exc.strerror or exc}") from None
+    return parse_csv(decode(raw, str(path)), str(path), columns)
+
+
+# Byte-order marks of the encodings a spreadsheet or logger may write
+# instead of UTF-8 ("Unicode text" in Excel is UTF-16).
+_WIDE_BOMS = ((b"\xff\xfe\x00\x00", "UTF-32"), (b"\x00\x00\xfe\xff", "UTF-32"),
+              (b"\xff\xfe", "UTF-16"), (b"\xfe\xff", "UTF-16"))
+_SHOW = 60      # characters of a line quoted in a message
+
+
+def decode(raw: bytes, source: str) -> str:
+    """The text of a record file. UTF-8, with or without a byte-order
+    mark. Bytes that are not UTF-8 are kept as lone surrogates (Python's
+    surrogateescape) so that a comment written in another code page (a
+    unit's degree sign in Latin-1) does not refuse the record; parse_csv
+    refuses them where they would be read: the header and the rows."""
+    for bom, name in _WIDE_BOMS:
+        if raw.startswith(bom):
+            raise DataError(f"{source}: the file is {name} text; save it as UTF-8 (or "
+                            "ASCII) CSV")
+    return raw.decode("utf-8", errors="surrogateescape")
+
+
+def _show(text: str) -> str:
+    """A line as a message quotes it: invisible and undecodable characters
+    escaped, and cut to _SHOW characters."""
+    r = ascii(text)[1:-1]
+    return r if len(r) <= _SHOW else r[:_SHOW] + "..."
+
+
+def _check_line(source: str, ln: int, s: str) -> None:
+    """A header or data line must be text: no NUL (a binary file, or UTF-16
+    without a mark) and only UTF-8 (a surrogate here is a byte decode()
+    could not read)."""
+    if "\x00" in s:
+        raise DataError(f"{source}:{ln}: NUL byte in the line: not a text CSV (a binary "
+                        "file, or UTF-16 without a byte-order mark?)")
+    bad = next((j for j, ch in enumerate(s) if "\udc80" <= ch <= "\udcff"), None)
+    if bad is not None:
+        raise DataError(f"{source}:{ln}: column {bad + 1}: byte "
+                        f"0x{ord(s[bad]) - 0xdc00:02x} is not UTF-8; save the file as "
+                        "UTF-8 (or ASCII) CSV")
+
+
+def _fields(s: str) -> list[str]:
+    """The comma-separated fields of a line, blanks around them removed and
+    one pair of enclosing double quotes (as some exporters write every
+    field) taken off."""
+    out = []
+    for x in s.split(","):
+        x = x.strip()
+        if len(x) >= 2 and x[0] == x[-1] == '"':
+            x = x[1:-1].strip()
+        out.append(x)
+    return out
+
+
+def _lines(text: str) -> list[tuple[int, str]]:
+    """(line number, text) of every line that is not blank or a comment.
+    Lines end in LF, CRLF or a lone CR (old Mac and some loggers' files);
+    a byte-order mark at the start is not part of the first line."""
+    text = text[1:] if text.startswith("\ufeff") else text
+    lines = enumerate(_NEWLINE.split(text), start=1)
+    return [(i, ln.strip()) for i, ln in lines if ln.strip() and not ln.strip().startswith("#")]
+
+
+_NEWLINE = re.compile(r"\r\n|\r|\n")
+
+
+def _header(source: str, hline: int, header: str, want: list[str]) -> list[int]:
+    """The indices of the wanted columns in the header line."""
+    _check_line(source, hline, header)
+    cols = [c.lower() for c in _fields(header)]
+    if len(cols) == 1:
+        sep = next((c for c in (";", "\t", "|") if c in header), None)
+        if sep is not None:
+            raise DataError(f"{source}:{hline}: the header's fields are separated by "
+                            f"{sep!r}, not commas (found: {_show(header)}); pneufrac-fit reads "
+                            "comma-separated values with '.' as the decimal point: "
+                            "export the record as such")
+    missing = [c for c in want if c.lower() not in cols]
+    if missing:
+        raise DataError(
+            f"{source}:{hline}: missing column(s) {', '.join(missing)}; the header "
+            f"must name {','.join(want)} (found: {_show(header)}; other names: --columns "
+            "t=NAME,e=NAME,pc=NAME)")
+    for c in want:
+        at = [j + 1 for j, x in enumerate(cols) if x == c.lower()]
+        if len(at) > 1:
+            raise DataError(f"{source}:{hline}: column {c} appears {len(at)} times in the "
+                            f"header (columns {', '.join(map(str, at))}): which one is "
+                            "meant is ambiguous; rename the others")
+    return [cols.index(c.lower()) for c in want]
 
 
 def parse_csv(text: str, source: str = "<csv>", columns: dict | None = None) -> Record:
     names = dict(columns or DEFAULT_COLUMNS)
     want = [names[k] for k in ("t", "e", "pc")]
-    lines = [(i + 1, ln.strip()) for i, ln in enumerate(io.StringIO(text))]
-    lines = [(i, ln) for i, ln in lines if ln and not ln.startswith("#")]
+    lines = _lines(text)
     if not lines:
         raise DataError(f"{source}: empty file (expected a header naming {','.join(want)})")
     hline, header = lines[0]
-    cols = [c.strip().lower() for c in header.split(",")]
-    missing = [c for c in want if c.lower() not in cols]
-    if missing:
-        raise DataError(
-            f"{source}:{hline}: missing column(s) {', '.join(missing)}; the header "
-            f"must name {','.join(want)} (found: {header}; other names: --columns "
-            "t=NAME,e=NAME,pc=NAME)")
-    idx = [cols.index(c.lower()) for c in want]
-    rows = []
-    for ln, s in lines[1:]:
-        parts = [x.strip() for x in s.split(",")]
-        if len(parts) != len(cols):
-            raise DataError(f"{source}:{ln}: expected {len(cols)} fields, found {len(parts)}")
-        vals = []
-        for j, name in zip(idx, want):
-            try:
-                v = float(parts[j])
-            except ValueError:
-                raise DataError(f"{source}:{ln}: {name} is not a number: {parts[j]!r}") from None
-            if not math.isfinite(v):
-                raise DataError(f"{source}:{ln}: {name} is {parts[j]} (NaN or infinite "
-                                "values are not allowed; cut the record instead)")
-            vals.append(v)
-        rows.append(vals)
-    if len(rows) < MIN_SAMPLES:
-        raise DataError(f"{source}: too few samples: {len(rows)} (need at least {MIN_SAMPLES})")
-    a = np.asarray(rows, dtype=float)
+    idx = _header(source, hline, header, want)
+    ncols = len(_fields(header))
+    a = np.empty((len(lines) - 1, 3))    # not a list of lists: a third of the memory
+    for i, (ln, s) in enumerate(lines[1:]):
+        parts = _fields(s)
+        if len(parts) != ncols:
+            _check_line(source, ln, s)
+            raise DataError(f"{source}:{ln}: expected {ncols} fields, found {len(parts)}")
+        a[i] = [_number(source, ln, name, parts[j], s) for j, name in zip(idx, want)]
+    if len(a) < MIN_SAMPLES:
+        raise DataError(f"{source}: too few samples: {len(a)} (need at least {MIN_SAMPLES})")
     return make_record(a[:, 0], a[:, 1], a[:, 2], source)
+
+
+def _number(source: str, ln: int, name: str, field: str, line: str) -> float:
+    """One cell as a finite float, or a DataError naming line and column."""
+    try:
+        v = float(field)
+    except ValueError:
+        _check_line(source, ln, line)
+        if not field:
+            raise DataError(f"{source}:{ln}: {name} is empty (every row needs t, e and "
+                            "pc; cut the record instead)") from None
+        raise DataError(f"{source}:{ln}: {name} is not a number: {_show(field)!r}") from None
+    if "_" in field:        # float() takes "1_000"; a CSV number never has it
+        raise DataError(f"{source}:{ln}: {name} is not a number: {_show(field)!r}")
+    if not math.isfinite(v):
+        raise DataError(f"{source}:{ln}: {name} is {_show(field)} (NaN or infinite "
+                        "values are not allowed; cut the record instead)")
+    return v
 
 
 def make_record(t, e, pc, source: str = "<data>") -> Record:
@@ -127,10 +253,12 @@ def make_record(t, e, pc, source: str = "<data>") -> Record:
                             f"(t index {bad[0]}); {bad.size} bad value(s)")
     if t.size < MIN_SAMPLES:
         raise DataError(f"{source}: too few samples: {t.size} (need at least {MIN_SAMPLES})")
+    _check_levels(e, pc, source)
     try:
         tb = timebase.analyse(t, source)
     except timebase.TimebaseError as exc:
         raise DataError(str(exc)) from None
+    _check_rate(tb.fs, source)
     a, b = tb.start, tb.stop
     if b - a < MIN_SAMPLES:
         where = ", ".join(f"t = {g.t:.6g} s" for g in tb.gaps[:3])
@@ -148,6 +276,55 @@ def make_record(t, e, pc, source: str = "<data>") -> Record:
     _check_excitation(rec)
     split_for(rec)
     return rec
+
+
+def rate_range() -> tuple[float, float]:
+    """The sample rates (Hz) a record may have: from the slowest the fit
+    simulates in at most MAX_STEPS_PER_SAMPLE steps per sample to the
+    fastest the library simulates at all (a time column in ps or ns read as
+    seconds ended in a traceback from the fit)."""
+    from . import lib, model
+    return model.F_SIM_MIN / MAX_STEPS_PER_SAMPLE, lib.param_range("fs").hi
+
+
+# The smallest span of a signal: the fit works with squared deviations, and
+# below the square root of the smallest normal double they are subnormal
+# (precision lost, then zero: values of 1e-300 ended in a traceback).
+MIN_SPAN = float(np.sqrt(np.finfo(float).tiny))
+
+
+def max_level() -> float:
+    """The largest magnitude of a record's value or operating point: the
+    library's range of levels (its saturation limits)."""
+    from . import lib
+    return lib.param_range("sat_hi").hi
+
+
+def _check_levels(e: np.ndarray, pc: np.ndarray, source: str) -> None:
+    """The record's values in units the library can model: the levels its
+    effects take (saturation limits in output units, dead band and nozzle
+    widths in input units) are bounded by the library's range, so values
+    beyond it cannot be modelled (1e150 ended in a traceback); and spans a
+    fit can square."""
+    big = max_level()
+    for name, v in (("e", e), ("pc", pc)):
+        k = int(np.argmax(np.abs(v)))
+        if abs(v[k]) > big:
+            raise DataError(f"{source}: {name} is {v[k]:.6g} at sample {k}: beyond the "
+                            f"library's range of levels, +-{big:g}; rescale it (other units)")
+        span = float(np.max(v) - np.min(v))
+        if 0.0 < span < MIN_SPAN:
+            raise DataError(f"{source}: {name} spans only {span:.3g}: below {MIN_SPAN:.3g}, "
+                            "its squared deviations are lost in a double; rescale it (other "
+                            "units)")
+
+
+def _check_rate(fs: float, source: str) -> None:
+    lo, hi = rate_range()
+    if not lo <= fs <= hi:
+        raise DataError(f"{source}: the time stamps give a sample rate of {fs:.6g} Hz, "
+                        f"outside [{lo:g}, {hi:g}] Hz; t must be in seconds (a time in ms "
+                        f"or us reads {1e3:g} or {1e6:g} times too slow)")
 
 
 def _levels(rec: Record) -> None:
@@ -198,6 +375,9 @@ def set_operating_point(rec: Record, e0: float, pc0: float) -> None:
     """An operating point given by the user replaces the detected one."""
     if not (math.isfinite(e0) and math.isfinite(pc0)):
         raise DataError("the operating point e0, pc0 must be finite")
+    if max(abs(e0), abs(pc0)) > max_level():    # as the record's values (_check_levels)
+        raise DataError(f"the operating point e0 = {e0:g}, pc0 = {pc0:g} is beyond the "
+                        f"library's range of levels, +-{max_level():g}")
     rec.notes = [n for n in rec.notes if not n.startswith(("operating point from",
                                                            "the record does not open"))]
     rec.e0, rec.pc0 = float(e0), float(pc0)

@@ -18,9 +18,6 @@ import os
 import time
 from pathlib import Path
 
-# The largest record file the client reads (a 10 kHz hour of t,e,pc is
-# about 1 GB; a historian export per loop is far smaller).
-MAX_BYTES = 256 * 2**20
 MAX_WORKERS = 256
 # Tasks in flight per worker thread: one running, one queued beside it.
 IN_FLIGHT = 2
@@ -80,11 +77,8 @@ def diagnose_text(loop: str, text: str, config: str, seed: int = 0) -> dict:
 
 def read_record(path: Path) -> str:
     """The record's text; OSError or ValueError with the reason."""
-    size = path.stat().st_size
-    if size > MAX_BYTES:
-        raise ValueError(f"{size / 2**20:.0f} MiB, over the fleet's limit of "
-                         f"{MAX_BYTES / 2**20:.0f} MiB per record")
-    return path.read_text(encoding="utf-8", errors="strict")
+    from . import data
+    return data.decode(data.read_bytes(path), str(path))    # as diagnose reads a file
 
 
 def _client(scheduler: str | None, workers: int):

@@ -21,6 +21,7 @@ DEFAULT_OUT = "fleet-report"
 
 
 def add_arguments(f) -> None:
+    from .cli import seed_arg      # the seed's one rule, as diagnose and generate read it
     f.add_argument("records", metavar="DIR|GLOB",
                    help="a folder (its *.csv files) or a quoted glob pattern")
     f.add_argument("--config", required=True, choices=["p", "dd", "id", "pid"],
@@ -33,8 +34,8 @@ def add_arguments(f) -> None:
                         "(default 2)")
     f.add_argument("--out", metavar="DIR", default=DEFAULT_OUT,
                    help=f"report folder (default {DEFAULT_OUT})")
-    f.add_argument("--seed", type=int, default=0, metavar="S",
-                   help="seed of the fits' fresh starts")
+    f.add_argument("--seed", type=seed_arg, default=0, metavar="S",
+                   help="seed of the fits' fresh starts (a non-negative integer)")
     f.add_argument("--quiet", action="store_true", help="no progress on stderr")
 
 
@@ -46,8 +47,6 @@ def run(a, usage_error) -> int:
     workers = 2 if a.workers is None else a.workers
     if not 1 <= workers <= fleet.MAX_WORKERS:
         raise usage_error(f"--workers {workers}: must be in [1, {fleet.MAX_WORKERS}]")
-    if a.seed < 0:
-        raise usage_error("--seed must be a non-negative integer")
     try:
         files = fleet.find_records(a.records)
     except fleet.FleetError as exc:
