@@ -349,6 +349,14 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_who *w, const pfd_stage *s
         pfd_audit_refused(w, in->unit, 0, 0, MODBUS_EXCEPTION_ILLEGAL_FUNCTION, "locked");
         return MODBUS_EXCEPTION_ILLEGAL_FUNCTION;
     }
+    /* Likewise the int16 mirrors: another commit may have changed the
+     * in_fs they convert with since the request was checked. */
+    if (pfd_regmap_check_mirrors(wl, &in->committed) != 0) {
+        pthread_mutex_unlock(&d->regs_mx);
+        pthread_mutex_unlock(&d->commit_mx);
+        pfd_audit_refused(w, in->unit, 0, 0, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE, "value");
+        return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
+    }
     pfd_apply_settings(in, w, wl);
     pfd_audit_params(w, in->unit, &old_set, &ip, "committed");
     in->committed = ip;

@@ -120,6 +120,14 @@ static int execute(pfd_daemon *d, pfd_session *s, pfd_inst *in, const pfd_wlist 
         pfd_audit_refused(&s->who, in->unit, addr, cnt, MODBUS_EXCEPTION_ILLEGAL_FUNCTION, why);
         return MODBUS_EXCEPTION_ILLEGAL_FUNCTION;
     }
+    /* An int16 mirror's value depends on the committed in_fs, known only
+     * here; pfd_commit checks it again where a commit applies it. */
+    rc = pfd_regmap_check_mirrors(wl, &in->committed);
+    if (rc != 0) {
+        pthread_mutex_unlock(&d->regs_mx);
+        pfd_audit_refused(&s->who, in->unit, addr, cnt, rc, "value");
+        return rc;
+    }
     if (wl->commit) {
         pthread_mutex_unlock(&d->regs_mx);
         rc = pfd_commit(d, in, &s->who, s->stage[in->unit], wl);

@@ -525,6 +525,32 @@ int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
     return 0;
 }
 
+/* The f32 register an int16 mirror writes, or NULL for any other. */
+static const pfd_reg *mirror_target(const pfd_reg *r)
+{
+    switch (r->field) {
+    case F_E_I16: return pfd_reg_named(PFD_HOLD, "e");
+    case F_SP_I16: return pfd_reg_named(PFD_HOLD, "sp");
+    case F_PV_I16: return pfd_reg_named(PFD_HOLD, "pv");
+    default: return NULL;
+    }
+}
+
+int pfd_regmap_check_mirrors(const pfd_wlist *wl, const pfd_iparams *committed)
+{
+    unsigned i;
+
+    for (i = 0; i < wl->n; i++) {
+        const pfd_reg *t = mirror_target(wl->w[i].r);
+        /* The value pfd_regmap_apply stores, rounded to its float. */
+        if (t != NULL &&
+            !pfd_reg_in_range(t, (double)(float)pf_q15_value((int16_t)wl->w[i].v,
+                                                              committed->in_fs)))
+            return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
+    }
+    return 0;
+}
+
 void pfd_regmap_apply(pfd_hold *h, const pfd_iparams *committed,
                       const pfd_wlist *wl)
 {

@@ -132,6 +132,14 @@ typedef struct pfd_wlist {
 int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
                       int word_order, pfd_wlist *out);
 
+/** Whether the int16 mirror writes of @p wl, converted with @p committed's
+ *  in_fs, land inside the range of the f32 register each one writes (e_i16
+ *  writes e, ...). The raw int16 is always in its own range; what it
+ *  means is not: with in_fs = 1e12, e_i16 = 32767 would set e = 1e12,
+ *  past e's documented 1e9. Checked where in_fs is known, under regs_mx.
+ *  @return 0 or MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE. */
+int pfd_regmap_check_mirrors(const pfd_wlist *wl, const pfd_iparams *committed);
+
 /** Apply the data writes (not the actions) of @p wl to @p h. The int16
  *  mirrors convert with @p committed's in_fs. */
 void pfd_regmap_apply(pfd_hold *h, const pfd_iparams *committed,
