@@ -456,6 +456,22 @@ void pfd_regmap_render(int space, const pfd_view *v, uint16_t *img)
     }
 }
 
+/* A 32-bit float holds a range's ends only to float precision (1e-9 is
+ * 9.99999972e-10 as a float, below the bound), so a client writing the
+ * documented end would be refused. The float nearest an end is taken as
+ * that end: every value the register map documents can be written. */
+static double f32_value(const pfd_reg *r, const uint16_t *w, int word_order)
+{
+    const float f = pfd_f32_unpack(w, word_order);
+    const double lo = pfd_reg_min(r), hi = pfd_reg_max(r);
+
+    if (f == (float)lo)
+        return lo;
+    if (f == (float)hi)
+        return hi;
+    return (double)f;
+}
+
 int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
                       int word_order, pfd_wlist *out)
 {
@@ -482,7 +498,7 @@ int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
 
         switch (r->type) {
         case PFD_T_F32:
-            v = (double)pfd_f32_unpack(w, word_order);
+            v = f32_value(r, w, word_order);
             ok = pfd_reg_in_range(r, v);
             break;
         case PFD_T_I16:

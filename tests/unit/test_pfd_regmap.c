@@ -12,6 +12,7 @@
 #include <cmocka.h>
 
 #include <modbus/modbus.h>
+#include <math.h>
 #include <string.h>
 
 #include "pfd_regmap.h"
@@ -60,6 +61,39 @@ static void decode_in_each_order(void **state)
         assert_int_equal(pfd_regmap_decode(addr, 2, w, !order, &wl),
                          MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
     }
+}
+
+/* Each end of every float register's documented range can be written:
+ * the float nearest an end (1e-9 is 9.99999972e-10 as a float) decodes to
+ * the end itself, which the range check accepts (an open end stays
+ * refused); the next float outward is refused. */
+static void range_ends_writable(void **state)
+{
+    unsigned i, ends = 0;
+    (void)state;
+    for (i = 0; i < pfd_nregs; i++) {
+        const pfd_reg *r = &pfd_regs[i];
+        const double end[2] = {pfd_reg_min(r), pfd_reg_max(r)};
+        int k;
+        if (r->space != PFD_HOLD || r->type != PFD_T_F32 || r->access == PFD_R)
+            continue;
+        for (k = 0; k < 2; k++) {
+            const float f = (float)end[k];
+            const float out = nextafterf(f, k == 0 ? -INFINITY : INFINITY);
+            pfd_wlist wl;
+            uint16_t w[2];
+            if (!isfinite(f) || (k == 0 && pfd_reg_min_excl(r)))
+                continue;
+            pfd_f32_pack(f, PFD_WORDS_ABCD, w);
+            assert_int_equal(pfd_regmap_decode(r->addr, 2, w, PFD_WORDS_ABCD, &wl), 0);
+            assert_true(wl.w[0].v == end[k]);
+            pfd_f32_pack(out, PFD_WORDS_ABCD, w);
+            assert_int_equal(pfd_regmap_decode(r->addr, 2, w, PFD_WORDS_ABCD, &wl),
+                             MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
+            ends++;
+        }
+    }
+    assert_true(ends >= 20);
 }
 
 /* Every 32-bit register of a rendered image swaps its two words, and
@@ -112,6 +146,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(known_words),
         cmocka_unit_test(decode_in_each_order),
+        cmocka_unit_test(range_ends_writable),
         cmocka_unit_test(render_in_each_order),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
