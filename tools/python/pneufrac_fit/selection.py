@@ -75,7 +75,12 @@ def play_start_unknown(pb):
     at the same edge once the input has turned back for the first time, so
     with backlash in a comparison neither model counts the samples before
     the input's first reversal (and 2 % of the fit part more, for the
-    difference to die away): the same samples for both."""
+    difference to die away): the same samples for both. From there on the
+    play's output still differs from the record's by a half-width (each is
+    measured from its own rest): a constant step at the flapper, which the
+    fitted output offset takes where no limit acts, but which saturation's
+    limits, acting before that offset, must be moved by too (its step at
+    the relay's output; analysis-bench.md, branch twofx4)."""
     k = signals.first_reversal(pb.e_abs[:pb.nsim]) + int(fit.BURN * pb.split.n_fit)
     if k <= pb.burn:
         return pb
@@ -619,7 +624,11 @@ def from_better(pb, current, tests, seed, say):
     effect that was refitted better, for its search and not for the data.
     Once per round (the better model is the one best_same_fit found among
     this round's references); a refit replaces a test only when it fits
-    its fit part better (_retested)."""
+    its fit part better (_retested). A test whose own fit the refit does
+    not improve is tested again on that fit, its reference searched from
+    the better model too, when its reference fits the test's samples
+    worse than the better model does (_referred_again): the reference must
+    be at least as good a model without the effect as one already known."""
     todo = [i for i, t in enumerate(tests) if t.passes or explains(t)]
     if not todo:
         return tests
