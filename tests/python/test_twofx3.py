@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """A round's later fits searched as its first ones were (branch twofx3):
 a winner that refit_rivals promotes is refined from its own optimum as the
-first winner was (selection.refine_promoted), and an effect refitted from
+first winner was (selection.refine_final), and an effect refitted from
 a better fit of the model so far has its reference searched from that
 better fit too (selection.from_better, try_effect's `better`)."""
 from types import SimpleNamespace
@@ -56,12 +56,12 @@ def test_refine_promoted_refines_only_a_new_winner():
     assert t.passes                           # the premise: a winner short of its optimum
     first = _fake("nozzle", 1.0)              # the first winner, now predicting worse
     lines = []
-    out = selection.refine_promoted(pb, base, [first, t], first, 1, _say(lines))
+    out = selection.refine_final(pb, base, [first, t], [first], 1, _say(lines))
     assert out[0] is first and out[1] is not t
     assert out[1].model.cost < poor.cost * (1 - 1e-6)
     assert any("refined from its own optimum" in m for m in lines)
     same = [first, t]
-    assert selection.refine_promoted(pb, base, same, t, 1, _say([])) is same
+    assert selection.refine_final(pb, base, same, [t], 1, _say([])) is same
 
 
 def test_a_refit_from_a_better_model_so_far_is_referred_to_it(monkeypatch):
@@ -95,7 +95,7 @@ def test_a_refit_from_a_better_model_so_far_is_referred_to_it(monkeypatch):
 
 def test_a_retest_keeps_the_better_model_so_far(monkeypatch):
     """A test from_better made is tested again later (refine_winner,
-    refit_rivals, refine_promoted) without being told the better model so
+    refit_rivals, refine_final) without being told the better model so
     far: its retest's reference is searched from it all the same."""
     better = SimpleNamespace(cost=0.1)
     t = guards.Test("lag", SimpleNamespace(cost=1.0), None, better=better)

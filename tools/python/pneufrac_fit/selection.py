@@ -22,8 +22,8 @@ Three mechanisms, each used everywhere it applies:
    far that the round found, their references searched from it too
    (from_better), the winner refined from its own
    optimum (refine_winner), and every explanation of the round refitted
-   from the winner's optimum (refit_rivals), a winner that this promotes
-   refined as the first was (refine_promoted); pairs when a round
+   from the winner's optimum (refit_rivals), whatever winner the round
+   ends with refined as the first was (refine_final); pairs when a round
    adds nothing and the model is inadequate (pairs); a backward check of
    every named effect against the final model without it (backward), and
    rounds again on top of the model it leaves when it drops one. The
@@ -75,7 +75,12 @@ def play_start_unknown(pb):
     at the same edge once the input has turned back for the first time, so
     with backlash in a comparison neither model counts the samples before
     the input's first reversal (and 2 % of the fit part more, for the
-    difference to die away): the same samples for both."""
+    difference to die away): the same samples for both. From there on the
+    play's output still differs from the record's by a half-width (each is
+    measured from its own rest): a constant step at the flapper, which the
+    fitted output offset takes where no limit acts, but which saturation's
+    limits, acting before that offset, must be moved by too (its step at
+    the relay's output; analysis-bench.md, branch twofx4)."""
     k = signals.first_reversal(pb.e_abs[:pb.nsim]) + int(fit.BURN * pb.split.n_fit)
     if k <= pb.burn:
         return pb
@@ -359,8 +364,9 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None, _tried=None):
                           rounds[-1] if rounds else None)
         rounds.append(tests)
         tests = from_better(cur_pb, current, tests, seed + 7 * len(rounds) + 9, say)
-        tests = refine_winner(cur_pb, current, tests, seed + 7 * len(rounds) + 11, say)
-        refined = _winner(tests)
+        refined = []        # the tests refinement left (refine_final)
+        tests = refine_final(cur_pb, current, tests, refined, seed + 7 * len(rounds) + 11,
+                             say)
         rounds[-1] = tested_on[id(current)] = tests
         # a rival of the last winner that fails on top of it, judged on its
         # best fit: one that failed only because its search stopped short of
@@ -373,8 +379,8 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None, _tried=None):
         if not _passing(tests, current, cur_pb, len(rounds), say):
             break
         tests = refit_rivals(cur_pb, current, tests, seed + 7 * len(rounds) + 5, say, jobs)
-        tests = refine_promoted(cur_pb, current, tests, refined,
-                                seed + 7 * len(rounds) + 11, say)
+        tests = refine_final(cur_pb, current, tests, refined, seed + 7 * len(rounds) + 11,
+                             say)
         rounds[-1] = tested_on[id(current)] = tests
         ok = _passing(tests, current, cur_pb, len(rounds), say)   # refits bring new references
         if not ok:
@@ -618,7 +624,11 @@ def from_better(pb, current, tests, seed, say):
     effect that was refitted better, for its search and not for the data.
     Once per round (the better model is the one best_same_fit found among
     this round's references); a refit replaces a test only when it fits
-    its fit part better (_retested)."""
+    its fit part better (_retested). A test whose own fit the refit does
+    not improve is tested again on that fit, its reference searched from
+    the better model too, when its reference fits the test's samples
+    worse than the better model does (_referred_again): the reference must
+    be at least as good a model without the effect as one already known."""
     todo = [i for i, t in enumerate(tests) if t.passes or explains(t)]
     if not todo:
         return tests
@@ -640,6 +650,38 @@ def from_better(pb, current, tests, seed, say):
         # effect would be credited with what a better fit without it does
         tests = _retested(pb, current, tests, i, fr, seed, say,
                           f"refitted from the better {current.effect} fit", better)
+        if tests[i] is t:
+            # the effect's fit was at its optimum already, and so stays;
+            # its reference may still have stopped short of the better
+            # model so far, and then the guards would credit the effect
+            # with what a model already known without it does
+            tests = _referred_again(pb, current, tests, i, better, seed, say)
+    return tests
+
+
+def _short_of(t, better) -> bool:
+    """Whether t's reference fits the fit part worse than `better` (a fit of
+    the same effects) does, both on t's problem (its freedoms and samples):
+    the fit criterion, with _test_again's margin."""
+    def cost(m):
+        return fit.start_cost(t.pb, m.effects, {**m.groups, **m.values}, m.dead)
+    return cost(better) < cost(t.ref) * (1 - 1e-6)
+
+
+def _referred_again(pb, current, tests, i, better, seed, say):
+    """tests with tests[i] tested again on its own fit, its reference
+    searched from `better` too (try_effect), when its reference stopped
+    short of `better` (_short_of); every guard again."""
+    t = tests[i]
+    if not _short_of(t, better):
+        return tests
+    t2 = try_effect(pb, current, t.effect, _seed_of(seed, t.effect), fitted=t.model,
+                    better=better)
+    say(f"  {t.effect} referred to the better {current.effect} fit: reference cost "
+        f"{t.ref.cost:.6g} -> {t2.ref.cost:.6g} -> "
+        + ("passes" if t2.passes else "fails: " + "; ".join(t2.reasons[:2])))
+    tests = list(tests)
+    tests[i] = t2
     return tests
 
 
@@ -675,19 +717,24 @@ def _winner(tests):
     return min(ok, key=lambda t: t.model.nrmse_val) if ok else None
 
 
-def refine_promoted(pb, current, tests, refined, seed, say):
-    """The round's tests, with a winner that refit_rivals promoted (a rival
-    refitted from the first winner's optimum that now predicts the
-    held-out part best) refined from its own optimum, as the first winner
-    was (refine_winner): the refit from the first winner's optimum ran the
-    ordinary refinement only, and the promoted winner meets the models
-    without it (_passing) and the named effects' checks as its search left
-    it. `refined`: the test refine_winner left as the winner; nothing is
-    done when it is still the winner (it was refined already)."""
-    w = _winner(tests)
-    if w is None or w is refined:
-        return tests
-    return refine_winner(pb, current, tests, seed, say)
+def refine_final(pb, current, tests, done, seed, say):
+    """The round's tests, with the winner refined from its own optimum
+    (refine_winner) until the winner is a test that refinement left.
+    Refinement is what the winner meets its rivals with, so it follows
+    the winner wherever the round moves it: a refined winner that now
+    fails a guard hands the round to another passing test, and
+    refit_rivals can promote a rival refitted from the winner's optimum;
+    either would otherwise meet the models without it (_passing) and be
+    added as its search left it. `done`: the tests refinement left this
+    round (extended here), so that each is refined once; each pass
+    replaces one test not in it with one in it, so the loop ends."""
+    while True:
+        w = _winner(tests)
+        if w is None or any(w is d for d in done):
+            return tests
+        i = next(j for j, t in enumerate(tests) if t is w)
+        tests = refine_winner(pb, current, tests, seed, say)
+        done.append(tests[i])
 
 
 def models_without(tests, current, cur_pb) -> list:
