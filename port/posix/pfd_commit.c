@@ -274,6 +274,7 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_who *w, const pfd_stage *s
                const pfd_wlist *wl)
 {
     pfd_iparams ip, old_set, ref;
+    const pfd_reg *bad;
     pfd_slot *slot, *old;
     pfd_fail why;
     float e_hold;
@@ -284,6 +285,18 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_who *w, const pfd_stage *s
 
     /* `committed` changes only under commit_mx, which we hold. */
     pthread_mutex_lock(&d->regs_mx);
+    /* The int16 mirrors convert with the committed in_fs, which another
+     * commit may have changed since the request was checked; checked again
+     * here, before any work, as in_fs cannot change while commit_mx is
+     * held (unlike the lock, checked again where the commit applies). */
+    bad = pfd_regmap_check_mirrors(wl, &in->committed);
+    if (bad != NULL) {
+        pthread_mutex_unlock(&d->regs_mx);
+        pthread_mutex_unlock(&d->commit_mx);
+        pfd_audit_refused(w, in->unit, bad->addr, 1, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE,
+                          "value");
+        return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
+    }
     old_set = in->committed;
     pfd_stage_compose(st, wl, &in->committed, &ip);
     e_hold = ((const pfd_snap *)pfd_tbuf_latest(&in->out_tb))->e_used;
@@ -348,14 +361,6 @@ int pfd_commit(pfd_daemon *d, pfd_inst *in, const pfd_who *w, const pfd_stage *s
         pthread_mutex_unlock(&d->commit_mx);
         pfd_audit_refused(w, in->unit, 0, 0, MODBUS_EXCEPTION_ILLEGAL_FUNCTION, "locked");
         return MODBUS_EXCEPTION_ILLEGAL_FUNCTION;
-    }
-    /* Likewise the int16 mirrors: another commit may have changed the
-     * in_fs they convert with since the request was checked. */
-    if (pfd_regmap_check_mirrors(wl, &in->committed) != 0) {
-        pthread_mutex_unlock(&d->regs_mx);
-        pthread_mutex_unlock(&d->commit_mx);
-        pfd_audit_refused(w, in->unit, 0, 0, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE, "value");
-        return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
     }
     pfd_apply_settings(in, w, wl);
     pfd_audit_params(w, in->unit, &old_set, &ip, "committed");

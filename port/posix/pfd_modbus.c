@@ -110,6 +110,7 @@ static int apply(pfd_session *s, pfd_inst *in, const pfd_wlist *wl)
 static int execute(pfd_daemon *d, pfd_session *s, pfd_inst *in, const pfd_wlist *wl,
                    unsigned addr, unsigned cnt)
 {
+    const pfd_reg *bad;
     const char *why;
     int rc = 0;
 
@@ -121,12 +122,13 @@ static int execute(pfd_daemon *d, pfd_session *s, pfd_inst *in, const pfd_wlist 
         return MODBUS_EXCEPTION_ILLEGAL_FUNCTION;
     }
     /* An int16 mirror's value depends on the committed in_fs, known only
-     * here; pfd_commit checks it again where a commit applies it. */
-    rc = pfd_regmap_check_mirrors(wl, &in->committed);
-    if (rc != 0) {
+     * here; a commit checks it again under commit_mx (pfd_commit). */
+    bad = pfd_regmap_check_mirrors(wl, &in->committed);
+    if (bad != NULL) {
         pthread_mutex_unlock(&d->regs_mx);
-        pfd_audit_refused(&s->who, in->unit, addr, cnt, rc, "value");
-        return rc;
+        pfd_audit_refused(&s->who, in->unit, bad->addr, 1,
+                          MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE, "value");
+        return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
     }
     if (wl->commit) {
         pthread_mutex_unlock(&d->regs_mx);

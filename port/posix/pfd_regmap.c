@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 #include "pfd_regmap.h"
 
+#include <float.h>
 #include <math.h>
 #include <modbus/modbus.h>
 #include <string.h>
@@ -458,16 +459,20 @@ void pfd_regmap_render(int space, const pfd_view *v, uint16_t *img)
 
 /* A 32-bit float holds a range's ends only to float precision (1e-9 is
  * 9.99999972e-10 as a float, below the bound), so a client writing the
- * documented end would be refused. The float nearest an end is taken as
- * that end: every value the register map documents can be written. */
+ * documented end would be refused. A float that the rounding of a closed
+ * end put outside the range is taken as that end; a float inside the range
+ * is kept bit for bit (-0 stays -0, 999999995904 stays itself), and an
+ * open end is never snapped onto. */
 static double f32_value(const pfd_reg *r, const uint16_t *w, int word_order)
 {
     const float f = pfd_f32_unpack(w, word_order);
     const double lo = pfd_reg_min(r), hi = pfd_reg_max(r);
 
-    if (f == (float)lo)
+    if (!isfinite(f))
+        return (double)f;
+    if (f < lo && !pfd_reg_min_excl(r) && fabs(lo) <= FLT_MAX && f == (float)lo)
         return lo;
-    if (f == (float)hi)
+    if (f > hi && fabs(hi) <= FLT_MAX && f == (float)hi)
         return hi;
     return (double)f;
 }
@@ -541,30 +546,38 @@ int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
     return 0;
 }
 
-/* The f32 register an int16 mirror writes, or NULL for any other. */
+/* The f32 register an int16 mirror writes (by its field), or NULL. */
 static const pfd_reg *mirror_target(const pfd_reg *r)
 {
-    switch (r->field) {
-    case F_E_I16: return pfd_reg_named(PFD_HOLD, "e");
-    case F_SP_I16: return pfd_reg_named(PFD_HOLD, "sp");
-    case F_PV_I16: return pfd_reg_named(PFD_HOLD, "pv");
-    default: return NULL;
-    }
+    const int field = r->field == F_E_I16 ? F_E
+                      : r->field == F_SP_I16 ? F_SP
+                      : r->field == F_PV_I16 ? F_PV : -1;
+    unsigned i;
+
+    for (i = 0; field >= 0 && i < pfd_nregs; i++)
+        if (pfd_regs[i].space == PFD_HOLD && pfd_regs[i].field == field)
+            return &pfd_regs[i];
+    return NULL;
 }
 
-int pfd_regmap_check_mirrors(const pfd_wlist *wl, const pfd_iparams *committed)
+/* What an int16 mirror write stores: one conversion for the check and the
+ * apply, so that what is checked is what is stored. */
+static float mirror_value(double raw, double in_fs)
+{
+    return (float)pf_q15_value((int16_t)raw, in_fs);
+}
+
+const pfd_reg *pfd_regmap_check_mirrors(const pfd_wlist *wl, const pfd_iparams *committed)
 {
     unsigned i;
 
     for (i = 0; i < wl->n; i++) {
         const pfd_reg *t = mirror_target(wl->w[i].r);
-        /* The value pfd_regmap_apply stores, rounded to its float. */
         if (t != NULL &&
-            !pfd_reg_in_range(t, (double)(float)pf_q15_value((int16_t)wl->w[i].v,
-                                                              committed->in_fs)))
-            return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
+            !pfd_reg_in_range(t, (double)mirror_value(wl->w[i].v, committed->in_fs)))
+            return wl->w[i].r;
     }
-    return 0;
+    return NULL;
 }
 
 void pfd_regmap_apply(pfd_hold *h, const pfd_iparams *committed,
@@ -585,9 +598,9 @@ void pfd_regmap_apply(pfd_hold *h, const pfd_iparams *committed,
         case F_E: l->e = (float)v; break;
         case F_SP: l->sp = (float)v; break;
         case F_PV: l->pv = (float)v; break;
-        case F_E_I16: l->e = (float)pf_q15_value((int16_t)v, in_fs); break;
-        case F_SP_I16: l->sp = (float)pf_q15_value((int16_t)v, in_fs); break;
-        case F_PV_I16: l->pv = (float)pf_q15_value((int16_t)v, in_fs); break;
+        case F_E_I16: l->e = mirror_value(v, in_fs); break;
+        case F_SP_I16: l->sp = mirror_value(v, in_fs); break;
+        case F_PV_I16: l->pv = mirror_value(v, in_fs); break;
         case F_INPUT_SEL: l->input_sel = (uint16_t)v; break;
         case F_MODE: l->mode = (uint16_t)v; break;
         case F_MANUAL: l->manual_out = (float)v; break;
@@ -612,7 +625,13 @@ static void print_range(FILE *f, const pfd_reg *r)
     if (r->access == PFD_R)
         return;
     if (r->type == PFD_T_I16) {
-        fputs("any", f);
+        const pfd_reg *t = mirror_target(r);
+        /* A mirror's raw value is any int16, but what it writes is held
+         * to its target's range, which in_fs can reach. */
+        if (t != NULL)
+            fprintf(f, "any, with v*in_fs/32768 in %s's range", t->name);
+        else
+            fputs("any", f);
     } else {
         char range[64];
         pfd_reg_format_range(r, range, sizeof range);

@@ -137,8 +137,9 @@ int pfd_regmap_decode(unsigned addr, unsigned count, const uint16_t *vals,
  *  writes e, ...). The raw int16 is always in its own range; what it
  *  means is not: with in_fs = 1e12, e_i16 = 32767 would set e = 1e12,
  *  past e's documented 1e9. Checked where in_fs is known, under regs_mx.
- *  @return 0 or MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE. */
-int pfd_regmap_check_mirrors(const pfd_wlist *wl, const pfd_iparams *committed);
+ *  @return NULL, or the first mirror register whose value is out of range
+ *  (for the refusal's log). */
+const pfd_reg *pfd_regmap_check_mirrors(const pfd_wlist *wl, const pfd_iparams *committed);
 
 /** Apply the data writes (not the actions) of @p wl to @p h. The int16
  *  mirrors convert with @p committed's in_fs. */

@@ -275,6 +275,33 @@ class Raw:
         return buf
 
 
+# Request PDUs built by hand (function code, big-endian fields), for the
+# requests pymodbus refuses to build or hides; the counts default to the
+# values' own.
+def fc03(addr, count):
+    return struct.pack(">BHH", 3, addr, count)
+
+
+def fc04(addr, count):
+    return struct.pack(">BHH", 4, addr, count)
+
+
+def fc06(addr, value):
+    return struct.pack(">BHH", 6, addr, value & 0xFFFF)
+
+
+def fc16(addr, values, count=None, nbytes=None):
+    count = len(values) if count is None else count
+    nbytes = 2 * len(values) if nbytes is None else nbytes
+    return struct.pack(">BHHB", 16, addr, count, nbytes) + b"".join(
+        struct.pack(">H", v & 0xFFFF) for v in values)
+
+
+def fc23(raddr, rcount, waddr, values):
+    return struct.pack(">BHHHHB", 23, raddr, rcount, waddr, len(values),
+                       2 * len(values)) + b"".join(struct.pack(">H", v & 0xFFFF) for v in values)
+
+
 def exception_code(pdu):
     """Exception code of a response PDU, or None if it is not an exception."""
     return pdu[1] if pdu[0] & 0x80 else None

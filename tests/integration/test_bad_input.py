@@ -8,8 +8,8 @@ import struct
 
 import pytest
 
-from pfd import (HOLD_SIZE, INPUT_SIZE, REG, Raw, Regs, exception_code, simulate_exchanges,
-                 wait_until)
+from pfd import (HOLD_SIZE, INPUT_SIZE, REG, Raw, Regs, exception_code, fc03, fc04, fc06, fc16,
+                 fc23, simulate_exchanges, wait_until)
 
 
 def hold_image(c, unit=1):
@@ -29,25 +29,6 @@ def committed_image(c, unit=1):
 
 def state(c):
     return hold_image(c), committed_image(c)
-
-
-def fc03(addr, count):
-    return struct.pack(">BHH", 3, addr, count)
-
-
-def fc04(addr, count):
-    return struct.pack(">BHH", 4, addr, count)
-
-
-def fc06(addr, value):
-    return struct.pack(">BHH", 6, addr, value & 0xFFFF)
-
-
-def fc16(addr, values, count=None, nbytes=None):
-    count = len(values) if count is None else count
-    nbytes = 2 * len(values) if nbytes is None else nbytes
-    return struct.pack(">BHHB", 16, addr, count, nbytes) + b"".join(
-        struct.pack(">H", v & 0xFFFF) for v in values)
 
 
 def f32(x):
@@ -170,11 +151,6 @@ def test_param_lock_keeps_staged_changes(lockstep):
     assert exception_code(raw.request(1, fc06(REG["command"][1], 1))) == 1
     assert abs(r.read("q") - 0.5) < 1e-7
     assert r.read("status") & (1 << 7)  # staged still differs
-
-
-def fc23(raddr, rcount, waddr, values):
-    return struct.pack(">BHHHHB", 23, raddr, rcount, waddr, len(values),
-                       2 * len(values)) + b"".join(struct.pack(">H", v) for v in values)
 
 
 def test_fc23_reads_what_fc03_reads(lockstep):

@@ -20,20 +20,13 @@ import time
 
 import pytest
 
-from pfd import DAEMON, HANG_S, REG, SLOW, Daemon, Raw, Regs, exception_code, simulate, wait_until
+from pfd import (DAEMON, HANG_S, REG, SLOW, Daemon, Raw, Regs, exception_code, f32, fc03, simulate,
+                 wait_until)
 from tlspki import client_ctx, start as start_tls
-
-
-def fc03(addr, count):
-    return struct.pack(">BHH", 3, addr, count)
 
 
 def adu(tid, unit, pdu):
     return struct.pack(">HHHB", tid, 0, len(pdu) + 1, unit) + pdu
-
-
-def f32(x):
-    return struct.unpack(">f", struct.pack(">f", x))[0]
 
 
 @pytest.fixture

@@ -63,13 +63,29 @@ static void decode_in_each_order(void **state)
     }
 }
 
-/* Each end of every float register's documented range can be written:
- * the float nearest an end (1e-9 is 9.99999972e-10 as a float) decodes to
- * the end itself, which the range check accepts (an open end stays
- * refused); the next float outward is refused. */
+/* Decode one f32 write of @p f to @p r: 0 and the decoded value, or the
+ * exception. */
+static int decode_f32(const pfd_reg *r, float f, double *v)
+{
+    pfd_wlist wl;
+    uint16_t w[2];
+    int rc;
+    pfd_f32_pack(f, PFD_WORDS_ABCD, w);
+    rc = pfd_regmap_decode(r->addr, 2, w, PFD_WORDS_ABCD, &wl);
+    if (rc == 0)
+        *v = wl.w[0].v;
+    return rc;
+}
+
+/* Each closed end of every writable float register's documented range can
+ * be written: where rounding to float puts the end outside the range (1e-9
+ * is 9.99999972e-10 as a float), that float decodes to the end itself;
+ * where it lands inside (1e12 is 999999995904), it decodes unchanged; the
+ * next float outward is refused. An open end is refused and the next float
+ * inward decodes unchanged. */
 static void range_ends_writable(void **state)
 {
-    unsigned i, ends = 0;
+    unsigned i, snapped = 0, ends = 0;
     (void)state;
     for (i = 0; i < pfd_nregs; i++) {
         const pfd_reg *r = &pfd_regs[i];
@@ -80,20 +96,33 @@ static void range_ends_writable(void **state)
         for (k = 0; k < 2; k++) {
             const float f = (float)end[k];
             const float out = nextafterf(f, k == 0 ? -INFINITY : INFINITY);
-            pfd_wlist wl;
-            uint16_t w[2];
-            if (!isfinite(f) || (k == 0 && pfd_reg_min_excl(r)))
+            const float in = nextafterf(f, k == 0 ? INFINITY : -INFINITY);
+            const int inside = k == 0 ? (double)f >= end[k] : (double)f <= end[k];
+            double v = 0.0;
+            if (k == 0 && pfd_reg_min_excl(r)) {
+                assert_int_equal(decode_f32(r, f, &v), MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
+                assert_int_equal(decode_f32(r, in, &v), 0);
+                assert_true(v == (double)in);
                 continue;
-            pfd_f32_pack(f, PFD_WORDS_ABCD, w);
-            assert_int_equal(pfd_regmap_decode(r->addr, 2, w, PFD_WORDS_ABCD, &wl), 0);
-            assert_true(wl.w[0].v == end[k]);
-            pfd_f32_pack(out, PFD_WORDS_ABCD, w);
-            assert_int_equal(pfd_regmap_decode(r->addr, 2, w, PFD_WORDS_ABCD, &wl),
-                             MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
+            }
+            assert_int_equal(decode_f32(r, f, &v), 0);
+            assert_true(v == (inside ? (double)f : end[k]));
+            snapped += !inside;
+            assert_int_equal(decode_f32(r, out, &v), MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
             ends++;
         }
     }
-    assert_true(ends >= 20);
+    assert_true(snapped > 0 && ends > snapped);
+}
+
+/* A float inside the range keeps its bits: -0 written to a register whose
+ * closed lower end is 0 stays -0. */
+static void negative_zero_kept(void **state)
+{
+    double v = 1.0;
+    (void)state;
+    assert_int_equal(decode_f32(pfd_reg_named(PFD_HOLD, "bump_tau"), -0.0f, &v), 0);
+    assert_true(v == 0.0 && signbit(v));
 }
 
 /* Every 32-bit register of a rendered image swaps its two words, and
@@ -147,6 +176,7 @@ int main(void)
         cmocka_unit_test(known_words),
         cmocka_unit_test(decode_in_each_order),
         cmocka_unit_test(range_ends_writable),
+        cmocka_unit_test(negative_zero_kept),
         cmocka_unit_test(render_in_each_order),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
