@@ -113,8 +113,8 @@ int pfd_ini_parse(pfd_ini *ini, char *text, size_t len, int need_checksum,
         /* Every line the daemon writes ends in a newline: a file cut short
          * in the middle of a line is caught here. */
         if (end == NULL)
-            return pfd_ini_error(ini, "last line has no newline: the file was cut short "
-                                 "(or edited without a final newline: add one)");
+            return pfd_ini_error(ini, "the file is truncated: its last line has no newline "
+                                 "(a hand edit without a final newline: add one)");
         crc_next = pfd_crc32(crc, (const unsigned char *)p, (size_t)(end - p) + 1);
         *end = '\0';
         line = trim(p);

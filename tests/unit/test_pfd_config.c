@@ -123,8 +123,8 @@ static const struct {
     const char *err;
 } bad[] = {
     {"[a]\nk = v\n", 0, 1, "config F: no checksum line"},
-    {"[a]\nk = v", 0, 0, "config F:2: last line has no newline: the file was cut short "
-                        "(or edited without a final newline: add one)"},
+    {"[a]\nk = v", 0, 0, "config F:2: the file is truncated: its last line has no newline "
+                        "(a hand edit without a final newline: add one)"},
     {"[a]\nk = v\nchecksum = 00000000\n", 0, 1, "config F:3: checksum mismatch"},
     {"[a]\nchecksum = 0000000g\n", 0, 0, "config F:2: checksum: '0000000g' is not 8 hex"},
     {"[a]\nchecksum = 00000000\nk = v\n", 0, 0, "config F:3: text after the checksum line"},
