@@ -563,13 +563,18 @@ class _Objective:
     """Residual over the counted fit samples, scaled by sd(y); keeps the
     best point seen and counts simulations against a budget."""
 
-    def __init__(self, pb, sp, effects, dead, budget):
+    def __init__(self, pb, sp, effects, dead, budget, memo=None):
         self.pb, self.sp, self.effects, self.dead = pb, sp, effects, dead
         self.budget, self.calls = budget, 0
         yw = pb.fit_white(pb.y)
         self.scale = max(float(np.std(yw)), 1e-300)
-        self.best = (math.inf, None)
+        self.best = (math.inf, None, None)   # cost, point, its model_output
         self.n = yw.size
+        # Residuals at points an earlier fit of the same problem, effects
+        # and dead time already evaluated (lm_fit's memo), and this fit's
+        # last Jacobian's points (its base and columns), for the next.
+        self.memo = memo if memo is not None else {}
+        self.last = {}
 
     def __call__(self, th):
         self.calls += 1
@@ -578,23 +583,35 @@ class _Objective:
         return self.eval(th)
 
     def eval(self, th):
+        """The residual at th; a point the memo holds is not simulated
+        again (the same problem, model and point: the same numbers)."""
+        r = self.memo.get(np.asarray(th, float).tobytes())
+        mo = None
+        if r is None:
+            r, mo = self._residual(th)
+        cst = float(r @ r)
+        if cst < self.best[0]:
+            self.best = (cst, np.array(th, copy=True), mo)
+        return r
+
+    def _residual(self, th):
+        """(the residual at th, model_output's answer there or None where
+        the library refused it or K came out unusable)."""
         pb = self.pb
         vals = from_theta(self.sp, th, pb)
+        mo = None
         try:
-            out, K, _, _ = model_output(pb, self.effects, vals, self.dead, pb.nsim)
+            mo = model_output(pb, self.effects, vals, self.dead, pb.nsim)
+            out, K = mo[0], mo[1]
             r = pb.fit_white(out - pb.y[:out.size]) / self.scale
             ok = math.isfinite(K) and K > 0
         except lib.ModelError:
             ok = False
         if not ok:
-            r = np.full(self.n, 1e3)
-        cst = float(r @ r)
-        if not math.isfinite(cst):
-            r = np.full(self.n, 1e3)
-            cst = float(r @ r)
-        if cst < self.best[0]:
-            self.best = (cst, np.array(th, copy=True))
-        return r
+            r, mo = np.full(self.n, 1e3), None
+        if not math.isfinite(float(r @ r)):
+            r, mo = np.full(self.n, 1e3), None
+        return r, mo
 
     def jac(self, th, f0=None):
         """Forward differences, one column per thread."""
@@ -613,23 +630,32 @@ class _Objective:
         self.calls += len(cols)
         if self.calls > self.budget:
             raise _Budget()
-        run = (lambda c: (self.eval(c[0]) - f0) / c[1])
-        res = list(_pool.map(run, cols)) if _pool is not None else [run(c) for c in cols]
+        rs = list(_pool.map(self.eval, [t for t, _ in cols])) if _pool is not None else \
+            [self.eval(t) for t, _ in cols]
+        self.last = {th.tobytes(): f0}
+        self.last.update((t.tobytes(), r) for (t, _), r in zip(cols, rs))
+        res = [(r - f0) / h for r, (_, h) in zip(rs, cols)]
         return np.column_stack(res) if res else np.zeros((f0.size, 0))
 
 
 def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
-           label: str = "", ftol: float = 1e-5) -> FitResult:
+           label: str = "", ftol: float = 1e-5, memo: dict | None = None) -> FitResult:
     """Least squares from one start; returns the best point visited. The
     default ftol (relative cost change per step) of 1e-5 is far below what
     the guards resolve (a BIC change of 10 is 10/n of the cost: 1.4e-4 at
-    70 000 samples) and stops the search crawling along flat ridges."""
+    70 000 samples) and stops the search crawling along flat ridges.
+    memo: residuals (keyed by the point's bytes) that earlier fits of this
+    same problem object, effects and dead time evaluated; read, and this
+    fit's last Jacobian's points added. A fit continued from where another
+    stopped (search._halving's stages) starts with the Jacobian the other
+    ended with, at the same point: its p + 1 simulations are not made
+    again (the budget counts them as before, so the search is the same)."""
     effects = model.canonical(effects)
     sp = specs(pb, effects)
     th0 = to_theta(sp, start, pb)
     lo, hi = bounds(sp)
     th0 = np.clip(th0, lo + 1e-9 * (hi - lo), hi - 1e-9 * (hi - lo))
-    obj = _Objective(pb, sp, effects, dead, budget)
+    obj = _Objective(pb, sp, effects, dead, budget, memo)
     state = {}
 
     def fun(th):
@@ -656,17 +682,23 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
               f"sims={obj.calls} status={status} cost {obj.best[0]:.6g}", file=sys.stderr)
     if not th0.size:             # nothing to search: the start is the answer
         obj.eval(th0)
-    c, th = obj.best
+    if memo is not None:
+        memo.update(obj.last)
+    c, th, mo = obj.best
     if th is None:
         th = th0
-    return finish(pb, effects, sp, th, dead, c * obj.scale ** 2, label)
+    return finish(pb, effects, sp, th, dead, c * obj.scale ** 2, label, mo)
 
 
-def finish(pb: Problem, effects, sp, th, dead: int, cost: float, label: str = "") -> FitResult:
+def finish(pb: Problem, effects, sp, th, dead: int, cost: float, label: str = "",
+           made=None) -> FitResult:
+    """The fit at th. made: model_output's answer at th when the search
+    already simulated it (the placement it simulated is pb's, which the
+    values name below: the same run)."""
     vals = from_theta(sp, th, pb)
     if "saturation" in effects:          # the placement simulated (candidates.with_kind)
         vals.update(sat_kind=pb.setup.sat_kind, sat_kind_told=pb.setup.sat_kind_told)
-    out, K, c, a = model_output(pb, effects, vals, dead, pb.nsim)
+    out, K, c, a = made if made is not None else model_output(pb, effects, vals, dead, pb.nsim)
     vals["K"] = K
     vals["pc0"] = c
     g = _groups(pb, vals)
