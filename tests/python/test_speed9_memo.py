@@ -1,8 +1,11 @@
 # SPDX-License-Identifier: MIT
 """Simulations not made twice (branch speed9): a fit's final point is not
-simulated again by finish, and a stage of the successive halving starts
-with the Jacobian its run ended the last stage with. Both must leave every
-fit bit for bit as it was."""
+simulated again by finish, a stage of the successive halving starts with
+the Jacobian its run ended the last stage with, and a whole fit repeated on
+equal data is answered from the first. Each must leave every fit bit for
+bit as it was."""
+import copy
+
 import numpy as np
 
 import cases
@@ -41,9 +44,10 @@ def _counting(monkeypatch):
 
 def test_a_fit_does_not_simulate_its_final_point_again(monkeypatch):
     pb = _problem()
+    fit._FITS.clear()
     seen = _counting(monkeypatch)
     fr = fit.lm_fit(pb, ("lag",), _start(pb), 0, 60, "t")
-    assert len(seen) == len(set(seen)), "a point simulated twice"
+    assert seen and len(seen) == len(set(seen)), "a point simulated twice"
     # finish from the search's simulation is finish from a fresh one
     sp = fit.specs(pb, ("lag",))
     again = fit.finish(pb, ("lag",), sp, fr.theta, 0, fr.cost, "t")
@@ -52,6 +56,8 @@ def test_a_fit_does_not_simulate_its_final_point_again(monkeypatch):
 
 def test_halving_stages_reuse_the_last_jacobian(monkeypatch):
     pb = _problem()
+    monkeypatch.setattr(fit, "FITS_KEPT", 0)     # no whole fit answered from another
+    fit._FITS.clear()
     starts = [("a", _start(pb)), ("b", _start(pb, lag=0.05)), ("c", _start(pb, lag=0.002))]
     seen = _counting(monkeypatch)
     got = search._halving(pb, ("lag",), starts, 0)
@@ -65,3 +71,31 @@ def test_halving_stages_reuse_the_last_jacobian(monkeypatch):
     # final point, where its next stage starts: those p + 1 points are not
     # simulated again (a run that ran out of budget ended without one)
     assert n_memo < len(seen)
+
+
+def test_a_fit_repeated_on_equal_data_is_not_made_again(monkeypatch):
+    pb = _problem()
+    fit._FITS.clear()
+    seen = _counting(monkeypatch)
+    first = fit.lm_fit(pb, ("lag",), _start(pb), 0, 40, "a")
+    n = len(seen)
+    assert n > 0
+    # an equal copy (as search.explorer makes one per search): no simulation
+    again = fit.lm_fit(copy.deepcopy(pb), ("lag",), _start(pb), 0, 40, "b")
+    assert len(seen) == n
+    _same(first, again)
+    assert again.start == "b" and first.start == "a"
+    again.values["lag"] = -1.0                   # the caller's own copy
+    assert fit.lm_fit(pb, ("lag",), _start(pb), 0, 40, "c").values == first.values
+    # another start, budget or data: fitted
+    fit.lm_fit(pb, ("lag",), _start(pb, lag=0.02), 0, 40, "d")
+    assert len(seen) > n
+    n = len(seen)
+    fit.lm_fit(pb, ("lag",), _start(pb), 0, 41, "e")
+    assert len(seen) > n
+    n = len(seen)
+    other = copy.deepcopy(pb)
+    other.y = other.y.copy()
+    other.y[-1] += 1e-9
+    fit.lm_fit(other, ("lag",), _start(pb), 0, 40, "f")
+    assert len(seen) > n

@@ -20,8 +20,12 @@ the interpreter lock).
 """
 from __future__ import annotations
 
+import copy
+import hashlib
 import math
 import os
+import pickle
+from collections import OrderedDict
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
@@ -572,7 +576,11 @@ class _Objective:
         self.n = yw.size
         # Residuals at points an earlier fit of the same problem, effects
         # and dead time already evaluated (lm_fit's memo), and this fit's
-        # last Jacobian's points (its base and columns), for the next.
+        # last Jacobian's points (its base and columns), for the next. Keyed
+        # by the parameter values simulated (from_theta's), on which alone
+        # the residual depends: a fit restarted from another's values gets
+        # its point back through log and exp, which can move the last bit
+        # of theta but not of the values.
         self.memo = memo if memo is not None else {}
         self.last = {}
 
@@ -583,22 +591,27 @@ class _Objective:
         return self.eval(th)
 
     def eval(self, th):
-        """The residual at th; a point the memo holds is not simulated
-        again (the same problem, model and point: the same numbers)."""
-        r = self.memo.get(np.asarray(th, float).tobytes())
+        return self.keyed(th)[1]
+
+    def keyed(self, th):
+        """(the memo's key of th, the residual there); a point the memo
+        holds is not simulated again (the same problem, model and values:
+        the same numbers)."""
+        vals = from_theta(self.sp, th, self.pb)
+        key = tuple(vals.values())
+        r = self.memo.get(key)
         mo = None
         if r is None:
-            r, mo = self._residual(th)
+            r, mo = self._residual(vals)
         cst = float(r @ r)
         if cst < self.best[0]:
             self.best = (cst, np.array(th, copy=True), mo)
-        return r
+        return key, r
 
-    def _residual(self, th):
-        """(the residual at th, model_output's answer there or None where
-        the library refused it or K came out unusable)."""
+    def _residual(self, vals):
+        """(the residual at these values, model_output's answer there or
+        None where the library refused it or K came out unusable)."""
         pb = self.pb
-        vals = from_theta(self.sp, th, pb)
         mo = None
         try:
             mo = model_output(pb, self.effects, vals, self.dead, pb.nsim)
@@ -630,11 +643,11 @@ class _Objective:
         self.calls += len(cols)
         if self.calls > self.budget:
             raise _Budget()
-        rs = list(_pool.map(self.eval, [t for t, _ in cols])) if _pool is not None else \
-            [self.eval(t) for t, _ in cols]
-        self.last = {th.tobytes(): f0}
-        self.last.update((t.tobytes(), r) for (t, _), r in zip(cols, rs))
-        res = [(r - f0) / h for r, (_, h) in zip(rs, cols)]
+        kr = list(_pool.map(self.keyed, [t for t, _ in cols])) if _pool is not None else \
+            [self.keyed(t) for t, _ in cols]
+        self.last = {tuple(from_theta(self.sp, th, self.pb).values()): f0}
+        self.last.update(kr)
+        res = [(r - f0) / h for (_, r), (_, h) in zip(kr, cols)]
         return np.column_stack(res) if res else np.zeros((f0.size, 0))
 
 
@@ -655,6 +668,12 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
     th0 = to_theta(sp, start, pb)
     lo, hi = bounds(sp)
     th0 = np.clip(th0, lo + 1e-9 * (hi - lo), hi - 1e-9 * (hi - lo))
+    key = _fit_key(pb, effects, th0, dead, budget, ftol)
+    if key in _FITS:
+        _FITS.move_to_end(key)
+        fr = copy.deepcopy(_FITS[key])
+        fr.start = label
+        return fr
     obj = _Objective(pb, sp, effects, dead, budget, memo)
     state = {}
 
@@ -687,7 +706,29 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
     c, th, mo = obj.best
     if th is None:
         th = th0
-    return finish(pb, effects, sp, th, dead, c * obj.scale ** 2, label, mo)
+    fr = finish(pb, effects, sp, th, dead, c * obj.scale ** 2, label, mo)
+    _FITS[key] = copy.deepcopy(fr)
+    if len(_FITS) > FITS_KEPT:
+        _FITS.popitem(last=False)
+    return fr
+
+
+# Whole fits repeated: a search makes some fits twice, from the same start
+# on the same data with the same budget (a reference and its confirmation
+# explore the same starts, each on its own exploration copy of the record).
+# lm_fit's answer depends on its arguments and the problem's content
+# alone, so a repeat gets a copy of the first (a few hundred bytes each,
+# before evaluate adds the whole-record output). Keyed by a digest of the
+# problem as pickled (its arrays included) and of the arguments.
+_FITS: OrderedDict = OrderedDict()
+FITS_KEPT = 64
+
+
+def _fit_key(pb: Problem, effects, th0: np.ndarray, dead: int, budget: int,
+             ftol: float) -> bytes:
+    h = hashlib.blake2b(pickle.dumps(pb, protocol=pickle.HIGHEST_PROTOCOL), digest_size=20)
+    h.update(pickle.dumps((tuple(effects), th0.tobytes(), int(dead), int(budget), float(ftol))))
+    return h.digest()
 
 
 def finish(pb: Problem, effects, sp, th, dead: int, cost: float, label: str = "",
