@@ -29,6 +29,14 @@ def _same(a, b):
     assert np.array_equal(a.start_coef, b.start_coef)
 
 
+def _fresh(monkeypatch, keep=True):
+    """No whole fit answered from an earlier test's (keep=False: none at
+    all)."""
+    getattr(fit, "_FITS", {}).clear()
+    if not keep:
+        monkeypatch.setattr(fit, "FITS_KEPT", 0, raising=False)
+
+
 def _counting(monkeypatch):
     """Points (their values) simulated by model_output, in call order."""
     seen = []
@@ -44,7 +52,7 @@ def _counting(monkeypatch):
 
 def test_a_fit_does_not_simulate_its_final_point_again(monkeypatch):
     pb = _problem()
-    fit._FITS.clear()
+    _fresh(monkeypatch)
     seen = _counting(monkeypatch)
     fr = fit.lm_fit(pb, ("lag",), _start(pb), 0, 60, "t")
     assert seen and len(seen) == len(set(seen)), "a point simulated twice"
@@ -56,8 +64,7 @@ def test_a_fit_does_not_simulate_its_final_point_again(monkeypatch):
 
 def test_halving_stages_reuse_the_last_jacobian(monkeypatch):
     pb = _problem()
-    monkeypatch.setattr(fit, "FITS_KEPT", 0)     # no whole fit answered from another
-    fit._FITS.clear()
+    _fresh(monkeypatch, keep=False)
     starts = [("a", _start(pb)), ("b", _start(pb, lag=0.05)), ("c", _start(pb, lag=0.002))]
     seen = _counting(monkeypatch)
     got = search._halving(pb, ("lag",), starts, 0)
@@ -75,7 +82,7 @@ def test_halving_stages_reuse_the_last_jacobian(monkeypatch):
 
 def test_a_fit_repeated_on_equal_data_is_not_made_again(monkeypatch):
     pb = _problem()
-    fit._FITS.clear()
+    _fresh(monkeypatch)
     seen = _counting(monkeypatch)
     first = fit.lm_fit(pb, ("lag",), _start(pb), 0, 40, "a")
     n = len(seen)

@@ -657,9 +657,9 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
     default ftol (relative cost change per step) of 1e-5 is far below what
     the guards resolve (a BIC change of 10 is 10/n of the cost: 1.4e-4 at
     70 000 samples) and stops the search crawling along flat ridges.
-    memo: residuals (keyed by the point's bytes) that earlier fits of this
-    same problem object, effects and dead time evaluated; read, and this
-    fit's last Jacobian's points added. A fit continued from where another
+    memo: residuals (keyed by the values simulated: _Objective) that
+    earlier fits of this same problem object, effects and dead time
+    evaluated; read, and this fit's last Jacobian's points added. A fit continued from where another
     stopped (search._halving's stages) starts with the Jacobian the other
     ended with, at the same point: its p + 1 simulations are not made
     again (the budget counts them as before, so the search is the same)."""
