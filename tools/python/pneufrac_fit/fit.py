@@ -717,8 +717,8 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
 # on the same data with the same budget (a reference and its confirmation
 # explore the same starts, each on its own exploration copy of the record).
 # lm_fit's answer depends on its arguments and the problem's content
-# alone, so a repeat gets a copy of the first (a few hundred bytes each,
-# before evaluate adds the whole-record output). Keyed by a digest of the
+# alone, so a repeat gets a copy of the first (a few kB each, before
+# evaluate adds the whole-record output). Keyed by a digest of the
 # problem as pickled (its arrays included) and of the arguments.
 _FITS: OrderedDict = OrderedDict()
 FITS_KEPT = 64
