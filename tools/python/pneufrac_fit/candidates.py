@@ -583,7 +583,10 @@ def _fit_extended(pb, base, new: str, rng, hint: dict | None = None):
         # are coarser), explored from each shape by successive halving
         r = w.setup.fs_int / pb.setup.fs_int
         dws = sorted({max(1, f(d * r)) for d in ds for f in (math.floor, math.ceil)})
-        tried = [(fit.lm_fit(w, effects, st, dw, budget, f"{lab}d={dw}"), dw)
+        # each delay's fits go on from where they stopped: the points of
+        # their last Jacobians kept, one memo per delay (fit.lm_fit's memo)
+        memo: dict = {dw: {} for dw in dws}
+        tried = [(fit.lm_fit(w, effects, st, dw, budget, f"{lab}d={dw}", memo=memo[dw]), dw)
                  for dw in dws for lab, st in shapes]
         # at the best delay: the model so far with its corners put back
         # inside (where it has one: corner_freed), and in the first round
@@ -591,10 +594,10 @@ def _fit_extended(pb, base, new: str, rng, hint: dict | None = None):
         e, dw = min(tried, key=lambda x: x[0].cost)
         if not base.effects:
             for lab, st in _starts(pb, effects, new, base, rng)[-1:]:
-                tried.append((fit.lm_fit(w, effects, st, dw, budget, lab), dw))
+                tried.append((fit.lm_fit(w, effects, st, dw, budget, lab, memo=memo[dw]), dw))
         while len(tried) > 1:
             tried.sort(key=lambda x: x[0].cost)
-            tried = [(fit.lm_fit(w, effects, e.values, dw, budget, e.start), dw)
+            tried = [(fit.lm_fit(w, effects, e.values, dw, budget, e.start, memo=memo[dw]), dw)
                      for e, dw in tried[:(len(tried) + 1) // 2]]
         e, dw = tried[0]
         c = corner_start(pb, effects, base, {})

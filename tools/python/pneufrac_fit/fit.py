@@ -20,8 +20,12 @@ the interpreter lock).
 """
 from __future__ import annotations
 
+import copy
+import hashlib
 import math
 import os
+import pickle
+from collections import OrderedDict
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
@@ -563,13 +567,22 @@ class _Objective:
     """Residual over the counted fit samples, scaled by sd(y); keeps the
     best point seen and counts simulations against a budget."""
 
-    def __init__(self, pb, sp, effects, dead, budget):
+    def __init__(self, pb, sp, effects, dead, budget, memo=None):
         self.pb, self.sp, self.effects, self.dead = pb, sp, effects, dead
         self.budget, self.calls = budget, 0
         yw = pb.fit_white(pb.y)
         self.scale = max(float(np.std(yw)), 1e-300)
-        self.best = (math.inf, None)
+        self.best = (math.inf, None, None)   # cost, point, its model_output
         self.n = yw.size
+        # Residuals at points an earlier fit of the same problem, effects
+        # and dead time already evaluated (lm_fit's memo), and this fit's
+        # last Jacobian's points (its base and columns), for the next. Keyed
+        # by the parameter values simulated (from_theta's), on which alone
+        # the residual depends: a fit restarted from another's values gets
+        # its point back through log and exp, which can move the last bit
+        # of theta but not of the values.
+        self.memo = memo if memo is not None else {}
+        self.last = {}
 
     def __call__(self, th):
         self.calls += 1
@@ -578,23 +591,40 @@ class _Objective:
         return self.eval(th)
 
     def eval(self, th):
+        return self.keyed(th)[1]
+
+    def keyed(self, th):
+        """(the memo's key of th, the residual there); a point the memo
+        holds is not simulated again (the same problem, model and values:
+        the same numbers)."""
+        vals = from_theta(self.sp, th, self.pb)
+        key = tuple(vals.values())
+        r = self.memo.get(key)
+        mo = None
+        if r is None:
+            r, mo = self._residual(vals)
+        cst = float(r @ r)
+        if cst < self.best[0]:
+            self.best = (cst, np.array(th, copy=True), mo)
+        return key, r
+
+    def _residual(self, vals):
+        """(the residual at these values, model_output's answer there or
+        None where the library refused it or K came out unusable)."""
         pb = self.pb
-        vals = from_theta(self.sp, th, pb)
+        mo = None
         try:
-            out, K, _, _ = model_output(pb, self.effects, vals, self.dead, pb.nsim)
+            mo = model_output(pb, self.effects, vals, self.dead, pb.nsim)
+            out, K = mo[0], mo[1]
             r = pb.fit_white(out - pb.y[:out.size]) / self.scale
             ok = math.isfinite(K) and K > 0
         except lib.ModelError:
             ok = False
         if not ok:
-            r = np.full(self.n, 1e3)
-        cst = float(r @ r)
-        if not math.isfinite(cst):
-            r = np.full(self.n, 1e3)
-            cst = float(r @ r)
-        if cst < self.best[0]:
-            self.best = (cst, np.array(th, copy=True))
-        return r
+            r, mo = np.full(self.n, 1e3), None
+        if not math.isfinite(float(r @ r)):
+            r, mo = np.full(self.n, 1e3), None
+        return r, mo
 
     def jac(self, th, f0=None):
         """Forward differences, one column per thread."""
@@ -613,23 +643,38 @@ class _Objective:
         self.calls += len(cols)
         if self.calls > self.budget:
             raise _Budget()
-        run = (lambda c: (self.eval(c[0]) - f0) / c[1])
-        res = list(_pool.map(run, cols)) if _pool is not None else [run(c) for c in cols]
+        kr = list(_pool.map(self.keyed, [t for t, _ in cols])) if _pool is not None else \
+            [self.keyed(t) for t, _ in cols]
+        self.last = {tuple(from_theta(self.sp, th, self.pb).values()): f0}
+        self.last.update(kr)
+        res = [(r - f0) / h for (_, r), (_, h) in zip(kr, cols)]
         return np.column_stack(res) if res else np.zeros((f0.size, 0))
 
 
 def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
-           label: str = "", ftol: float = 1e-5) -> FitResult:
+           label: str = "", ftol: float = 1e-5, memo: dict | None = None) -> FitResult:
     """Least squares from one start; returns the best point visited. The
     default ftol (relative cost change per step) of 1e-5 is far below what
     the guards resolve (a BIC change of 10 is 10/n of the cost: 1.4e-4 at
-    70 000 samples) and stops the search crawling along flat ridges."""
+    70 000 samples) and stops the search crawling along flat ridges.
+    memo: residuals (keyed by the values simulated: _Objective) that
+    earlier fits of this same problem object, effects and dead time
+    evaluated; read, and this fit's last Jacobian's points added. A fit continued from where another
+    stopped (search._halving's stages) starts with the Jacobian the other
+    ended with, at the same point: its p + 1 simulations are not made
+    again (the budget counts them as before, so the search is the same)."""
     effects = model.canonical(effects)
     sp = specs(pb, effects)
     th0 = to_theta(sp, start, pb)
     lo, hi = bounds(sp)
     th0 = np.clip(th0, lo + 1e-9 * (hi - lo), hi - 1e-9 * (hi - lo))
-    obj = _Objective(pb, sp, effects, dead, budget)
+    key = _fit_key(pb, effects, th0, dead, budget, ftol)
+    if key in _FITS:
+        _FITS.move_to_end(key)
+        fr = copy.deepcopy(_FITS[key])
+        fr.start = label
+        return fr
+    obj = _Objective(pb, sp, effects, dead, budget, memo)
     state = {}
 
     def fun(th):
@@ -656,17 +701,45 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
               f"sims={obj.calls} status={status} cost {obj.best[0]:.6g}", file=sys.stderr)
     if not th0.size:             # nothing to search: the start is the answer
         obj.eval(th0)
-    c, th = obj.best
+    if memo is not None:
+        memo.update(obj.last)
+    c, th, mo = obj.best
     if th is None:
         th = th0
-    return finish(pb, effects, sp, th, dead, c * obj.scale ** 2, label)
+    fr = finish(pb, effects, sp, th, dead, c * obj.scale ** 2, label, mo)
+    _FITS[key] = copy.deepcopy(fr)
+    if len(_FITS) > FITS_KEPT:
+        _FITS.popitem(last=False)
+    return fr
 
 
-def finish(pb: Problem, effects, sp, th, dead: int, cost: float, label: str = "") -> FitResult:
+# Whole fits repeated: a search makes some fits twice, from the same start
+# on the same data with the same budget (a reference and its confirmation
+# explore the same starts, each on its own exploration copy of the record).
+# lm_fit's answer depends on its arguments and the problem's content
+# alone, so a repeat gets a copy of the first (a few kB each, before
+# evaluate adds the whole-record output). Keyed by a digest of the
+# problem as pickled (its arrays included) and of the arguments.
+_FITS: OrderedDict = OrderedDict()
+FITS_KEPT = 64
+
+
+def _fit_key(pb: Problem, effects, th0: np.ndarray, dead: int, budget: int,
+             ftol: float) -> bytes:
+    h = hashlib.blake2b(pickle.dumps(pb, protocol=pickle.HIGHEST_PROTOCOL), digest_size=20)
+    h.update(pickle.dumps((tuple(effects), th0.tobytes(), int(dead), int(budget), float(ftol))))
+    return h.digest()
+
+
+def finish(pb: Problem, effects, sp, th, dead: int, cost: float, label: str = "",
+           made=None) -> FitResult:
+    """The fit at th. made: model_output's answer at th when the search
+    already simulated it (the placement it simulated is pb's, which the
+    values name below: the same run)."""
     vals = from_theta(sp, th, pb)
     if "saturation" in effects:          # the placement simulated (candidates.with_kind)
         vals.update(sat_kind=pb.setup.sat_kind, sat_kind_told=pb.setup.sat_kind_told)
-    out, K, c, a = model_output(pb, effects, vals, dead, pb.nsim)
+    out, K, c, a = made if made is not None else model_output(pb, effects, vals, dead, pb.nsim)
     vals["K"] = K
     vals["pc0"] = c
     g = _groups(pb, vals)

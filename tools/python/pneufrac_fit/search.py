@@ -74,13 +74,17 @@ def _halving(w, effects, starts, dead, label_iters=None):
     which runs a last stage. Most of the effort goes to the starts that
     lead somewhere."""
     label_iters = label_iters or STAGE_ITER
-    runs = [fit.lm_fit(w, effects, st, dead, _budget(w, effects, label_iters), lab)
+    # Each stage goes on from where the last stopped: the points of every
+    # run's last Jacobian are kept for it (fit.lm_fit's memo; the copy is
+    # small, a few MB for a whole halving).
+    memo: dict = {}
+    runs = [fit.lm_fit(w, effects, st, dead, _budget(w, effects, label_iters), lab, memo=memo)
             for lab, st in starts]
     while True:
         runs.sort(key=lambda r: r.cost)
         runs = runs[:max(1, (len(runs) + 1) // 2)]
         runs = [fit.lm_fit(w, effects, r.values, dead, _budget(w, effects, label_iters),
-                           r.start) for r in runs]
+                           r.start, memo=memo) for r in runs]
         if len(runs) == 1:
             return runs[0]
 
