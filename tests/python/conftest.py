@@ -16,3 +16,21 @@ except ImportError:
 # The build the tests check against (scripts/test.sh sets PNEUFRAC_BUILD_DIR).
 BUILD = Path(os.environ.get("PNEUFRAC_BUILD_DIR", str(ROOT / "build")))
 CLI = BUILD / "tools" / "pneufrac"
+
+
+import pytest  # noqa: E402
+
+
+@pytest.fixture(autouse=True)
+def _no_answers_from_an_earlier_test():
+    """The fit's caches (whole fits, freed corners) live for the process:
+    each test starts without them, so that a test that patches the
+    simulation or counts it is not answered from another test's fits."""
+    try:
+        from pneufrac_fit import candidates, fit
+    except ImportError:          # a test of another package
+        yield
+        return
+    fit._FITS.clear()
+    candidates._CORNERS.clear()
+    yield

@@ -20,7 +20,6 @@ threshold depends on it.
 (The lag is not named on top of the dead band: its fit is no better on
 the held-out part.)"""
 import copy
-import hashlib
 import pickle
 import sys
 import types
@@ -31,6 +30,7 @@ import pytest
 
 import cases
 from pneufrac_fit import baseline, candidates, data, diagnose, fit, model, selection
+from pneufrac_fit import digest as pneufrac_digest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "bench"))
 from blindsim.__main__ import write  # noqa: E402
@@ -55,7 +55,6 @@ def clean_corner():
         return orig_lm(pb, effects, start, dead, budget, label, *a, **k)
 
     candidates.corner_start, fit.lm_fit = spy, lm_spy
-    candidates._CORNERS.clear()         # made by this diagnosis, not an earlier test
     try:
         d = cases.run(cases.make("id", "none", 120), jobs=1)  # the spy sees one process
     finally:
@@ -148,10 +147,7 @@ def test_the_corner_key_names_functions_and_stops_at_cycles():
     """Whatever a problem comes to hold, its digest is made: a function by
     its name (two functions, two digests), an object met inside itself as
     a back reference (no recursion without end)."""
-    def digest(x):
-        h = hashlib.blake2b(digest_size=20)
-        candidates._digest_into(h, x)
-        return h.digest()
+    digest = pneufrac_digest.of
 
     loop = {"n": 1}
     loop["self"] = loop

@@ -13,14 +13,11 @@ from __future__ import annotations
 
 import copy
 import dataclasses
-import hashlib
-import inspect
 import math
-import pickle
 
 import numpy as np
 
-from . import baseline, fit, guards, lib, model, noise, placement_share, search
+from . import baseline, digest, fit, guards, lib, model, noise, placement_share, search
 
 N_FRESH = 12
 N_FRESH_KEEP = 1
@@ -239,70 +236,9 @@ def _corner_key(pb, base) -> bytes:
     data, split, freedoms, noise model and setup: every attribute) and the
     model so far's effects, groups, values and delay. Equal digests, equal
     inputs, the same answer; a problem that differs in anything at all,
-    even in what the answer does not depend on, is only made again. The
-    digest is of the values (_digest_into), not of their pickle: a pickle
-    of a numpy scalar refers to its dtype object, which the arrays of the
-    parent share and an unpickled copy does not, so the same problem sent
-    to a worker pickled to other bytes and every worker made again what
-    the parent had made before it forked."""
-    h = hashlib.blake2b(digest_size=20)
-    _digest_into(h, (pb, tuple(base.effects), {**base.groups, **base.values}, base.dead))
-    return h.digest()
-
-
-def _digest_into(h, x, path: frozenset = frozenset()) -> None:
-    """Feed x's value to the hash h, tagged by kind so that no two values
-    of different kinds feed the same bytes: arrays by dtype, shape and
-    contents, numpy scalars as the Python numbers they equal, mappings in
-    key order, functions and classes by their names, objects by their
-    class and every attribute. An object met again inside itself (path:
-    the containers above x) is fed as a back reference: no recursion
-    without end."""
-    if isinstance(x, np.ndarray):
-        a = np.ascontiguousarray(x)
-        h.update(b"A" + a.dtype.str.encode() + repr(a.shape).encode())
-        h.update(memoryview(a).cast("B"))
-    elif isinstance(x, np.generic):
-        _digest_into(h, x.item(), path)
-    elif x is None or isinstance(x, (bool, int, float, str, bytes)):
-        h.update(b"S" + repr((type(x).__name__, x)).encode())
-    elif isinstance(x, type) or inspect.isroutine(x):
-        h.update(b"F" + _name_of(x))
-    elif id(x) in path:
-        h.update(b"R")
-    else:
-        _digest_container(h, x, path | {id(x)})
-
-
-def _digest_container(h, x, path: frozenset) -> None:
-    if isinstance(x, dict):
-        h.update(b"D%d" % len(x))
-        for k in sorted(x, key=repr):
-            _digest_into(h, k, path)
-            _digest_into(h, x[k], path)
-    elif isinstance(x, (list, tuple)):
-        h.update(b"L%d" % len(x))
-        for v in x:
-            _digest_into(h, v, path)
-    elif isinstance(x, (set, frozenset)):
-        h.update(b"E%d" % len(x))
-        for v in sorted(x, key=repr):
-            _digest_into(h, v, path)
-    elif hasattr(x, "__dict__"):
-        h.update(b"O" + _name_of(type(x)))
-        _digest_into(h, vars(x), path)
-    elif dataclasses.is_dataclass(x):          # slotted or frozen without a __dict__
-        h.update(b"O" + _name_of(type(x)))
-        _digest_into(h, {f.name: getattr(x, f.name) for f in dataclasses.fields(x)}, path)
-    else:
-        h.update(b"P" + pickle.dumps(x, pickle.HIGHEST_PROTOCOL))
-
-
-def _name_of(x) -> bytes:
-    """module:qualname, length first: two names never run into the bytes
-    that follow them."""
-    n = f"{getattr(x, '__module__', '')}:{getattr(x, '__qualname__', repr(x))}".encode()
-    return b"%d:" % len(n) + n
+    even in what the answer does not depend on, is only made again (of
+    the values, digest.of: the same in a worker as in its parent)."""
+    return digest.of(pb, tuple(base.effects), {**base.groups, **base.values}, base.dead)
 
 
 def _corner_freed(pb, base) -> tuple[dict, list[str]] | None:

@@ -21,10 +21,9 @@ the interpreter lock).
 from __future__ import annotations
 
 import copy
-import hashlib
 import math
 import os
-import pickle
+import threading
 from collections import OrderedDict
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
@@ -32,7 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import least_squares
 
-from . import holdout, lib, model, noise
+from . import digest, holdout, lib, model, noise
 
 NOZZLE_BIAS = (-0.5, 3.0)   # the fitted range of the nozzle's bias point
 BURN = 0.02          # without an opening rest (of at least this much): 2 % of the fit part's samples, at the start, not counted
@@ -594,19 +593,34 @@ class _Objective:
         return self.keyed(th)[1]
 
     def keyed(self, th):
-        """(the memo's key of th, the residual there); a point the memo
-        holds is not simulated again (the same problem, model and values:
-        the same numbers)."""
+        """(the memo's key of th, the residual there), th noted as the best
+        point if it is."""
+        key, r, mo = self._point(th)
+        self._note(th, r, mo)
+        return key, r
+
+    def _point(self, th):
+        """(the memo's key of th, the residual there, model_output's answer
+        or None); a point the memo holds is not simulated again (the same
+        problem, model and values: the same numbers). Reads only: safe on
+        the pool's threads."""
         vals = from_theta(self.sp, th, self.pb)
         key = tuple(vals.values())
         r = self.memo.get(key)
         mo = None
         if r is None:
             r, mo = self._residual(vals)
+            r.flags.writeable = False    # shared by the memo and the Jacobian's base
+        return key, r, mo
+
+    def _note(self, th, r, mo):
+        """Keep th if it is the best point so far. Called in one thread, in
+        the order the points were asked for, so that the best point (and so
+        the fit, and the cache's copy of it) does not depend on which
+        thread of the pool finished first."""
         cst = float(r @ r)
         if cst < self.best[0]:
             self.best = (cst, np.array(th, copy=True), mo)
-        return key, r
 
     def _residual(self, vals):
         """(the residual at these values, model_output's answer there or
@@ -643,8 +657,11 @@ class _Objective:
         self.calls += len(cols)
         if self.calls > self.budget:
             raise _Budget()
-        kr = list(_pool.map(self.keyed, [t for t, _ in cols])) if _pool is not None else \
-            [self.keyed(t) for t, _ in cols]
+        made = list(_pool.map(self._point, [t for t, _ in cols])) if _pool is not None else \
+            [self._point(t) for t, _ in cols]
+        for (t, _), (_, r, mo) in zip(cols, made):
+            self._note(t, r, mo)
+        kr = [(key, r) for key, r, _ in made]
         self.last = {tuple(from_theta(self.sp, th, self.pb).values()): f0}
         self.last.update(kr)
         res = [(r - f0) / h for (_, r), (_, h) in zip(kr, cols)]
@@ -668,12 +685,15 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
     th0 = to_theta(sp, start, pb)
     lo, hi = bounds(sp)
     th0 = np.clip(th0, lo + 1e-9 * (hi - lo), hi - 1e-9 * (hi - lo))
-    key = _fit_key(pb, effects, th0, dead, budget, ftol)
-    if key in _FITS:
-        _FITS.move_to_end(key)
-        fr = copy.deepcopy(_FITS[key])
-        fr.start = label
-        return fr
+    key = digest.of(pb, tuple(effects), th0, int(dead), int(budget), float(ftol))
+    with _FITS_LOCK:
+        hit = _FITS.get(key)
+        if hit is not None:
+            _FITS.move_to_end(key)
+            hit = copy.deepcopy(hit)
+    if hit is not None:        # (its last Jacobian is not in memo: a little speed only)
+        hit.start = label
+        return hit
     obj = _Objective(pb, sp, effects, dead, budget, memo)
     state = {}
 
@@ -707,28 +727,25 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
     if th is None:
         th = th0
     fr = finish(pb, effects, sp, th, dead, c * obj.scale ** 2, label, mo)
-    _FITS[key] = copy.deepcopy(fr)
-    if len(_FITS) > FITS_KEPT:
-        _FITS.popitem(last=False)
+    with _FITS_LOCK:
+        _FITS[key] = copy.deepcopy(fr)
+        if len(_FITS) > FITS_KEPT:
+            _FITS.popitem(last=False)
     return fr
 
 
 # Whole fits repeated: a search makes some fits twice, from the same start
 # on the same data with the same budget (a reference and its confirmation
 # explore the same starts, each on its own exploration copy of the record).
-# lm_fit's answer depends on its arguments and the problem's content
-# alone, so a repeat gets a copy of the first (a few kB each, before
-# evaluate adds the whole-record output). Keyed by a digest of the
-# problem as pickled (its arrays included) and of the arguments.
+# lm_fit's answer depends on its arguments, the problem's content and this
+# module's constants alone, so a repeat gets a copy of the first (a few kB
+# each, before evaluate adds the whole-record output). Keyed by a digest
+# of the problem's values and of the arguments (digest.of: the same in a
+# forked worker as in its parent). A lock, as a thread's hit could
+# otherwise meet another's eviction.
 _FITS: OrderedDict = OrderedDict()
+_FITS_LOCK = threading.Lock()
 FITS_KEPT = 64
-
-
-def _fit_key(pb: Problem, effects, th0: np.ndarray, dead: int, budget: int,
-             ftol: float) -> bytes:
-    h = hashlib.blake2b(pickle.dumps(pb, protocol=pickle.HIGHEST_PROTOCOL), digest_size=20)
-    h.update(pickle.dumps((tuple(effects), th0.tobytes(), int(dead), int(budget), float(ftol))))
-    return h.digest()
 
 
 def finish(pb: Problem, effects, sp, th, dead: int, cost: float, label: str = "",
