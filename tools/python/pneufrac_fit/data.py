@@ -24,8 +24,8 @@ MIN_SAMPLES = 200
 # 1 kHz, simulated at 2 kHz: under 30 s per diagnosis). The time per step
 # is not the same for every record: a fast record is explored on a short
 # 1 kHz copy (search.explorer), a slow one on the whole record, so a slow
-# record at the bound may take half an hour (3000 samples at 10 Hz, 6e5
-# steps: 278 s with --jobs 1). The multiple, 20, admits every record a typical
+# record at the bound takes some 20 min (2000 samples at 1 Hz, 4e6 steps:
+# 1047 s with --jobs 1). The multiple, 20, admits every record a typical
 # 256 MiB file (MAX_FILE_BYTES, about 3.5 M rows at one step each) holds at
 # 2 kHz and faster: it bites only where a slow rate multiplies the steps
 # per sample, a time column in ms read as seconds (1 kHz read as 1 Hz,
