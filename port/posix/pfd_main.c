@@ -18,6 +18,7 @@
 #include "pfd_regmap.h"
 #include "pfd_server.h"
 #include "pfd_start.h"
+#include "pfd_tls.h"
 
 /* What the main thread remembers between two housekeeping rounds. */
 typedef struct watch {
@@ -136,6 +137,25 @@ static void serve(pfd_daemon *d, watch *w, const sigset_t *sigs, double run_for)
     }
 }
 
+/* The TLS context, built before the loop starts: a certificate, key or CA
+ * that exists but cannot be used (a directory, a file that is not PEM) is
+ * then a usage error reported before anything runs, like a missing one
+ * (pfd_settings_check). pfd_server_start takes it over. @return 0, or -1
+ * (reported). */
+static int tls_context(pfd_daemon *d)
+{
+    char err[600];
+
+    if (d->set.tls_listen.addr[0] == '\0')
+        return 0;
+    d->server.tls = pfd_tls_new(&d->set, err, sizeof err);
+    if (d->server.tls == NULL) {
+        pfd_fatal("%s", err);
+        return -1;
+    }
+    return 0;
+}
+
 /* Start the daemon on @p c, serve, stop. @p fallback: @p c is the
  * defaults, standing in for a file that could not be used. @return the
  * exit status. */
@@ -169,7 +189,7 @@ static int run(const pfd_cli *a, const pfd_config *c, int fallback)
     d->config_path = fallback ? NULL : a->run.config;
     d->config_file = c;
     d->wake_ns = pfd_rate_measure_wakeup();
-    if (add_instances(d, c, a->run.config) != 0) {
+    if (add_instances(d, c, a->run.config) != 0 || tls_context(d) != 0) {
         pfd_daemon_free(d);
         free(w);
         free(d);
@@ -203,6 +223,7 @@ static int run(const pfd_cli *a, const pfd_config *c, int fallback)
             rc = 1;
         pfd_log(PFD_LOG_INFO, "stopped", "status=%d", rc);
     }
+    pfd_tls_free(d->server.tls); /* not started: pfd_server_stop did not free it */
     pfd_daemon_free(d);
     free(w);
     free(d);

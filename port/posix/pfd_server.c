@@ -750,7 +750,10 @@ int pfd_server_start(pfd_daemon *d)
         pfd_fatal("%s", err);
         return -1;
     }
-    if (d->set.tls_listen.addr[0] != '\0') {
+    /* main's run() builds the context before the loop starts (a file that
+     * cannot be used is a usage error); a caller that starts the server
+     * itself has it built here. */
+    if (d->set.tls_listen.addr[0] != '\0' && d->server.tls == NULL) {
         d->server.tls = pfd_tls_new(&d->set, err, sizeof err);
         if (d->server.tls == NULL) {
             pfd_fatal("%s", err);

@@ -259,3 +259,21 @@ def test_tls_needs_its_files(tmp_path):
     p = subprocess.run([DAEMON, "--tls-roles", "viewer:god"], capture_output=True, text=True,
                        timeout=30)
     assert p.returncode == 2 and "--tls-roles" in p.stderr, p.stderr
+
+
+@pytest.mark.parametrize("what", ["directory", "not-pem"])
+def test_unusable_tls_files_are_a_usage_error(tmp_path, what):
+    """TLS files that exist but cannot be used (a directory: fopen() reads
+    it on Linux; a file that is not PEM) are refused with exit 2 before
+    the loop starts (before: the loop started, then the server failed with
+    exit 1)."""
+    from pfd import DAEMON
+    f = tmp_path
+    if what == "not-pem":
+        f = tmp_path / "x.pem"
+        f.write_text("not a certificate\n")
+    p = subprocess.run([DAEMON, "--listen", "127.0.0.1:0", "--tls-listen", "127.0.0.1:0",
+                        "--tls-cert", str(f), "--tls-key", str(f), "--tls-ca", str(f),
+                        "--run-for", "1"], capture_output=True, text=True, timeout=30)
+    assert p.returncode == 2 and f"--tls-cert {f}" in p.stderr, p.stderr
+    assert "loop-start" not in p.stderr and "listening" not in p.stderr, p.stderr

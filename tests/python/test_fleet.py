@@ -28,7 +28,8 @@ BAD = {
     "empty": b"",
     "no_header": b"1,2,3\n4,5,6\n",
     "nan_pc": b"t,e,pc\n" + b"".join(b"%d,1,nan\n" % i for i in range(300)),
-    "latin1": "t,e,pc\n# caf\xe9\n".encode("latin-1"),
+    # a Latin-1 byte in a cell (in a comment it is read: attack26)
+    "latin1": "t,e,pc\n0,caf\xe9,1\n".encode("latin-1"),
 }
 
 
@@ -81,7 +82,7 @@ def test_every_record_has_its_row(report):
     for loop in BAD:
         row = df[df["loop"] == loop].iloc[0]
         assert row["status"] == "error" and isinstance(row["error"], str) and row["error"]
-    assert "cannot read" in df[df["loop"] == "latin1"].iloc[0]["error"]
+    assert "byte 0xe9 is not UTF-8" in df[df["loop"] == "latin1"].iloc[0]["error"]
     assert "7/7" in r.stderr
 
 

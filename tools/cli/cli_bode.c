@@ -71,8 +71,19 @@ static void put(FILE *f, double v, const char *after)
     fputs(after, f);
 }
 
+/* Whether a write to @p f failed; if so its errno into @p err, saved where
+ * the failure is seen (the libm calls of the next row may overwrite it). */
+static int write_failed(FILE *f, int *err)
+{
+    if (!ferror(f))
+        return 0;
+    *err = errno;
+    return 1;
+}
+
+/* @return CLI_EXIT_OK, or CLI_EXIT_IO with the write's errno in @p err. */
 static int write_bode(FILE *f, const pf_ctrl_design *d, const pf_effects *fx,
-                      double w_lo, double w_hi, int points)
+                      double w_lo, double w_hi, int points, int *err)
 {
     char note[200];
     /* dead times: the exact one, and the realised one in whole samples */
@@ -85,8 +96,10 @@ static int write_bode(FILE *f, const pf_ctrl_design *d, const pf_effects *fx,
              d->opt.order);
     if (cli_csv_head(f, "omega,ideal_db,ideal_deg,discrete_db,discrete_deg",
                      "rad/s,dB,degrees,dB,degrees") != 0 ||
-        fprintf(f, "# pneufrac bode: %s\n", note) < 0)
+        fprintf(f, "# pneufrac bode: %s\n", note) < 0) {
+        *err = errno;
         return CLI_EXIT_IO;
+    }
     for (k = 0; k < points; k++) {
         double w = w_lo * pow(w_hi / w_lo, (double)k / (points - 1));
         /* The dead time's phase -omega T is added in closed form after the
@@ -114,8 +127,14 @@ static int write_bode(FILE *f, const pf_ctrl_design *d, const pf_effects *fx,
         put(f, pi_ - w * td_ideal * 180.0 / M_PI, ",");
         put(f, md > 0.0 ? 20.0 * log10(md) : -INFINITY, ",");
         put(f, md > 0.0 ? pd - w * td_real * 180.0 / M_PI : NAN, "\n");
+        if (write_failed(f, err))
+            return CLI_EXIT_IO;
     }
-    return ferror(f) ? CLI_EXIT_IO : CLI_EXIT_OK;
+    if (fflush(f) != 0 || ferror(f)) { /* each row was checked: this is the flush */
+        *err = errno;
+        return CLI_EXIT_IO;
+    }
+    return CLI_EXIT_OK;
 }
 
 int cli_bode_main(int argc, char **argv)
@@ -125,7 +144,7 @@ int cli_bode_main(int argc, char **argv)
     cli_run run;
     cli_plot plot;
     double w_lo, w_hi;
-    int rc, points;
+    int rc, points, err = 0;
 
     rc = cli_opts_read(argc, argv, &bode_cmd, &a, &run);
     if (rc != 0)
@@ -150,8 +169,8 @@ int cli_bode_main(int argc, char **argv)
                            ceil(POINTS_PER_DECADE * log10(w_hi / w_lo)) + 1.0);
     if (cli_plot_begin(&plot, a.plot) != 0)
         return CLI_EXIT_IO;
-    rc = write_bode(plot.csv, &d, &run.fx, w_lo, w_hi, points);
+    rc = write_bode(plot.csv, &d, &run.fx, w_lo, w_hi, points, &err);
     if (rc != CLI_EXIT_OK)
-        cli_error("bode: error writing the CSV: %s", strerror(errno));
+        cli_error("bode: error writing the CSV: %s", strerror(err));
     return cli_plot_finish(&plot, "bode", rc);
 }

@@ -8,8 +8,9 @@
     pneufrac-fit fleet DIR|GLOB --config CFG [--scheduler ADDRESS] [--workers N]
                  [--out DIR]
 
-Exit status: 0 success, 2 bad input or arguments (one line on stderr), 3 the
-shared library is missing or does not match. A closed output pipe
+Exit status: 0 success, 1 an internal error (a bug: one line on stderr), 2 bad
+input or arguments (one line on stderr), 3 the shared library is missing or
+does not match. A closed output pipe
 (`generate | head`) ends the command quietly with status 0.
 """
 from __future__ import annotations
@@ -24,6 +25,7 @@ from pneufrac._cli import UsageError, finite_number, parser_class
 
 from . import holdout, model, sensor
 
+EXIT_INTERNAL = 1
 EXIT_USAGE = 2
 EXIT_LIBRARY = 3
 MAX_JOBS = 5
@@ -34,6 +36,11 @@ MAX_FS = 1e6
 MAX_N = 10_000_000
 MAX_NOISE = 1.0
 MAX_SEED = 2**63 - 1   # numpy's generators take any non-negative integer
+# The largest --oversample (diagnose and generate): 64 steps per sample
+# reach the fit's 2 kHz from generate's slowest rate (MIN_FS); a record
+# slower still gets more from model.auto_oversample, within the fit's cost
+# bound (data.MAX_SIM_STEPS).
+MAX_OVERSAMPLE = 64
 
 
 class _ArgError(Exception):
@@ -48,8 +55,9 @@ class _Parser(parser_class("pneufrac-fit", EXIT_USAGE)):
         raise _ArgError(message)
 
 
-EXIT_HELP = (f"Exit status: 0 success; {EXIT_USAGE} bad input or arguments (one line "
-             f"on stderr); {EXIT_LIBRARY} the shared library is missing or does not match.")
+EXIT_HELP = (f"Exit status: 0 success; {EXIT_INTERNAL} an internal error; {EXIT_USAGE} bad "
+             f"input or arguments (one line on stderr); {EXIT_LIBRARY} the shared library "
+             "is missing or does not match.")
 
 
 def seed_arg(text: str) -> int:
@@ -227,8 +235,8 @@ def _out_dir(path: str) -> Path:
 def cmd_diagnose(a) -> int:
     from . import data, diagnose, output
     fixes = parse_fixes(a.fix, a.config)
-    if a.oversample is not None and not 1 <= a.oversample <= 16:
-        raise UsageError("--oversample must be in [1, 16]")
+    if a.oversample is not None and not 1 <= a.oversample <= MAX_OVERSAMPLE:
+        raise UsageError(f"--oversample {a.oversample}: must be in [1, {MAX_OVERSAMPLE}]")
     if not 1 <= a.order <= 8:
         raise UsageError("--order must be in [1, 8]")
     if (a.e0 is None) != (a.pc0 is None):
@@ -240,6 +248,10 @@ def cmd_diagnose(a) -> int:
     jobs = None if a.jobs is None else min(max(a.jobs, 1), MAX_JOBS)
     cols = data.parse_columns(a.columns) if a.columns is not None else None
     rec = data.read_csv(a.data, cols)
+    if a.oversample is not None and rec.n * a.oversample > data.MAX_SIM_STEPS:
+        raise UsageError(f"--oversample {a.oversample}: {rec.n} samples need "
+                         f"{rec.n * a.oversample:.3g} simulation steps, more than the "
+                         f"{data.MAX_SIM_STEPS:.3g} a fit may take; use a smaller one")
     if a.e0 is not None:
         data.set_operating_point(rec, a.e0, a.pc0)
     out = _out_dir(a.out) if a.out else None      # before the (long) fit
@@ -272,8 +284,8 @@ def _check_generate(a) -> None:
                          "(a fraction of the output span)")
     if not 10 <= a.n <= MAX_N:
         raise UsageError(f"--n {a.n}: must be in [10, {MAX_N}]")
-    if not 1 <= a.oversample <= 64:
-        raise UsageError(f"--oversample {a.oversample}: must be in [1, 64]")
+    if not 1 <= a.oversample <= MAX_OVERSAMPLE:
+        raise UsageError(f"--oversample {a.oversample}: must be in [1, {MAX_OVERSAMPLE}]")
     lib_fs = model.lib.param_range("fs")    # the library's sample-rate range
     if not 0.0 <= a.rest <= 10.0:
         raise UsageError(f"--rest {a.rest:g}: must be in [0, 10] s")
@@ -350,19 +362,23 @@ def _fail(message: str, status: int, as_json: bool) -> int:
 
 
 def _wants_json(argv) -> bool:
-    """--json among the options (before a "--" that ends them): known even
-    when the command line itself is refused."""
+    """Whether a command line that argparse refused asked for JSON: the
+    command takes --json (diagnose, the first argument) and --json or an
+    abbreviation argparse accepts (--js) is among its options, before a
+    "--" that ends them. A parsed command line says it itself (a.json)."""
     args = list(sys.argv[1:] if argv is None else argv)
     args = args[:args.index("--")] if "--" in args else args
-    return "--json" in args
+    if not args or args[0] != "diagnose":
+        return False
+    return any(len(x) > 3 and "--json".startswith(x) for x in args[1:])
 
 
 def main(argv=None) -> int:
-    as_json = _wants_json(argv)
     try:
         a = _parser().parse_args(argv)
     except _ArgError as exc:    # as argparse ends: SystemExit with the status
-        raise SystemExit(_fail(str(exc), EXIT_USAGE, as_json)) from None
+        raise SystemExit(_fail(str(exc), EXIT_USAGE, _wants_json(argv))) from None
+    as_json = bool(getattr(a, "json", False))
     from . import data, lib
     try:
         if a.cmd == "diagnose":
@@ -383,6 +399,9 @@ def main(argv=None) -> int:
     except OSError as exc:
         where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
         return _fail(f"{where}{exc.strerror or exc}", EXIT_USAGE, as_json)
+    except Exception as exc:    # a bug: still one line, and the JSON object a script reads
+        return _fail(f"internal error ({type(exc).__name__}: {exc}); please report it "
+                     "with the record", EXIT_INTERNAL, as_json)
 
 
 if __name__ == "__main__":

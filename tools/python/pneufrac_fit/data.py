@@ -5,6 +5,7 @@ the record may have gaps (timebase); ADC steps, noise and the opening rest
 stretch are read off the signals (signals)."""
 from __future__ import annotations
 
+import csv
 import math
 import re
 from dataclasses import dataclass, field
@@ -15,14 +16,26 @@ import numpy as np
 from . import holdout, signals, timebase
 
 MIN_SAMPLES = 200
-# The slowest record: the fit simulates at model.F_SIM_MIN or faster, a
-# whole number of steps per sample (model.auto_oversample), so a slower
-# record costs that many more steps per sample in every fit. A time column
-# in ms read as seconds (1 kHz read as 1 Hz) needs 2000 and ran past
-# 10 min where the same record in seconds takes 4 s. The bound is
-# generate's own --oversample bound, so that the slowest record generate
-# writes (cli.MIN_FS) is read.
-MAX_STEPS_PER_SAMPLE = 64
+# The longest simulation a record may need. A fit's cost is the number of
+# simulation steps: the record's duration x the simulation rate, which is
+# the record's rate or model.F_SIM_MIN (2 kHz), whichever is higher,
+# whatever the sample rate (model.auto_oversample). The bound is a fixed
+# multiple of the record of issue 8's time target (100 000 samples at
+# 1 kHz, simulated at 2 kHz: under 30 s per diagnosis). The time per step
+# is not the same for every record: a fast record is explored on a short
+# 1 kHz copy (search.explorer), a slow one on the whole record, so a slow
+# record at the bound takes some 20 min (2000 samples at 1 Hz, 4e6 steps:
+# 1047 s with --jobs 1). The multiple, 20, admits every record a typical
+# 256 MiB file (MAX_FILE_BYTES, about 3.5 M rows at one step each) holds at
+# 2 kHz and faster: it bites only where a slow rate multiplies the steps
+# per sample, a time column in ms read as seconds (1 kHz read as 1 Hz,
+# 2000 steps per sample) or a slow record over 2000 s long. Slow records
+# (10, 20, 25 Hz historian exports) within it are read.
+TIME_TARGET_STEPS = 100_000 * 2
+MAX_SIM_STEPS = 20 * TIME_TARGET_STEPS
+# Relative tolerance of the rate bounds: timebase estimates the rate from
+# the stamps, so a record at exactly a bound reads a few ulps off it.
+RATE_RTOL = 1e-9
 
 
 class DataError(ValueError):
@@ -121,7 +134,9 @@ def decode(raw: bytes, source: str) -> str:
     mark. Bytes that are not UTF-8 are kept as lone surrogates (Python's
     surrogateescape) so that a comment written in another code page (a
     unit's degree sign in Latin-1) does not refuse the record; parse_csv
-    refuses them where they would be read: the header and the rows."""
+    refuses them where they would be read: the cells of the rows (a unit in
+    a column's name, as Excel writes it in cp1252, is not: the wanted
+    columns' names match the names asked for, see _header)."""
     for bom, name in _WIDE_BOMS:
         if raw.startswith(bom):
             raise DataError(f"{source}: the file is {name} text; save it as UTF-8 (or "
@@ -136,16 +151,16 @@ def _show(text: str) -> str:
     return r if len(r) <= _SHOW else r[:_SHOW] + "..."
 
 
-def _check_line(source: str, ln: int, s: str) -> None:
+def _check_line(source: str, ln: int, s: str, utf8: bool = True) -> None:
     """A header or data line must be text: no NUL (a binary file, or UTF-16
-    without a mark) and only UTF-8 (a surrogate here is a byte decode()
-    could not read)."""
+    without a mark) and, with utf8, only UTF-8 (a surrogate here is a byte
+    decode() could not read)."""
     if "\x00" in s:
         raise DataError(f"{source}:{ln}: NUL byte in the line: not a text CSV (a binary "
                         "file, or UTF-16 without a byte-order mark?)")
     bad = next((j for j, ch in enumerate(s) if "\udc80" <= ch <= "\udcff"), None)
-    if bad is not None:
-        raise DataError(f"{source}:{ln}: column {bad + 1}: byte "
+    if utf8 and bad is not None:
+        raise DataError(f"{source}:{ln}: character {bad + 1}: byte "
                         f"0x{ord(s[bad]) - 0xdc00:02x} is not UTF-8; save the file as "
                         "UTF-8 (or ASCII) CSV")
 
@@ -153,14 +168,13 @@ def _check_line(source: str, ln: int, s: str) -> None:
 def _fields(s: str) -> list[str]:
     """The comma-separated fields of a line, blanks around them removed and
     one pair of enclosing double quotes (as some exporters write every
-    field) taken off."""
-    out = []
-    for x in s.split(","):
-        x = x.strip()
-        if len(x) >= 2 and x[0] == x[-1] == '"':
-            x = x[1:-1].strip()
-        out.append(x)
-    return out
+    field) taken off. A quoted field may hold commas ("p, bar"): a line
+    with a quote is split by the csv module (one line at a time, so that
+    messages keep their line numbers; a quoted field cannot span lines)."""
+    if '"' not in s:        # the common line: a plain split, without the csv module
+        return [x.strip() for x in s.split(",")]
+    row = next(csv.reader([s], skipinitialspace=True), [])
+    return [x.strip() for x in row]
 
 
 def _lines(text: str) -> list[tuple[int, str]]:
@@ -176,8 +190,11 @@ _NEWLINE = re.compile(r"\r\n|\r|\n")
 
 
 def _header(source: str, hline: int, header: str, want: list[str]) -> list[int]:
-    """The indices of the wanted columns in the header line."""
-    _check_line(source, hline, header)
+    """The indices of the wanted columns in the header line. The header
+    is not checked for UTF-8: the wanted names match the names asked for,
+    so a byte that is not UTF-8 can only be in an unused column's name (a
+    unit in cp1252), which is not read."""
+    _check_line(source, hline, header, utf8=False)
     cols = [c.lower() for c in _fields(header)]
     if len(cols) == 1:
         sep = next((c for c in (";", "\t", "|") if c in header), None)
@@ -231,9 +248,9 @@ def _number(source: str, ln: int, name: str, field: str, line: str) -> float:
         if not field:
             raise DataError(f"{source}:{ln}: {name} is empty (every row needs t, e and "
                             "pc; cut the record instead)") from None
-        raise DataError(f"{source}:{ln}: {name} is not a number: {_show(field)!r}") from None
+        raise DataError(f"{source}:{ln}: {name} is not a number: '{_show(field)}'") from None
     if "_" in field:        # float() takes "1_000"; a CSV number never has it
-        raise DataError(f"{source}:{ln}: {name} is not a number: {_show(field)!r}")
+        raise DataError(f"{source}:{ln}: {name} is not a number: '{_show(field)}'")
     if not math.isfinite(v):
         raise DataError(f"{source}:{ln}: {name} is {_show(field)} (NaN or infinite "
                         "values are not allowed; cut the record instead)")
@@ -258,13 +275,13 @@ def make_record(t, e, pc, source: str = "<data>") -> Record:
         tb = timebase.analyse(t, source)
     except timebase.TimebaseError as exc:
         raise DataError(str(exc)) from None
-    _check_rate(tb.fs, source)
     a, b = tb.start, tb.stop
     if b - a < MIN_SAMPLES:
         where = ", ".join(f"t = {g.t:.6g} s" for g in tb.gaps[:3])
         raise DataError(f"{source}: gaps in the record (at {where}{', ...' if len(tb.gaps) > 3 else ''}) "
                         f"leave at most {b - a} samples without a gap (need at least "
                         f"{MIN_SAMPLES})")
+    _check_rate(tb.fs, b - a, source)
     # Own copies: the caller's arrays stay untouched and not aliased, and
     # the same record gives the same diagnosis to the last bit however its
     # arrays were laid out in memory (numpy's sums depend on alignment).
@@ -278,13 +295,19 @@ def make_record(t, e, pc, source: str = "<data>") -> Record:
     return rec
 
 
-def rate_range() -> tuple[float, float]:
-    """The sample rates (Hz) a record may have: from the slowest the fit
-    simulates in at most MAX_STEPS_PER_SAMPLE steps per sample to the
-    fastest the library simulates at all (a time column in ps or ns read as
-    seconds ended in a traceback from the fit)."""
-    from . import lib, model
-    return model.F_SIM_MIN / MAX_STEPS_PER_SAMPLE, lib.param_range("fs").hi
+def max_rate() -> float:
+    """The fastest sample rate (Hz) a record may have: the fastest the
+    library simulates at all (a faster one ended in a traceback from the
+    fit)."""
+    from . import lib
+    return lib.param_range("fs").hi
+
+
+def sim_steps(n: int, fs: float) -> int:
+    """The simulation steps of one fit of n samples at fs Hz (at the rate
+    model.auto_oversample chooses)."""
+    from . import model
+    return int(n) * model.auto_oversample(fs)
 
 
 # The smallest span of a signal: the fit works with squared deviations, and
@@ -319,12 +342,25 @@ def _check_levels(e: np.ndarray, pc: np.ndarray, source: str) -> None:
                             "units)")
 
 
-def _check_rate(fs: float, source: str) -> None:
-    lo, hi = rate_range()
-    if not lo <= fs <= hi:
+def _check_rate(fs: float, n: int, source: str) -> None:
+    """The record's rate within what the library simulates, and its
+    simulation within MAX_SIM_STEPS; each message names the likely causes
+    on its side."""
+    hi = max_rate()
+    if fs > hi * (1 + RATE_RTOL):
         raise DataError(f"{source}: the time stamps give a sample rate of {fs:.6g} Hz, "
-                        f"outside [{lo:g}, {hi:g}] Hz; t must be in seconds (a time in ms "
-                        f"or us reads {1e3:g} or {1e6:g} times too slow)")
+                        f"above the {hi:g} Hz the library simulates; t must be in seconds "
+                        "(a time in minutes or hours reads 60 or 3600 times too fast)")
+    steps = sim_steps(n, fs)
+    if steps > MAX_SIM_STEPS:
+        from . import model
+        f_sim = fs * model.auto_oversample(fs)
+        raise DataError(f"{source}: {n} samples at {fs:.6g} Hz ({n / fs:.6g} s) need "
+                        f"{steps:.3g} simulation steps at {f_sim:.6g} Hz, more than the "
+                        f"{MAX_SIM_STEPS:.3g} a fit may take; either t is not in seconds "
+                        "(a time in ms or us reads 1000 or 1 000 000 times too slow: "
+                        "convert it to seconds) or the record is too long to fit at once "
+                        "(cut it into shorter records)")
 
 
 def _levels(rec: Record) -> None:

@@ -81,6 +81,14 @@ def read_record(path: Path) -> str:
     return data.decode(data.read_bytes(path), str(path))    # as diagnose reads a file
 
 
+def read_error(path: Path, exc: Exception) -> str:
+    """The reason read_record failed, naming the path once (a DataError's
+    message starts with it already)."""
+    if isinstance(exc, OSError):
+        return f"{path}: cannot read: {exc.strerror or exc}"
+    return str(exc)
+
+
 def _client(scheduler: str | None, workers: int):
     """(Client, the local cluster or None): a client of the scheduler at
     @scheduler, or of a new local cluster of @workers single-threaded
@@ -125,7 +133,7 @@ def run(files: list[Path], config: str, *, scheduler: str | None = None,
                 try:
                     text = read_record(path)
                 except (OSError, ValueError) as exc:
-                    rows.append(error_row(loop, f"{path}: cannot read: {exc}"))
+                    rows.append(error_row(loop, read_error(path, exc)))
                     say(f"{len(rows)}/{len(files)} {loop}: cannot read")
                     continue
                 fut = client.submit(diagnose_text, loop, text, config, seed, pure=False)

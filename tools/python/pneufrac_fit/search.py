@@ -36,7 +36,12 @@ def _budget(pb, effects, iters: int) -> int:
 
 def explorer(pb):
     """The exploration copy of pb, or None when pb is small enough."""
+    from .data import MIN_SAMPLES
     D = max(1, int(pb.setup.fs // F_EXPLORE))
+    # The copy keeps at least the samples a record needs to be fit at all:
+    # a short record at a high rate (250 samples at 200 kHz) was averaged
+    # down to one sample, and the fit ended in a traceback.
+    D = min(D, max(1, pb.nsim // MIN_SAMPLES))
     if D == 1 and pb.nsim <= 1.3 * N_EXPLORE:
         return None
     take = int(min(pb.nsim // D, N_EXPLORE))
