@@ -45,7 +45,7 @@ def test_a_winner_promoted_by_refit_rivals_is_refined(monkeypatch):
     assert winners == ["nozzle", "lag"]
 
 
-def test_refine_promoted_refines_only_a_new_winner():
+def test_refine_final_refines_only_a_new_winner():
     """A passing lag fit that stopped short (a few iterations from a poor
     start) is refined when it is the winner and refine_winner did not leave
     it so; when it is the test refine_winner left, nothing is done."""

@@ -58,15 +58,23 @@ def reference(pb, effects, fr, prior, better=None):
 
     r = search.refine(pb, effects, [("from extended", dict(fr.values)),
                                     ("prior", start_of(prior))], dead=dead)
+    # the delay free as in the extended fit (candidates.fit_extended)
+    fits = [r]
     if better is not None:
         # search.refine goes on from its best start only: the better model
         # so far is refined apart, not put in competition by start cost, so
         # that a start of the others that reaches a deeper optimum is still
-        # refined (a reference left above where it was would favour the effect)
-        r = min(r, search.refine(pb, effects, [("better prior", start_of(better))], dead=dead),
-                key=lambda f: f.cost)
-    # the delay free as in the extended fit (candidates.fit_extended)
-    return candidates.profile_dead(pb, effects, r) if dead else r
+        # refined (a reference left above where it was would favour the
+        # effect). It is refined at its own delay: at the extended fit's,
+        # its shape is not the better optimum, and the delay's profile can
+        # stick at a local delay on the way back (branch fixtwofx4)
+        fits.append(search.refine(pb, effects, [("better prior", start_of(better))],
+                                  dead=better.dead if dead else 0))
+    # each profiled before the lower is kept: adding a start can then only
+    # lower the reference (a minimum taken before profiling need not be
+    # the lower after it)
+    return min((candidates.profile_dead(pb, effects, f) if dead else f for f in fits),
+               key=lambda f: f.cost)
 
 
 def play_start_unknown(pb):
@@ -212,6 +220,13 @@ def confirm(pb, effect, fr, t, current, rng, better=None):
     ref2 = candidates.explore_refine_corner(
         pb, effects, st, candidates.corner_start(pb, effects, current, {}), dead=dead,
         refine_iter=2 * search.REFINE_ITER, stage_iter=baseline.STAGE_ITER)
+    if better is not None and dead and better.dead != dead:
+        # the search above runs at one delay, the extended fit's; the better
+        # model so far is an optimum at its own, and is refined there too
+        # (reference() says why), the lower of the two kept
+        rb = search.refine(pb, effects, [("better prior", {**better.groups, **better.values})],
+                           dead=better.dead, iters=2 * search.REFINE_ITER)
+        ref2 = min(ref2, candidates.profile_dead(pb, effects, rb), key=lambda f: f.cost)
     if ref2.cost >= t.ref.cost:
         return t
     t2 = guards.test(pb, effect, fr, ref2, so_far=current)
@@ -659,27 +674,54 @@ def from_better(pb, current, tests, seed, say):
     return tests
 
 
+def _cost_on(t, m) -> float:
+    """m's cost (a fit without t's effect) on t's problem: its freedoms,
+    samples and weighting, m's delay, K and pc0 re-solved."""
+    return fit.start_cost(t.pb, m.effects, {**m.groups, **m.values}, m.dead)
+
+
 def _short_of(t, better) -> bool:
     """Whether t's reference fits the fit part worse than `better` (a fit of
     the same effects) does, both on t's problem (its freedoms and samples):
     the fit criterion, with _test_again's margin."""
-    def cost(m):
-        return fit.start_cost(t.pb, m.effects, {**m.groups, **m.values}, m.dead)
-    return cost(better) < cost(t.ref) * (1 - 1e-6)
+    return _cost_on(t, better) < _cost_on(t, t.ref) * (1 - 1e-6)
 
 
 def _referred_again(pb, current, tests, i, better, seed, say):
     """tests with tests[i] tested again on its own fit, its reference
     searched from `better` too (try_effect), when its reference stopped
-    short of `better` (_short_of); every guard again."""
+    short of `better` (_short_of); every guard again.
+
+    One-way: the retest can only raise the bar. Only a passing test is
+    retested (a failing one stays failed: several guards, the held-out
+    gain and those on the difference of the two fits, do not get stricter
+    as the reference's fit part cost falls, so a new reference could let
+    a test pass that failed against the old one). The retest replaces it
+    only when it fails and its reference fits t's samples better than the
+    old one (the same problem, samples and weighting: _cost_on); a retest
+    that passes keeps t and its reference (both are models without the
+    effect the winner must beat: models_without), t now searched from
+    `better` too in any later retest (which adds a start, and so can only
+    lower a reference: reference()). A fit the library refuses in the
+    retest ends with the model so far as reference, which fits no better:
+    t stands."""
     t = tests[i]
-    if not _short_of(t, better):
+    if not t.passes or not _short_of(t, better):
         return tests
     t2 = try_effect(pb, current, t.effect, _seed_of(seed, t.effect), fitted=t.model,
                     better=better)
-    say(f"  {t.effect} referred to the better {current.effect} fit: reference cost "
-        f"{t.ref.cost:.6g} -> {t2.ref.cost:.6g} -> "
-        + ("passes" if t2.passes else "fails: " + "; ".join(t2.reasons[:2])))
+    old, new = _cost_on(t, t.ref), _cost_on(t, t2.ref)
+    raised = new < old * (1 - 1e-6)
+    say(f"  {t.effect} referred to the better {current.effect} fit (on its samples: "
+        f"{old:.6g} reference, {_cost_on(t, better):.6g} better): reference {new:.6g} -> "
+        + ("passes" if t2.passes else "fails: " + "; ".join(t2.reasons[:2]))
+        + ("" if raised else " (no lower: the test stands)"))
+    if _short_of(t2, better):
+        say(f"  warning: {t.effect}'s reference is still short of the better "
+            f"{current.effect} fit")
+    if t2.passes or not raised:
+        t.better = better
+        return tests
     tests = list(tests)
     tests[i] = t2
     return tests
@@ -727,7 +769,10 @@ def refine_final(pb, current, tests, done, seed, say):
     either would otherwise meet the models without it (_passing) and be
     added as its search left it. `done`: the tests refinement left this
     round (extended here), so that each is refined once; each pass
-    replaces one test not in it with one in it, so the loop ends."""
+    replaces one test not in it with one in it, so the loop ends.
+    Asymmetric: a winner that refit_rivals promoted is refined here, but
+    no rival is refitted again from its refined optimum (refit_rivals is
+    costly); the rivals it meets were refitted from the first winner's."""
     while True:
         w = _winner(tests)
         if w is None or any(w is d for d in done):
