@@ -31,8 +31,10 @@ def test_a_reference_short_of_the_better_model_so_far_is_searched_from_it(monkey
     from_better tests the lag again, its reference refined from the better
     linear fit ("better prior"), so that the retest's reference fits the
     lag test's samples at least as well as the better linear fit does. The
-    lag passes both ways: the retest does not replace it (one-way,
-    _referred_again), and a later retest searches from the better fit."""
+    lag passes both ways: the retest, judged against the stronger
+    reference, is kept, the old reference kept among the models without
+    the lag (one-way, _referred_again), and a later retest searches from
+    the better fit."""
     pb = _problem()
     poor_lin = _fit(pb, (), _start(pb, rho=3.0), budget=4)
     good_lin = _fit(pb, (), _start(pb))
@@ -55,49 +57,60 @@ def test_a_reference_short_of_the_better_model_so_far_is_searched_from_it(monkey
     assert kw["better"] is not None and kw["better"].effects == ()
     good = fit.start_cost(pb, (), {**good_lin.groups, **good_lin.values})
     assert t2.ref.cost <= good * (1 + 1e-6)
-    assert t2.passes and out[0] is t and t.better is kw["better"]
+    assert t2.passes and out[0] is t2 and t2.better is kw["better"]
+    assert any(m is poor_lin for m in t2.also_without)
     assert any("referred to the better" in m for m in lines)
 
 
 def _one_way(monkeypatch, t_passes, t2_passes, t2_ref):
     """_referred_again on a lag test whose reference is a poor linear fit,
     the retest faked: it passes or not, with reference t2_ref ("good": the
-    better linear fit; "same": as poor as t's). Returns (t, the test after)."""
+    better linear fit; "same": as poor as t's). Returns (t, the retest, the
+    test after, the models without the effect after, the retests made)."""
     pb = _problem()
     poor_lin = _fit(pb, (), _start(pb, rho=3.0), budget=4)
     good_lin = _fit(pb, (), _start(pb))
-    t = SimpleNamespace(effect="lag", model=None, ref=poor_lin, pb=pb, passes=t_passes,
-                        better=None)
-    t2 = SimpleNamespace(effect="lag", model=None, pb=pb, passes=t2_passes,
-                         ref={"good": good_lin, "same": poor_lin}[t2_ref],
-                         reasons=[] if t2_passes else ["fails"])
-    monkeypatch.setattr(selection, "try_effect", lambda *a, **kw: t2)
+    t = guards.Test(effect="lag", model=poor_lin, ref=poor_lin, passes=t_passes)
+    t2 = guards.Test(effect="lag", model=poor_lin, passes=t2_passes,
+                     ref={"good": good_lin, "same": poor_lin}[t2_ref],
+                     reasons=[] if t2_passes else ["fails"])
+    t.pb = t2.pb = pb
+    made = []
+    monkeypatch.setattr(selection, "try_effect", lambda *a, **kw: made.append(1) or t2)
     out = selection._referred_again(pb, poor_lin, [t], 0, good_lin, 1, lambda s: None)
-    return t, t2, out[0]
+    without = [m for m, _ in selection.models_without(out, poor_lin, pb)]
+    return t, t2, out[0], without, made
 
 
-def test_a_failed_test_does_not_pass_on_a_retest(monkeypatch):
+def test_a_failed_test_is_not_retested(monkeypatch):
     """A test that failed against its reference stays failed, whatever a
-    retest against a reference searched from the better model says: the
-    held-out gain and the guards on the fits' difference need not get
+    retest against a reference searched from the better model would say:
+    the held-out gain and the guards on the fits' difference need not get
     stricter as the reference fits the fit part better."""
-    t, t2, after = _one_way(monkeypatch, False, True, "good")
-    assert after is t and not after.passes
+    t, t2, after, _, made = _one_way(monkeypatch, False, True, "good")
+    assert after is t and not after.passes and not made
 
 
-def test_a_retest_whose_reference_is_no_lower_does_not_replace(monkeypatch):
-    """A retest that fails against a reference no lower on the test's own
-    samples than the old one does not replace the test: only a raised bar
-    does."""
-    t, t2, after = _one_way(monkeypatch, True, False, "same")
-    assert after is t and after.passes
+def test_a_retest_that_fails_refuses_the_effect(monkeypatch):
+    """The effect passes only if it passes the retest too, whatever the
+    retest's reference: a failed retest replaces the test, and the old
+    reference stays among the models without the effect."""
+    for ref in ("same", "good"):
+        t, t2, after, without, _ = _one_way(monkeypatch, True, False, ref)
+        assert after is t2 and not after.passes
+        assert any(m is t.ref for m in without)
 
 
-def test_a_retest_that_fails_against_a_lower_reference_replaces(monkeypatch):
-    """The bar raised: the retest's reference fits the test's samples
-    better, and against it the effect fails: the retest replaces it."""
-    t, t2, after = _one_way(monkeypatch, True, False, "good")
-    assert after is t2
+def test_a_passing_retest_is_judged_against_the_stronger_reference(monkeypatch):
+    """Both pass: the test kept is the one whose reference fits the test's
+    samples better (a retest whose reference is no lower keeps the old
+    test), and the other reference stays among the models without the
+    effect that the winner must beat."""
+    t, t2, after, without, _ = _one_way(monkeypatch, True, True, "good")
+    assert after is t2 and any(m is t.ref for m in without)
+    t, t2, after, without, _ = _one_way(monkeypatch, True, True, "same")
+    assert after is t and any(m is t2.ref for m in without)
+    assert after.better is not None
 
 
 def test_a_reference_with_a_dead_time_reaches_the_better_model_so_far():

@@ -64,6 +64,8 @@ class Test:
     reasons: list = field(default_factory=list)    # why it fails, in words
     nm: object = None
     better: object = None        # a better model so far its reference was searched from
+    # references this test had before a retest (selection._referred_again)
+    also_without: list = field(default_factory=list)
 
     @property
     def significant(self) -> bool:

@@ -56,21 +56,22 @@ def reference(pb, effects, fr, prior, better=None):
             b["K"] = fr.values["K"]
         return b
 
-    r = search.refine(pb, effects, [("from extended", dict(fr.values)),
-                                    ("prior", start_of(prior))], dead=dead)
-    # the delay free as in the extended fit (candidates.fit_extended)
-    fits = [r]
+    fits = [search.refine(pb, effects, [("from extended", dict(fr.values)),
+                                        ("prior", start_of(prior))], dead=dead)]
     if better is not None:
         # search.refine goes on from its best start only: the better model
         # so far is refined apart, not put in competition by start cost, so
         # that a start of the others that reaches a deeper optimum is still
         # refined (a reference left above where it was would favour the
-        # effect). It is refined at its own delay: at the extended fit's,
-        # its shape is not the better optimum, and the delay's profile can
-        # stick at a local delay on the way back (branch fixtwofx4)
-        fits.append(search.refine(pb, effects, [("better prior", start_of(better))],
-                                  dead=better.dead if dead else 0))
-    # each profiled before the lower is kept: adding a start can then only
+        # effect). At its own delay (at the extended fit's, its shape is not
+        # the better optimum, and the delay's profile can stick at a local
+        # delay on the way back) and at the extended fit's: a start added,
+        # none replaced
+        for d in sorted({dead, better.dead if dead else 0}):
+            fits.append(search.refine(pb, effects, [("better prior", start_of(better))],
+                                      dead=d))
+    # the delay free as in the extended fit (candidates.fit_extended); each
+    # fit profiled before the lower is kept: adding a start can then only
     # lower the reference (a minimum taken before profiling need not be
     # the lower after it)
     return min((candidates.profile_dead(pb, effects, f) if dead else f for f in fits),
@@ -599,7 +600,10 @@ def _test_again(pb, current, t, fr, seed, better=None):
         return None
     better = t.better if better is None else better
     t2 = try_effect(pb, current, t.effect, _seed_of(seed, t.effect), fitted=fr, better=better)
-    return t2 if t2.model.cost < t.model.cost * (1 - 1e-6) else None
+    if not t2.model.cost < t.model.cost * (1 - 1e-6):
+        return None
+    t2.also_without = list(getattr(t, "also_without", ()))    # still models without the effect
+    return t2
 
 
 def _say_again(say, t, t2, why):
@@ -692,38 +696,36 @@ def _referred_again(pb, current, tests, i, better, seed, say):
     searched from `better` too (try_effect), when its reference stopped
     short of `better` (_short_of); every guard again.
 
-    One-way: the retest can only raise the bar. Only a passing test is
-    retested (a failing one stays failed: several guards, the held-out
-    gain and those on the difference of the two fits, do not get stricter
-    as the reference's fit part cost falls, so a new reference could let
-    a test pass that failed against the old one). The retest replaces it
-    only when it fails and its reference fits t's samples better than the
-    old one (the same problem, samples and weighting: _cost_on); a retest
-    that passes keeps t and its reference (both are models without the
-    effect the winner must beat: models_without), t now searched from
-    `better` too in any later retest (which adds a start, and so can only
-    lower a reference: reference()). A fit the library refuses in the
-    retest ends with the model so far as reference, which fits no better:
-    t stands."""
+    One-way: the retest can only raise the bar, so that no effect passes
+    that did not pass before. Only a passing test is retested (a failing
+    one stays failed: several guards, the held-out gain and those on the
+    difference of the two fits, do not get stricter as the reference's fit
+    part cost falls, so a new reference could let a test pass that failed
+    against the old one). The effect passes only if it passes both: a
+    retest that fails replaces the test, whatever its reference; one that
+    passes replaces it only if its reference fits t's samples better (the
+    same problem, samples and weighting: _cost_on), its guards then
+    against the stronger of the two. Whichever is kept carries the other's
+    reference (also_without), so that both stay among the models without
+    the effect that the winner must beat (models_without)."""
     t = tests[i]
     if not t.passes or not _short_of(t, better):
         return tests
     t2 = try_effect(pb, current, t.effect, _seed_of(seed, t.effect), fitted=t.model,
                     better=better)
-    old, new = _cost_on(t, t.ref), _cost_on(t, t2.ref)
+    old, new, best = _cost_on(t, t.ref), _cost_on(t, t2.ref), _cost_on(t, better)
     raised = new < old * (1 - 1e-6)
     say(f"  {t.effect} referred to the better {current.effect} fit (on its samples: "
-        f"{old:.6g} reference, {_cost_on(t, better):.6g} better): reference {new:.6g} -> "
-        + ("passes" if t2.passes else "fails: " + "; ".join(t2.reasons[:2]))
-        + ("" if raised else " (no lower: the test stands)"))
-    if _short_of(t2, better):
+        f"reference {old:.6g}, better {best:.6g}): reference {new:.6g} -> "
+        + ("passes" if t2.passes else "fails: " + "; ".join(t2.reasons[:2])))
+    if best < new * (1 - 1e-6):
         say(f"  warning: {t.effect}'s reference is still short of the better "
             f"{current.effect} fit")
-    if t2.passes or not raised:
-        t.better = better
-        return tests
+    keep, drop = (t2, t) if raised or not t2.passes else (t, t2)
+    keep.also_without = [*getattr(t, "also_without", ()), drop.ref]
+    keep.better = better
     tests = list(tests)
-    tests[i] = t2
+    tests[i] = keep
     return tests
 
 
@@ -786,7 +788,8 @@ def models_without(tests, current, cur_pb) -> list:
     """(model, the first sample its fit counted) for every model without a
     new effect that a round found: the model so far, and each test's
     reference (the same effects refitted with the freedoms and samples
-    that test gave them). An effect whose model predicts the held-out part
+    that test gave them; and the references it had before a retest:
+    _referred_again). An effect whose model predicts the held-out part
     no better than one of them explains nothing the model so far cannot,
     refitted: its gain over its own reference is then the freedoms', and
     naming it would credit an effect with what a better fit of the model
@@ -798,8 +801,8 @@ def models_without(tests, current, cur_pb) -> list:
     (winner_on)."""
     same = model.canonical(current.effects)
     out = [(current, cur_pb.burn)]
-    out += [(t.ref, t.pb.burn) for t in tests
-            if model.canonical(t.ref.effects) == same and t.ref is not current]
+    out += [(m, t.pb.burn) for t in tests for m in (t.ref, *getattr(t, "also_without", ()))
+            if model.canonical(m.effects) == same and m is not current]
     return out
 
 
