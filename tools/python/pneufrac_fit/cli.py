@@ -247,11 +247,7 @@ def cmd_diagnose(a) -> int:
             raise UsageError(f"{name} must be finite")
     jobs = None if a.jobs is None else min(max(a.jobs, 1), MAX_JOBS)
     cols = data.parse_columns(a.columns) if a.columns is not None else None
-    rec = data.read_csv(a.data, cols)
-    if a.oversample is not None and rec.n * a.oversample > data.MAX_SIM_STEPS:
-        raise UsageError(f"--oversample {a.oversample}: {rec.n} samples need "
-                         f"{rec.n * a.oversample:.3g} simulation steps, more than the "
-                         f"{data.MAX_SIM_STEPS:.3g} a fit may take; use a smaller one")
+    rec = data.read_csv(a.data, cols, a.oversample)    # its cost at this --oversample
     if a.e0 is not None:
         data.set_operating_point(rec, a.e0, a.pc0)
     out = _out_dir(a.out) if a.out else None      # before the (long) fit
