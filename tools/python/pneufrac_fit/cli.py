@@ -395,9 +395,17 @@ def main(argv=None) -> int:
     except OSError as exc:
         where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
         return _fail(f"{where}{exc.strerror or exc}", EXIT_USAGE, as_json)
+    except MemoryError:         # the record is too large for this machine: not a bug
+        return _fail("out of memory (cut or decimate the record, or free memory)",
+                     EXIT_USAGE, as_json)
     except Exception as exc:    # a bug: still one line, and the JSON object a script reads
-        return _fail(f"internal error ({type(exc).__name__}: {exc}); please report it "
-                     "with the record", EXIT_INTERNAL, as_json)
+        if os.environ.get("PNEUFRAC_FIT_DEBUG"):     # opt-in: the traceback to report
+            import traceback
+            traceback.print_exc()
+        text = " ".join(str(exc).split())           # one line, whatever the message holds
+        return _fail(f"internal error ({type(exc).__name__}: {text}); please report it "
+                     "with the record (PNEUFRAC_FIT_DEBUG=1 prints the traceback)",
+                     EXIT_INTERNAL, as_json)
 
 
 if __name__ == "__main__":

@@ -184,8 +184,24 @@ def _fields(s: str) -> list[str]:
     messages keep their line numbers; a quoted field cannot span lines)."""
     if '"' not in s:        # the common line: a plain split, without the csv module
         return [x.strip() for x in s.split(",")]
-    row = next(csv.reader([s], skipinitialspace=True), [])
+    try:
+        row = next(csv.reader([s], skipinitialspace=True), [])
+    except csv.Error as exc:    # a field over the csv module's limit, a NUL (3.9, 3.10)
+        raise _LineError(str(exc)) from None
     return [x.strip() for x in row]
+
+
+class _LineError(ValueError):
+    """A line the csv module cannot split; the caller names the line."""
+
+
+def _split(source: str, ln: int, s: str) -> list[str]:
+    """_fields of line ln, a DataError naming it when it cannot be split."""
+    try:
+        return _fields(s)
+    except _LineError as exc:
+        _check_line(source, ln, s, utf8=False)
+        raise DataError(f"{source}:{ln}: cannot split the line: {exc}") from None
 
 
 def _lines(text: str) -> list[tuple[int, str]]:
@@ -206,7 +222,7 @@ def _header(source: str, hline: int, header: str, want: list[str]) -> list[int]:
     so a byte that is not UTF-8 can only be in an unused column's name (a
     unit in cp1252), which is not read."""
     _check_line(source, hline, header, utf8=False)
-    cols = [c.lower() for c in _fields(header)]
+    cols = [c.lower() for c in _split(source, hline, header)]
     if len(cols) == 1:
         sep = next((c for c in (";", "\t", "|") if c in header), None)
         if sep is not None:
@@ -216,10 +232,14 @@ def _header(source: str, hline: int, header: str, want: list[str]) -> list[int]:
                             "export the record as such")
     missing = [c for c in want if c.lower() not in cols]
     if missing:
+        # a name asked for in UTF-8 cannot match one written in another code
+        # page (p\xb0C in Latin-1): say so rather than only "missing"
+        hint = ("; the header has bytes that are not UTF-8: save the file as UTF-8"
+                if any("\udc80" <= ch <= "\udcff" for ch in header) else "")
         raise DataError(
             f"{source}:{hline}: missing column(s) {', '.join(missing)}; the header "
             f"must name {','.join(want)} (found: {_show(header)}; other names: --columns "
-            "t=NAME,e=NAME,pc=NAME)")
+            f"t=NAME,e=NAME,pc=NAME){hint}")
     for c in want:
         at = [j + 1 for j, x in enumerate(cols) if x == c.lower()]
         if len(at) > 1:
@@ -238,10 +258,10 @@ def parse_csv(text: str, source: str = "<csv>", columns: dict | None = None,
         raise DataError(f"{source}: empty file (expected a header naming {','.join(want)})")
     hline, header = lines[0]
     idx = _header(source, hline, header, want)
-    ncols = len(_fields(header))
+    ncols = len(_split(source, hline, header))
     a = np.empty((len(lines) - 1, 3))    # not a list of lists: a third of the memory
     for i, (ln, s) in enumerate(lines[1:]):
-        parts = _fields(s)
+        parts = _split(source, ln, s)
         if len(parts) != ncols:
             _check_line(source, ln, s)
             raise DataError(f"{source}:{ln}: expected {ncols} fields, found {len(parts)}")
