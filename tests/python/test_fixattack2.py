@@ -172,3 +172,24 @@ def test_out_of_memory_is_not_a_bug(capsys, monkeypatch):
     j = json.loads(cap.out)
     assert rc == 2 and j["status"] == 2 and "out of memory" in j["error"], cap
     assert "internal error" not in cap.err, cap.err
+
+
+@pytest.mark.parametrize("opt,json_out", [("--js", True), ("--json", True), ("--j", False),
+                                          ("--jo", False)])
+def test_a_refused_command_line_gives_json_for_json_abbreviations_only(capsys, opt, json_out):
+    """argparse refuses --order x; --js (only --json starts so) asks for
+    the JSON error, --j and --jo do not (--jobs starts so too)."""
+    with pytest.raises(SystemExit) as ex:
+        cli.main(["diagnose", "r.csv", "--config", "p", "--order", "x", opt])
+    out = capsys.readouterr().out
+    assert ex.value.code == 2
+    assert (json.loads(out)["status"] == 2) if json_out else out == "", out
+
+
+def test_wants_json_reads_the_parser():
+    """Commands without --json never want it; an abbreviation is one the
+    command's options leave unambiguous."""
+    assert not cli._wants_json(["generate", "--config", "p", "--js"])
+    assert not cli._wants_json(["fleet", ".", "--json"])
+    assert cli._wants_json(["diagnose", "--jso"])
+    assert not cli._wants_json(["diagnose", "--", "--json"])

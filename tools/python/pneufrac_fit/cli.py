@@ -358,15 +358,21 @@ def _fail(message: str, status: int, as_json: bool) -> int:
 
 
 def _wants_json(argv) -> bool:
-    """Whether a command line that argparse refused asked for JSON: the
-    command takes --json (diagnose, the first argument) and --json or an
-    abbreviation argparse accepts (--js) is among its options, before a
-    "--" that ends them. A parsed command line says it itself (a.json)."""
+    """Whether a command line that argparse refused asked for JSON: its
+    command takes --json and --json or an abbreviation argparse accepts
+    (one no other option of the command starts with) is among its
+    options, before a "--" that ends them. The commands and options are
+    read off the parser. A parsed command line says it itself (a.json)."""
     args = list(sys.argv[1:] if argv is None else argv)
     args = args[:args.index("--")] if "--" in args else args
-    if not args or args[0] != "diagnose":
+    sub = next((x for x in _parser()._actions
+                if isinstance(x, argparse._SubParsersAction)), None)
+    cmd = sub.choices.get(args[0]) if sub is not None and args else None
+    if cmd is None or "--json" not in cmd._option_string_actions:
         return False
-    return any(len(x) > 3 and "--json".startswith(x) for x in args[1:])
+    opts = [o for o in cmd._option_string_actions if o.startswith("--")]
+    return any(x.startswith("--") and [o for o in opts if o.startswith(x)] == ["--json"]
+               or x == "--json" for x in args[1:])
 
 
 def main(argv=None) -> int:
