@@ -8,10 +8,10 @@
     pneufrac-fit fleet DIR|GLOB --config CFG [--scheduler ADDRESS] [--workers N]
                  [--out DIR]
 
-Exit status: 0 success, 1 an internal error (a bug: one line on stderr), 2 bad
-input or arguments (one line on stderr), 3 the shared library is missing or
-does not match. A closed output pipe
-(`generate | head`) ends the command quietly with status 0.
+Exit status: 0 success, 1 an internal error (a bug: one line on stderr;
+PNEUFRAC_FIT_DEBUG=1 adds the traceback), 2 bad input or arguments or out
+of memory (one line on stderr), 3 the shared library is missing or does not
+match. A closed output pipe (`generate | head`) ends the command quietly with status 0.
 """
 from __future__ import annotations
 
