@@ -30,6 +30,7 @@ BAD = {
     "nan_pc": b"t,e,pc\n" + b"".join(b"%d,1,nan\n" % i for i in range(300)),
     # a Latin-1 byte in a cell (in a comment it is read: attack26)
     "latin1": "t,e,pc\n0,caf\xe9,1\n".encode("latin-1"),
+    "utf16": "t,e,pc\n0,1,2\n".encode("utf-16"),     # Excel's "Unicode text"
 }
 
 
@@ -83,7 +84,9 @@ def test_every_record_has_its_row(report):
         row = df[df["loop"] == loop].iloc[0]
         assert row["status"] == "error" and isinstance(row["error"], str) and row["error"]
     assert "byte 0xe9 is not UTF-8" in df[df["loop"] == "latin1"].iloc[0]["error"]
-    assert "7/7" in r.stderr
+    err16 = df[df["loop"] == "utf16"].iloc[0]["error"]
+    assert "UTF-16" in err16 and err16.count("utf16.csv") <= 1, err16
+    assert f"{len(GOOD) + len(BAD)}/{len(GOOD) + len(BAD)}" in r.stderr
 
 
 def test_rows_are_sorted_by_severity(report):

@@ -8,10 +8,10 @@
     pneufrac-fit fleet DIR|GLOB --config CFG [--scheduler ADDRESS] [--workers N]
                  [--out DIR]
 
-Exit status: 0 success, 1 an internal error (a bug: one line on stderr), 2 bad
-input or arguments (one line on stderr), 3 the shared library is missing or
-does not match. A closed output pipe
-(`generate | head`) ends the command quietly with status 0.
+Exit status: 0 success, 1 an internal error (a bug: one line on stderr;
+PNEUFRAC_FIT_DEBUG=1 adds the traceback), 2 bad input or arguments or out
+of memory (one line on stderr), 3 the shared library is missing or does not
+match. A closed output pipe (`generate | head`) ends the command quietly with status 0.
 """
 from __future__ import annotations
 
@@ -247,11 +247,7 @@ def cmd_diagnose(a) -> int:
             raise UsageError(f"{name} must be finite")
     jobs = None if a.jobs is None else min(max(a.jobs, 1), MAX_JOBS)
     cols = data.parse_columns(a.columns) if a.columns is not None else None
-    rec = data.read_csv(a.data, cols)
-    if a.oversample is not None and rec.n * a.oversample > data.MAX_SIM_STEPS:
-        raise UsageError(f"--oversample {a.oversample}: {rec.n} samples need "
-                         f"{rec.n * a.oversample:.3g} simulation steps, more than the "
-                         f"{data.MAX_SIM_STEPS:.3g} a fit may take; use a smaller one")
+    rec = data.read_csv(a.data, cols, a.oversample)    # its cost at this --oversample
     if a.e0 is not None:
         data.set_operating_point(rec, a.e0, a.pc0)
     out = _out_dir(a.out) if a.out else None      # before the (long) fit
@@ -362,15 +358,21 @@ def _fail(message: str, status: int, as_json: bool) -> int:
 
 
 def _wants_json(argv) -> bool:
-    """Whether a command line that argparse refused asked for JSON: the
-    command takes --json (diagnose, the first argument) and --json or an
-    abbreviation argparse accepts (--js) is among its options, before a
-    "--" that ends them. A parsed command line says it itself (a.json)."""
+    """Whether a command line that argparse refused asked for JSON: its
+    command takes --json and --json or an abbreviation argparse accepts
+    (one no other option of the command starts with) is among its
+    options, before a "--" that ends them. The commands and options are
+    read off the parser. A parsed command line says it itself (a.json)."""
     args = list(sys.argv[1:] if argv is None else argv)
     args = args[:args.index("--")] if "--" in args else args
-    if not args or args[0] != "diagnose":
+    sub = next((x for x in _parser()._actions
+                if isinstance(x, argparse._SubParsersAction)), None)
+    cmd = sub.choices.get(args[0]) if sub is not None and args else None
+    if cmd is None or "--json" not in cmd._option_string_actions:
         return False
-    return any(len(x) > 3 and "--json".startswith(x) for x in args[1:])
+    opts = [o for o in cmd._option_string_actions if o.startswith("--")]
+    return any(x.startswith("--") and [o for o in opts if o.startswith(x)] == ["--json"]
+               or x == "--json" for x in args[1:])
 
 
 def main(argv=None) -> int:
@@ -399,9 +401,17 @@ def main(argv=None) -> int:
     except OSError as exc:
         where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
         return _fail(f"{where}{exc.strerror or exc}", EXIT_USAGE, as_json)
+    except MemoryError:         # the record is too large for this machine: not a bug
+        return _fail("out of memory (cut or decimate the record, or free memory)",
+                     EXIT_USAGE, as_json)
     except Exception as exc:    # a bug: still one line, and the JSON object a script reads
-        return _fail(f"internal error ({type(exc).__name__}: {exc}); please report it "
-                     "with the record", EXIT_INTERNAL, as_json)
+        if os.environ.get("PNEUFRAC_FIT_DEBUG"):     # opt-in: the traceback to report
+            import traceback
+            traceback.print_exc()
+        text = " ".join(str(exc).split())           # one line, whatever the message holds
+        return _fail(f"internal error ({type(exc).__name__}: {text}); please report it "
+                     "with the record (PNEUFRAC_FIT_DEBUG=1 prints the traceback)",
+                     EXIT_INTERNAL, as_json)
 
 
 if __name__ == "__main__":

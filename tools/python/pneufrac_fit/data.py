@@ -18,9 +18,9 @@ from . import holdout, signals, timebase
 MIN_SAMPLES = 200
 # The longest simulation a record may need. A fit's cost is the number of
 # simulation steps: the record's duration x the simulation rate, which is
-# the record's rate or model.F_SIM_MIN (2 kHz), whichever is higher,
-# whatever the sample rate (model.auto_oversample). The bound is a fixed
-# multiple of the record of issue 8's time target (100 000 samples at
+# the smallest whole multiple of the record's rate at or above
+# model.F_SIM_MIN (2 kHz) (model.auto_oversample), or the --oversample
+# asked for (check_cost). The bound is a fixed multiple of the record of issue 8's time target (100 000 samples at
 # 1 kHz, simulated at 2 kHz: under 30 s per diagnosis). The time per step
 # is not the same for every record: a fast record is explored on a short
 # 1 kHz copy (search.explorer), a slow one on the whole record, so a slow
@@ -31,11 +31,21 @@ MIN_SAMPLES = 200
 # per sample, a time column in ms read as seconds (1 kHz read as 1 Hz,
 # 2000 steps per sample) or a slow record over 2000 s long. Slow records
 # (10, 20, 25 Hz historian exports) within it are read.
-TIME_TARGET_STEPS = 100_000 * 2
+TIME_TARGET_STEPS = 100_000 * 2    # 100 000 samples x auto_oversample(1 kHz) = 2
 MAX_SIM_STEPS = 20 * TIME_TARGET_STEPS
-# Relative tolerance of the rate bounds: timebase estimates the rate from
-# the stamps, so a record at exactly a bound reads a few ulps off it.
+# Relative tolerance of the top rate: timebase estimates the rate from the
+# stamps, so a record at exactly the bound reads a few ulps off it (above
+# it when the stamps do not start at 0); such a rate is taken as the bound.
 RATE_RTOL = 1e-9
+# Above this many simulation steps per sample a record's rate is far
+# slower than the model's: the fit simulates at model.F_SIM_MIN at least
+# (the rate the method was validated at, for the controller's fast terms),
+# and beyond 64 steps a sample (under 31.25 Hz), the most --oversample
+# takes, the samples are far apart for those terms. Such records are read
+# (historian exports at 10-25 Hz), with a note: this slow a rate is also
+# what a time column in ms gives (a 1-30 kHz record read as 1-30 Hz), whose
+# fit would take 1000 times the time with time constants 1000 times off.
+SLOW_STEPS_PER_SAMPLE = 64
 
 
 class DataError(ValueError):
@@ -109,7 +119,8 @@ def read_bytes(path: str | Path) -> bytes:
     return raw
 
 
-def read_csv(path: str | Path, columns: dict | None = None) -> Record:
+def read_csv(path: str | Path, columns: dict | None = None,
+             oversample: int | None = None) -> Record:
     path = Path(path)
     try:
         raw = read_bytes(path)
@@ -119,7 +130,7 @@ def read_csv(path: str | Path, columns: dict | None = None) -> Record:
         raise DataError(f"{path}: is a directory, not a CSV file") from None
     except OSError as exc:
         raise DataError(f"{path}: cannot read: {exc.strerror or exc}") from None
-    return parse_csv(decode(raw, str(path)), str(path), columns)
+    return parse_csv(decode(raw, str(path)), str(path), columns, oversample)
 
 
 # Byte-order marks of the encodings a spreadsheet or logger may write
@@ -173,8 +184,24 @@ def _fields(s: str) -> list[str]:
     messages keep their line numbers; a quoted field cannot span lines)."""
     if '"' not in s:        # the common line: a plain split, without the csv module
         return [x.strip() for x in s.split(",")]
-    row = next(csv.reader([s], skipinitialspace=True), [])
+    try:
+        row = next(csv.reader([s], skipinitialspace=True), [])
+    except csv.Error as exc:    # a field over the csv module's limit, a NUL (3.9, 3.10)
+        raise _LineError(str(exc)) from None
     return [x.strip() for x in row]
+
+
+class _LineError(ValueError):
+    """A line the csv module cannot split; the caller names the line."""
+
+
+def _split(source: str, ln: int, s: str) -> list[str]:
+    """_fields of line ln, a DataError naming it when it cannot be split."""
+    try:
+        return _fields(s)
+    except _LineError as exc:
+        _check_line(source, ln, s, utf8=False)
+        raise DataError(f"{source}:{ln}: cannot split the line: {exc}") from None
 
 
 def _lines(text: str) -> list[tuple[int, str]]:
@@ -195,7 +222,7 @@ def _header(source: str, hline: int, header: str, want: list[str]) -> list[int]:
     so a byte that is not UTF-8 can only be in an unused column's name (a
     unit in cp1252), which is not read."""
     _check_line(source, hline, header, utf8=False)
-    cols = [c.lower() for c in _fields(header)]
+    cols = [c.lower() for c in _split(source, hline, header)]
     if len(cols) == 1:
         sep = next((c for c in (";", "\t", "|") if c in header), None)
         if sep is not None:
@@ -205,10 +232,14 @@ def _header(source: str, hline: int, header: str, want: list[str]) -> list[int]:
                             "export the record as such")
     missing = [c for c in want if c.lower() not in cols]
     if missing:
+        # a name asked for in UTF-8 cannot match one written in another code
+        # page (p\xb0C in Latin-1): say so rather than only "missing"
+        hint = ("; the header has bytes that are not UTF-8: save the file as UTF-8"
+                if any("\udc80" <= ch <= "\udcff" for ch in header) else "")
         raise DataError(
             f"{source}:{hline}: missing column(s) {', '.join(missing)}; the header "
             f"must name {','.join(want)} (found: {_show(header)}; other names: --columns "
-            "t=NAME,e=NAME,pc=NAME)")
+            f"t=NAME,e=NAME,pc=NAME){hint}")
     for c in want:
         at = [j + 1 for j, x in enumerate(cols) if x == c.lower()]
         if len(at) > 1:
@@ -218,7 +249,8 @@ def _header(source: str, hline: int, header: str, want: list[str]) -> list[int]:
     return [cols.index(c.lower()) for c in want]
 
 
-def parse_csv(text: str, source: str = "<csv>", columns: dict | None = None) -> Record:
+def parse_csv(text: str, source: str = "<csv>", columns: dict | None = None,
+              oversample: int | None = None) -> Record:
     names = dict(columns or DEFAULT_COLUMNS)
     want = [names[k] for k in ("t", "e", "pc")]
     lines = _lines(text)
@@ -226,17 +258,17 @@ def parse_csv(text: str, source: str = "<csv>", columns: dict | None = None) -> 
         raise DataError(f"{source}: empty file (expected a header naming {','.join(want)})")
     hline, header = lines[0]
     idx = _header(source, hline, header, want)
-    ncols = len(_fields(header))
+    ncols = len(_split(source, hline, header))
     a = np.empty((len(lines) - 1, 3))    # not a list of lists: a third of the memory
     for i, (ln, s) in enumerate(lines[1:]):
-        parts = _fields(s)
+        parts = _split(source, ln, s)
         if len(parts) != ncols:
             _check_line(source, ln, s)
             raise DataError(f"{source}:{ln}: expected {ncols} fields, found {len(parts)}")
         a[i] = [_number(source, ln, name, parts[j], s) for j, name in zip(idx, want)]
     if len(a) < MIN_SAMPLES:
         raise DataError(f"{source}: too few samples: {len(a)} (need at least {MIN_SAMPLES})")
-    return make_record(a[:, 0], a[:, 1], a[:, 2], source)
+    return make_record(a[:, 0], a[:, 1], a[:, 2], source, oversample)
 
 
 def _number(source: str, ln: int, name: str, field: str, line: str) -> float:
@@ -257,7 +289,9 @@ def _number(source: str, ln: int, name: str, field: str, line: str) -> float:
     return v
 
 
-def make_record(t, e, pc, source: str = "<data>") -> Record:
+def make_record(t, e, pc, source: str = "<data>", oversample: int | None = None) -> Record:
+    """A checked Record. oversample: the simulation's multiple of the rate
+    (None: model.auto_oversample), which sets the fit's cost (check_cost)."""
     t = np.asarray(t, float)
     e = np.asarray(e, float)
     pc = np.asarray(pc, float)
@@ -281,12 +315,15 @@ def make_record(t, e, pc, source: str = "<data>") -> Record:
         raise DataError(f"{source}: gaps in the record (at {where}{', ...' if len(tb.gaps) > 3 else ''}) "
                         f"leave at most {b - a} samples without a gap (need at least "
                         f"{MIN_SAMPLES})")
-    _check_rate(tb.fs, b - a, source)
+    fs = _check_rate(tb.fs, source)
+    check_cost(b - a, fs, oversample, source)
     # Own copies: the caller's arrays stay untouched and not aliased, and
     # the same record gives the same diagnosis to the last bit however its
     # arrays were laid out in memory (numpy's sums depend on alignment).
-    rec = Record(np.array(t[a:b]), np.array(e[a:b]), np.array(pc[a:b]), tb.fs, source)
+    rec = Record(np.array(t[a:b]), np.array(e[a:b]), np.array(pc[a:b]), fs, source)
     rec.notes.extend(tb.notes(t.size))
+    if model_oversample(fs) > SLOW_STEPS_PER_SAMPLE:
+        rec.notes.append(slow_note(fs))
     rec.gaps = tb.gaps
     _levels(rec)
     _operating_point(rec)
@@ -306,8 +343,23 @@ def max_rate() -> float:
 def sim_steps(n: int, fs: float) -> int:
     """The simulation steps of one fit of n samples at fs Hz (at the rate
     model.auto_oversample chooses)."""
+    return int(n) * model_oversample(fs)
+
+
+def model_oversample(fs: float) -> int:
+    """model.auto_oversample (model imported late, as lib)."""
     from . import model
-    return int(n) * model.auto_oversample(fs)
+    return model.auto_oversample(fs)
+
+
+def slow_note(fs: float) -> str:
+    """The note of a record slower than SLOW_STEPS_PER_SAMPLE allows."""
+    from . import model
+    return (f"the record's rate is {fs:.6g} Hz: the fit simulates it at "
+            f"{model.auto_oversample(fs)}x to reach the {model.F_SIM_MIN:g} Hz the model "
+            f"needs, more than {SLOW_STEPS_PER_SAMPLE} steps a sample; if t is in ms "
+            f"(a {fs * 1000:.6g} Hz record), convert it to seconds: read as it is, its "
+            "time constants come out 1000 times too long")
 
 
 # The smallest span of a signal: the fit works with squared deviations, and
@@ -342,25 +394,49 @@ def _check_levels(e: np.ndarray, pc: np.ndarray, source: str) -> None:
                             "units)")
 
 
-def _check_rate(fs: float, n: int, source: str) -> None:
-    """The record's rate within what the library simulates, and its
-    simulation within MAX_SIM_STEPS; each message names the likely causes
-    on its side."""
+def _check_rate(fs: float, source: str) -> float:
+    """The record's rate within what the library simulates: the rate, set
+    to the top one when within RATE_RTOL of it (the fit simulates at the
+    rate, and the library checks its top exactly)."""
     hi = max_rate()
     if fs > hi * (1 + RATE_RTOL):
         raise DataError(f"{source}: the time stamps give a sample rate of {fs:.6g} Hz, "
                         f"above the {hi:g} Hz the library simulates; t must be in seconds "
                         "(a time in minutes or hours reads 60 or 3600 times too fast)")
-    steps = sim_steps(n, fs)
+    return min(fs, hi)
+
+
+def check_cost(n: int, fs: float, oversample: int | None = None,
+               source: str = "<data>") -> int:
+    """The simulation's multiple of the rate (oversample, or
+    model.auto_oversample when None), checked: the simulation rate within
+    the library's top rate, and the fit's simulation steps within
+    MAX_SIM_STEPS. The one check of a fit's cost, wherever the multiple is
+    known (make_record, diagnose.diagnose); DataError naming the likely
+    causes on its side."""
+    given = oversample is not None
+    m = int(oversample) if given else model_oversample(fs)
+    hi = max_rate()
+    if given and fs * m > hi * (1 + RATE_RTOL):
+        raise DataError(f"{source}: --oversample {m} simulates at {fs:g} x {m} = "
+                        f"{fs * m:.6g} Hz, above the {hi:g} Hz the library simulates; use "
+                        f"at most {max(int(hi * (1 + RATE_RTOL) // fs), 1)}")
+    steps = int(n) * m
     if steps > MAX_SIM_STEPS:
-        from . import model
-        f_sim = fs * model.auto_oversample(fs)
+        longest = MAX_SIM_STEPS // m
+        if given:
+            raise DataError(f"{source}: --oversample {m}: {n} samples need {steps:,} "
+                            f"simulation steps, more than the {MAX_SIM_STEPS:,} a fit may "
+                            f"take (at most {longest:,} samples at {m}x); use a smaller "
+                            "one or cut the record")
         raise DataError(f"{source}: {n} samples at {fs:.6g} Hz ({n / fs:.6g} s) need "
-                        f"{steps:.3g} simulation steps at {f_sim:.6g} Hz, more than the "
-                        f"{MAX_SIM_STEPS:.3g} a fit may take; either t is not in seconds "
+                        f"{steps:,} simulation steps at {fs * m:.6g} Hz, more than the "
+                        f"{MAX_SIM_STEPS:,} a fit may take (at most {longest:,} samples at "
+                        "this rate); either t is not in seconds "
                         "(a time in ms or us reads 1000 or 1 000 000 times too slow: "
                         "convert it to seconds) or the record is too long to fit at once "
-                        "(cut it into shorter records)")
+                        "(cut it into shorter records, or give a smaller --oversample)")
+    return m
 
 
 def _levels(rec: Record) -> None:

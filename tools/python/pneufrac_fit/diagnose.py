@@ -124,7 +124,7 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
     say = Progress(progress)
     if seed < 0:
         raise ValueError("seed must be a non-negative integer")
-    m = model.auto_oversample(rec.fs) if oversample is None else int(oversample)
+    m = data.check_cost(rec.n, rec.fs, oversample, rec.source)   # the API's too
     split, why = data.split_for(rec, holdout)
     if why:
         rec.notes.append(why)
