@@ -602,7 +602,7 @@ def _test_again(pb, current, t, fr, seed, better=None):
     t2 = try_effect(pb, current, t.effect, _seed_of(seed, t.effect), fitted=fr, better=better)
     if not t2.model.cost < t.model.cost * (1 - 1e-6):
         return None
-    t2.also_without = list(getattr(t, "also_without", ()))    # still models without the effect
+    t2.also_without = list(_earlier_refs(t))    # still models without the effect
     return t2
 
 
@@ -678,6 +678,13 @@ def from_better(pb, current, tests, seed, say):
     return tests
 
 
+def _earlier_refs(t) -> tuple:
+    """The references t had before a retest replaced them
+    (_referred_again); a test built elsewhere than guards.test (the
+    tests' stand-ins) may not carry the field: none."""
+    return tuple(getattr(t, "also_without", ()))
+
+
 def _cost_on(t, m) -> float:
     """m's cost (a fit without t's effect) on t's problem: its freedoms,
     samples and weighting, m's delay, K and pc0 re-solved."""
@@ -722,7 +729,7 @@ def _referred_again(pb, current, tests, i, better, seed, say):
         say(f"  warning: {t.effect}'s reference is still short of the better "
             f"{current.effect} fit")
     keep, drop = (t2, t) if raised or not t2.passes else (t, t2)
-    keep.also_without = [*getattr(t, "also_without", ()), drop.ref]
+    keep.also_without = [*_earlier_refs(t), drop.ref]
     keep.better = better
     tests = list(tests)
     tests[i] = keep
@@ -801,7 +808,7 @@ def models_without(tests, current, cur_pb) -> list:
     (winner_on)."""
     same = model.canonical(current.effects)
     out = [(current, cur_pb.burn)]
-    out += [(m, t.pb.burn) for t in tests for m in (t.ref, *getattr(t, "also_without", ()))
+    out += [(m, t.pb.burn) for t in tests for m in (t.ref, *_earlier_refs(t))
             if model.canonical(m.effects) == same and m is not current]
     return out
 
