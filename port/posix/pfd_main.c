@@ -140,8 +140,8 @@ static void serve(pfd_daemon *d, watch *w, const sigset_t *sigs, double run_for)
 /* The TLS context, built before the loop starts: a certificate, key or CA
  * that exists but cannot be used (a directory, a file that is not PEM) is
  * then a usage error reported before anything runs, like a missing one
- * (pfd_settings_check). pfd_server_start takes it over. @return 0, or -1
- * (reported). */
+ * (pfd_settings_check). pfd_server_start takes it over (pfd_server.h).
+ * @return 0, or -1 (reported). */
 static int tls_context(pfd_daemon *d)
 {
     char err[600];

@@ -744,22 +744,6 @@ int pfd_server_start(pfd_daemon *d)
         pfd_fatal("allow: %s", err);
         return -1;
     }
-    /* main's run() has refused these before the loop started; a caller
-     * that starts the server itself gets the same rules. */
-    if (pfd_settings_check(&d->set, err, sizeof err) != 0) {
-        pfd_fatal("%s", err);
-        return -1;
-    }
-    /* main's run() builds the context before the loop starts (a file that
-     * cannot be used is a usage error); a caller that starts the server
-     * itself has it built here. */
-    if (d->set.tls_listen.addr[0] != '\0' && d->server.tls == NULL) {
-        d->server.tls = pfd_tls_new(&d->set, err, sizeof err);
-        if (d->server.tls == NULL) {
-            pfd_fatal("%s", err);
-            return -1;
-        }
-    }
     d->server.n_slots = 2 * d->set.max_clients;
     d->server.clients = calloc((size_t)d->server.n_slots, sizeof *d->server.clients);
     if (d->server.clients == NULL) {

@@ -14,7 +14,10 @@
 #include "pfd_state.h"
 
 /** Bind and listen, then start accepting. Logs msg=listening (and
- *  msg=listening-tls) with the bound port (useful with port 0).
+ *  msg=listening-tls) with the bound port (useful with port 0). The caller
+ *  (main's run()) has checked the settings (pfd_settings_check) and, with
+ *  a TLS listener, built d->server.tls, which the server takes over: both
+ *  before the loop starts, so that what cannot be used is a usage error.
  *  @return 0, or -1 after a fatal message. */
 int pfd_server_start(pfd_daemon *d);
 

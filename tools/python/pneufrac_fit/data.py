@@ -162,6 +162,12 @@ def _show(text: str) -> str:
     return r if len(r) <= _SHOW else r[:_SHOW] + "..."
 
 
+def _undecoded(s: str) -> int | None:
+    """The index of the first byte of s that decode() could not read as
+    UTF-8 (kept as a lone surrogate, U+DC80-U+DCFF), or None."""
+    return next((j for j, ch in enumerate(s) if "\udc80" <= ch <= "\udcff"), None)
+
+
 def _check_line(source: str, ln: int, s: str, utf8: bool = True) -> None:
     """A header or data line must be text: no NUL (a binary file, or UTF-16
     without a mark) and, with utf8, only UTF-8 (a surrogate here is a byte
@@ -169,7 +175,7 @@ def _check_line(source: str, ln: int, s: str, utf8: bool = True) -> None:
     if "\x00" in s:
         raise DataError(f"{source}:{ln}: NUL byte in the line: not a text CSV (a binary "
                         "file, or UTF-16 without a byte-order mark?)")
-    bad = next((j for j, ch in enumerate(s) if "\udc80" <= ch <= "\udcff"), None)
+    bad = _undecoded(s)
     if utf8 and bad is not None:
         raise DataError(f"{source}:{ln}: character {bad + 1}: byte "
                         f"0x{ord(s[bad]) - 0xdc00:02x} is not UTF-8; save the file as "
@@ -235,7 +241,7 @@ def _header(source: str, hline: int, header: str, want: list[str]) -> list[int]:
         # a name asked for in UTF-8 cannot match one written in another code
         # page (p\xb0C in Latin-1): say so rather than only "missing"
         hint = ("; the header has bytes that are not UTF-8: save the file as UTF-8"
-                if any("\udc80" <= ch <= "\udcff" for ch in header) else "")
+                if _undecoded(header) is not None else "")
         raise DataError(
             f"{source}:{hline}: missing column(s) {', '.join(missing)}; the header "
             f"must name {','.join(want)} (found: {_show(header)}; other names: --columns "
