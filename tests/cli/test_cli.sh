@@ -72,6 +72,16 @@ check "--help exits 0 with usage on stdout" \
   bash -c '"$1" --help >"$2/o" 2>"$2/e" && grep -q "^usage: pneufrac" "$2/o" && [ ! -s "$2/e" ]' _ "$BIN" "$TMP"
 check "simulate --help exits 0 with usage on stdout" \
   bash -c '"$1" simulate --help >"$2/o" 2>"$2/e" && grep -q "^usage: pneufrac simulate" "$2/o" && [ ! -s "$2/e" ]' _ "$BIN" "$TMP"
+# Exit status 3 belongs to --plot: listed by the commands that have it only.
+for c in step bode; do
+  check "$c --help lists exit status 3 (--plot)" \
+    bash -c '"$1" "$2" --help | grep -q "^3 --plot"' _ "$BIN" "$c"
+done
+for c in simulate design demo reproduce; do
+  check "$c --help lists no exit status 3 (no --plot)" \
+    bash -c '"$1" "$2" --help >"$3/o" && grep -q "^Exit status:" "$3/o" && ! grep -q "3 --plot" "$3/o"' \
+    _ "$BIN" "$c" "$TMP"
+done
 check "--version prints the version" \
   bash -c '"$1" --version | grep -qE "^pneufrac [0-9]+\.[0-9]+\.[0-9]+$"' _ "$BIN"
 
@@ -275,8 +285,16 @@ expect_err "--set of a design option" "'fs' is not a model parameter" "${SIM[@]}
 expect_err "--set unused by the config" "does not use 'RCd'" "${SIM[@]}" --set RCd=0.01
 expect_err "--set twice" "--set beta given more than once" "${SIM[@]}" --set beta=0.5 --set beta=0.6
 expect_err "invalid parameter value" "invalid parameter 'beta' .*1.5" "${SIM[@]}" --set beta=1.5
+# The refusal says what to give: the range when the value is outside its
+# own, the other parameter's value when it is refused against that one.
+expect_err "invalid parameter value names the range" "'beta' .*1.5.*outside \(0, 1\]" \
+  "${SIM[@]}" --set beta=1.5
 expect_err "inconsistent pid restrictors" "invalid parameter 'RC[di]'" simulate --config pid \
   --fs 1000 --duration 1 --set RCd=1 --set RCi=0.1
+expect_err "inconsistent pid restrictors name the other one" "'RCd' .*RCd < RCi, and RCi = 0.1" \
+  simulate --config pid --fs 1000 --duration 1 --set RCd=1 --set RCi=0.1
+expect_err "pmin above pmax names pmin" "'pmax' .*pmin <= pmax, and pmin = 20" \
+  "${SIM[@]}" --set pmin=20
 expect_err "bad band syntax" "--band: expected WB:WH" "${SIM[@]}" --band 1-100
 expect_err "band upside down" "--band: need 0 < WB < WH" "${SIM[@]}" --band 100:1
 expect_err "band above Nyquist" "invalid parameter 'wh'" "${SIM[@]}" --band 1:1e6

@@ -9,11 +9,15 @@
 #include <stdlib.h>
 #include <string.h>
 
-void cli_exit_status_help(FILE *f)
+void cli_exit_status_help(FILE *f, int with_plot)
 {
     fputs("Exit status: 0 success; 1 output could not be written (or out of\n"
-          "memory); 2 bad arguments, bad input or a design the library refuses;\n"
-          "3 --plot could not make the plot (the CSV was written).\n", f);
+          "memory); 2 bad arguments, bad input or a design the library refuses",
+          f);
+    /* Status 3 exists only where --plot does: listing it elsewhere would
+     * send a reader looking for an option the command has not got. */
+    fputs(with_plot ? ";\n3 --plot could not make the plot (the CSV was written).\n"
+                    : ".\n", f);
 }
 
 void cli_error(const char *fmt, ...)

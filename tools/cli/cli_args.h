@@ -15,8 +15,9 @@
 #define CLI_EXIT_USAGE 2 /**< bad arguments, bad input, invalid design */
 #define CLI_EXIT_PLOT 3  /**< --plot: no plot (the CSV was written) */
 
-/** The exit statuses, for the end of every --help. */
-void cli_exit_status_help(FILE *f);
+/** The exit statuses, for the end of every --help; @p with_plot: the
+ *  command has --plot, so status 3 can happen. */
+void cli_exit_status_help(FILE *f, int with_plot);
 
 #if defined(__GNUC__)
 #define CLI_PRINTF(f, a) __attribute__((format(printf, f, a)))

@@ -56,7 +56,7 @@ void cli_bode_usage(FILE *f)
 "  --plot FILE.png    also draw it, with pneufrac-plot (the Python tools)\n"
 "The model and design options are those of 'pneufrac simulate --help'.\n"
 "\n", CLI_MAX_POINTS, POINTS_PER_DECADE);
-    cli_exit_status_help(f);
+    cli_exit_status_help(f, 1);
 }
 
 /* prev + the multiple of 360 degrees that puts deg within 180 of prev */

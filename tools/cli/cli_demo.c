@@ -50,7 +50,7 @@ void cli_demo_usage(FILE *f)
 "parameters, design, and p_c at a few instants.\n"
 "It is the same as: pneufrac simulate --config dd --fs 20000 --duration 2\n"
 "\n");
-    cli_exit_status_help(f);
+    cli_exit_status_help(f, 0);
 }
 
 static void print_op(const char *label, const char *expr,

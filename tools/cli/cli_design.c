@@ -57,7 +57,7 @@ void cli_design_usage(FILE *f)
 "                 --out-fs Y to scale each operator by X/Y (default 1)\n"
 "  --name IDENT   the C identifier of the coefficient set (default pf_coeffs)\n"
 "\n");
-    cli_exit_status_help(f);
+    cli_exit_status_help(f, 0);
 }
 
 static int valid_ident(const char *s)

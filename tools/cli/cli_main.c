@@ -40,7 +40,7 @@ static void usage(FILE *f)
 "\n"
 "'pneufrac <command> --help' describes a command's options.\n"
 "\n");
-    cli_exit_status_help(f);
+    cli_exit_status_help(f, 1);
 }
 
 static int dispatch(int argc, char **argv)

@@ -73,8 +73,9 @@ static int run_plotter(const char *kind, const char *csv, const char *png)
     posix_spawn_file_actions_destroy(&fa);
     if (rc != 0) {
         cli_error("--plot: cannot run '%s': %s (it comes with the Python tools: "
-                  "pip install ./tools/python, or set PNEUFRAC_PLOT); the CSV "
-                  "was written", prog, strerror(rc));
+                  "scripts/setup.sh puts it in .venv/bin, so put that on PATH or "
+                  "set PNEUFRAC_PLOT=.venv/bin/pneufrac-plot; or pip install "
+                  "./tools/python); the CSV was written", prog, strerror(rc));
         return CLI_EXIT_PLOT;
     }
     while (waitpid(pid, &status, 0) < 0)

@@ -53,7 +53,7 @@ void cli_reproduce_usage(FILE *f)
 "half-scale step with out_fs = 1.25 x the peak of the exact response.\n"
 "Plots: tools/reproduce/plot.py DIR, or scripts/reproduce.sh for both.\n"
 "\n");
-    cli_exit_status_help(f);
+    cli_exit_status_help(f, 0);
 }
 
 /* Sample indices of the merged grid: 40 points per decade from 10 us and

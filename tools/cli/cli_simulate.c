@@ -60,7 +60,7 @@ void cli_simulate_usage(FILE *f)
 "                       3: the relay's output stops, its memory winds on)\n"
 "\n"
 "Options take their value as the next argument or after '='.\n");
-    cli_exit_status_help(f);
+    cli_exit_status_help(f, 0);
 }
 
 size_t cli_run_samples(const cli_run *run)
@@ -79,9 +79,25 @@ static void describe_param(const cli_run *run, pf_param_id id, char *buf,
     cli_param_range(id, range, sizeof range);
 
     if (id < PF_P_CONFIG) {
-        snprintf(buf, n, "value %.10g for config %s; change it with --set %s=VALUE",
-                 pf_params_get(&run->p, id), pf_topology_name(run->p.topology),
-                 pf_param_name(id));
+        double v = pf_params_get(&run->p, id);
+        const pf_params *p = &run->p;
+        char other[96] = "";
+        /* Outside its own range, the range says what to give; inside it,
+         * pf_params_validate refused it against another parameter
+         * (pf_params.h names which), whose value the user needs to see. */
+        if (pf_param_check(id, v) != PF_OK)
+            snprintf(other, sizeof other, ", outside %s", range);
+        else if (id == PF_P_PMAX)
+            snprintf(other, sizeof other, ": needs pmin <= pmax, and pmin = %.10g", p->pmin);
+        else if (id == PF_P_KS)
+            snprintf(other, sizeof other, ": A/ks = %.10g is beyond the library's bounds",
+                     p->A / p->ks);
+        else if (id == PF_P_W)
+            snprintf(other, sizeof other, ": pid needs nu <= w, and nu = %.10g", p->nu);
+        else if (id == PF_P_RCD)
+            snprintf(other, sizeof other, ": pid needs RCd < RCi, and RCi = %.10g", p->RCi);
+        snprintf(buf, n, "value %.10g for config %s%s; change it with --set %s=VALUE",
+                 v, pf_topology_name(p->topology), other, pf_param_name(id));
         return;
     }
     switch (id) {

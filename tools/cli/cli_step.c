@@ -29,7 +29,7 @@ void cli_step_usage(FILE *f)
 "The options are those of 'pneufrac simulate --help' except --input, and:\n"
 "  --plot FILE.png    also draw it, with pneufrac-plot (the Python tools)\n"
 "\n");
-    cli_exit_status_help(f);
+    cli_exit_status_help(f, 1);
 }
 
 int cli_step_main(int argc, char **argv)

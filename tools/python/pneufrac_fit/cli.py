@@ -60,6 +60,12 @@ EXIT_HELP = (f"Exit status: 0 success; {EXIT_INTERNAL} an internal error; {EXIT_
              "is missing or does not match.")
 
 
+# The four configurations, as the paper names them (pneufrac simulate --help
+# says the same), for each subcommand's --config.
+CONFIG_HELP = ("{what} configuration: p (eq. 17), dd (FrDD, eq. 18), "
+               "id (FrID, eq. 20) or pid (Remark 3)")
+
+
 def seed_arg(text: str) -> int:
     """A seed for numpy's generators: a non-negative integer (a negative one
     used to end in a traceback from numpy)."""
@@ -83,7 +89,8 @@ def _parser():
     d.add_argument("--columns", default=None, metavar="t=NAME,e=NAME,pc=NAME",
                    help="header names of the time, input and output columns "
                         "(case-insensitive; default t,e,pc)")
-    d.add_argument("--config", required=True, choices=["p", "dd", "id", "pid"])
+    d.add_argument("--config", required=True, choices=["p", "dd", "id", "pid"],
+                   help=CONFIG_HELP.format(what="the recorded controller's"))
     d.add_argument("--fix", action="append", default=[], metavar="NAME=VALUE",
                    help="hold a group at a value (K, L, tau, rho, beta, q, RC, nu, w, "
                         "RCd, RCi_ratio)")
@@ -109,7 +116,8 @@ def _parser():
     d.add_argument("--quiet", action="store_true", help="no progress on stderr")
     g = sub.add_parser("generate", help="synthetic bump test with a hidden effect",
                        epilog=EXIT_HELP)
-    g.add_argument("--config", required=True, choices=["p", "dd", "id", "pid"])
+    g.add_argument("--config", required=True, choices=["p", "dd", "id", "pid"],
+                   help=CONFIG_HELP.format(what="the simulated controller's"))
     g.add_argument("--effect", action="append", default=[],
                    help="repeatable: none | deadtime:t=S | lag:tau=S | backlash:width=W | "
                         "nozzle:xh=X[,bias=B] | saturation:lo=L,hi=H (W, X in input units; "
