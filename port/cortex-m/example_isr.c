@@ -10,12 +10,12 @@
  *    loop solution, as the library designs it; backlash and saturation can
  *    be switched on in its coefficient set:
  *      pneufrac design --config dd --fs 20000 --arith q15 --in-fs 1 --out-fs 0.01 --format c
- *    which needs pf_fracop_q15.c and pf_ctrl_q15.c;
+ *    which needs pf_fracop_q15.c, pf_ctrl_q15.c and pf_nozzle_q15.c;
  *
  *  - -DPF_EXAMPLE_BANK: the same linear controller reduced on the host to
  *    the fewest states whose step response stays within 0.05 % of the full
- *    one's peak over 10 s (pf_bank.h): 13 times fewer cycles per sample on
- *    a Cortex-M0+ (docs/benchmarks.md), no 64-bit helper; no in-loop
+ *    one's peak over 10 s (pf_bank.h): about 19 times fewer cycles per
+ *    sample on a Cortex-M0+ (docs/benchmarks.md), no 64-bit helper; no in-loop
  *    effects:
  *      pneufrac-reduce --config dd --fs 20000 --in-fs 1 --out-fs 0.01 --format c
  *    which needs pf_bank_q15.c only.

@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 #include "pfd_config.h"
 
+#include <errno.h>
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -201,8 +203,14 @@ int pfd_config_load(const char *path, pfd_config *c, int need_checksum,
     ini.line = 0;
     ini.err = err;
     ini.errlen = errlen;
-    if (pfd_file_read(path, MAX_FILE, &text, &len, why, sizeof why) != 0)
+    if (pfd_file_read(path, MAX_FILE, &text, &len, why, sizeof why) != 0) {
+        /* A first start names a file that is not there yet: say how to make
+         * one rather than leave the user to find the option. */
+        if (errno == ENOENT)
+            return pfd_ini_error(&ini, "%s (pneufracd --init-config FILE writes one "
+                                 "for the default instances)", why);
         return pfd_ini_error(&ini, "%s", why);
+    }
     ld = calloc(1, sizeof *ld);
     if (ld == NULL) {
         free(text);

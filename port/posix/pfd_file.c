@@ -17,7 +17,9 @@ int pfd_file_read(const char *path, size_t max, char **buf, size_t *len,
     char *b;
 
     if (f == NULL) {
-        snprintf(err, errlen, "cannot open: %s", strerror(errno));
+        int e = errno;      /* the caller tells a missing file from the rest */
+        snprintf(err, errlen, "cannot open: %s", strerror(e));
+        errno = e;
         return -1;
     }
     b = malloc(cap + 1);

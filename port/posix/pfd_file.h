@@ -12,7 +12,8 @@
 
 /** Read all of @p path, at most @p max bytes, into a NUL-terminated
  *  buffer from malloc() (the caller frees it). @return 0, or -1 with a
- *  message in @p err. */
+ *  message in @p err (errno is fopen's when
+ *  the file could not be opened). */
 int pfd_file_read(const char *path, size_t max, char **buf, size_t *len,
                   char *err, size_t errlen);
 

@@ -299,7 +299,9 @@ def test_bad_command_lines(tmp_path):
                        (["--fs", "1e9"], "--fs"),
                        (["--clock", "gps"], "--clock"),
                        (["--bogus"], "unknown option"),
-                       (["--config", str(tmp_path / "none.conf")], "cannot open"),
+                       (["--config", str(tmp_path / "none.conf")],
+                        "cannot open: No such file or directory (pneufracd --init-config"),
+                       (["--config", str(tmp_path)], "read error"),
                        (["--config", "x.conf", "--fs", "100"], "--config")]:
         p = subprocess.run([DAEMON, *args, "--run-for", "1"], capture_output=True, text=True,
                            timeout=30)

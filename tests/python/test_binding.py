@@ -166,3 +166,16 @@ def test_ranges_come_from_the_library():
     for cfg in ("p", "dd", "id", "pid"):
         for name in ("nu", "w", "RC", "RCd"):
             assert lib.param_used(cfg, name) == (name in model.CONFIG_GROUPS[cfg])
+
+
+def test_library_not_found_names_where_it_looked(monkeypatch):
+    """With no library in any searched place the message names the places
+    searched (it read "tried: nothing", which tells the user nothing)."""
+    from pneufrac import binding, locate
+    monkeypatch.setattr(binding, "_lib", None)
+    monkeypatch.setattr(locate, "candidates", lambda: iter(()))
+    with pytest.raises(binding.LibraryError) as exc:
+        binding.load()
+    text = str(exc.value)
+    assert "searched" in text and "pkg-config" in text and "nothing" not in text
+    assert binding._lib is None

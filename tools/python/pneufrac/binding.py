@@ -209,7 +209,7 @@ def load():
         raise LibraryError(
             "libpneufrac.so not found (tried: %s); run ./scripts/setup.sh, or set "
             "PNEUFRAC_PREFIX to the prefix of `cmake --install` or PNEUFRAC_LIBRARY "
-            "to the file" % (", ".join(tried) or "nothing"))
+            "to the file" % (", ".join(tried) or "none there; searched " + locate.searched()))
     try:
         _declare(lib)
     except AttributeError as exc:

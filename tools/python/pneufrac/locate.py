@@ -58,6 +58,14 @@ def _pkg_config() -> list[Path]:
     return [Path(libdir) / NAME] if r.returncode == 0 and libdir else []
 
 
+def searched() -> str:
+    """The places candidates() looks without the environment variables, in
+    words: what a "not found" message names when none of them held it."""
+    here = Path(__file__).resolve().parent
+    return (f"build/lib and lib folders of every folder above {here}, "
+            "pkg-config's pneufrac, the dynamic linker's path")
+
+
 def candidates():
     """Paths to try, best first. Searched paths that do not exist are
     skipped; the environment's are yielded as they are, alone."""

@@ -75,8 +75,12 @@ def _parser() -> _Parser:
                    help="residualise keeps the DC gain (default); truncate the high-frequency gain")
     p.add_argument("--max-order", help="most states (default and limit: the library's "
                                        "PF_BANK_MAX_ORDER)")
-    p.add_argument("--format", choices=["c", "json"], default="c")
-    p.add_argument("--arith", choices=["q15", "float"], default="q15")
+    p.add_argument("--format", choices=["c", "json"], default="c",
+                   help="c: a header with the coefficient set for pf_bank.h (default); "
+                        "json: the reduction and its figures")
+    p.add_argument("--arith", choices=["q15", "float"], default="q15",
+                   help="q15 (default; with --format c it needs --in-fs and --out-fs) "
+                        "or float")
     p.add_argument("--in-fs", help="Q15: the input e that maps to full scale")
     p.add_argument("--out-fs", help="Q15: the output p_c that maps to full scale")
     p.add_argument("--name", default="pf_bank", help="C identifier (default pf_bank)")
