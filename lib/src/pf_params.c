@@ -100,9 +100,62 @@ int pf_param_used(pf_topology topo, pf_param_id id)
     return (s->topologies >> topo) & 1u;
 }
 
+/* The rules between two parameters, each naming the parameter refused and
+ * the one it is checked against: one table for pf_params_validate and for
+ * every message that must say which rule broke (pf_params_broken_rule). */
+#define PF_STR_(x) #x
+#define PF_STR(x) PF_STR_(x)
+
+static int pmin_le_pmax(const pf_params *p)
+{
+    /* Psi_max and Psi_min are the maximum and minimum stiffness (eq. 11). */
+    return !(p->pmax < p->pmin);
+}
+
+static int bellows_gain_bounded(const pf_params *p)
+{
+    return p->A / p->ks <= PF_KA_MAX && p->A / p->ks >= 1.0 / PF_KA_MAX;
+}
+
+/* The pid's bellows feedback R_d - R_i must stay negative (docs/pid.md): at
+ * high frequency that needs nu <= w (else R_i decays slower and the net
+ * feedback turns positive), and then RCd < RCi. */
+static int pid_nu_le_w(const pf_params *p)
+{
+    return p->topology != PF_TOPO_PID || p->nu <= p->w;
+}
+
+static int pid_rcd_lt_rci(const pf_params *p)
+{
+    return p->topology != PF_TOPO_PID || p->RCd < p->RCi;
+}
+
+static const struct {
+    pf_param_rule rule;
+    int (*holds)(const pf_params *p);
+} rules[] = {
+    {{PF_P_PMAX, PF_P_PMIN, "pmin <= pmax"}, pmin_le_pmax},
+    {{PF_P_KS, PF_P_AREA, "1/" PF_STR(PF_KA_MAX) " <= A/ks <= " PF_STR(PF_KA_MAX)},
+     bellows_gain_bounded},
+    {{PF_P_W, PF_P_NU, "nu <= w"}, pid_nu_le_w},
+    {{PF_P_RCD, PF_P_RCI, "RCd < RCi"}, pid_rcd_lt_rci},
+};
+
+const pf_param_rule *pf_params_broken_rule(const pf_params *p)
+{
+    size_t i;
+    if (p == NULL)
+        return NULL;
+    for (i = 0; i < sizeof rules / sizeof rules[0]; i++)
+        if (!rules[i].holds(p))
+            return &rules[i].rule;
+    return NULL;
+}
+
 pf_status pf_params_validate(const pf_params *p)
 {
     int i;
+    const pf_param_rule *broken;
     if (p == NULL)
         return PF_E_NULL;
     if (pf_param_check(PF_P_CONFIG, (double)p->topology) != PF_OK)
@@ -113,21 +166,8 @@ pf_status pf_params_validate(const pf_params *p)
             pf_param_check(id, pf_params_get(p, id)) != PF_OK)
             return PF_E_PARAM(id);
     }
-    /* Psi_max and Psi_min are the maximum and minimum stiffness (eq. 11). */
-    if (p->pmax < p->pmin)
-        return PF_E_PARAM(PF_P_PMAX);
-    if (!(p->A / p->ks <= PF_KA_MAX && p->A / p->ks >= 1.0 / PF_KA_MAX))
-        return PF_E_PARAM(PF_P_KS);
-    /* The pid's bellows feedback R_d - R_i must stay negative (docs/pid.md):
-     * at high frequency that needs nu <= w (else R_i decays slower and the
-     * net feedback turns positive), and then RCd < RCi. */
-    if (p->topology == PF_TOPO_PID) {
-        if (!(p->nu <= p->w))
-            return PF_E_PARAM(PF_P_W);
-        if (!(p->RCd < p->RCi))
-            return PF_E_PARAM(PF_P_RCD);
-    }
-    return PF_OK;
+    broken = pf_params_broken_rule(p);
+    return broken != NULL ? PF_E_PARAM(broken->refused) : PF_OK;
 }
 
 static const char *const topology_names[PF_TOPO_COUNT] = {"p", "dd", "id", "pid"};

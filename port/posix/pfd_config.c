@@ -1,8 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 #include "pfd_config.h"
 
-#include <errno.h>
-
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -203,10 +201,11 @@ int pfd_config_load(const char *path, pfd_config *c, int need_checksum,
     ini.line = 0;
     ini.err = err;
     ini.errlen = errlen;
-    if (pfd_file_read(path, MAX_FILE, &text, &len, why, sizeof why) != 0) {
+    rc = pfd_file_read(path, MAX_FILE, &text, &len, why, sizeof why);
+    if (rc != 0) {
         /* A first start names a file that is not there yet: say how to make
          * one rather than leave the user to find the option. */
-        if (errno == ENOENT)
+        if (rc == PFD_FILE_MISSING)
             return pfd_ini_error(&ini, "%s (pneufracd --init-config FILE writes one "
                                  "for the default instances)", why);
         return pfd_ini_error(&ini, "%s", why);

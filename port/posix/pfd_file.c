@@ -17,10 +17,9 @@ int pfd_file_read(const char *path, size_t max, char **buf, size_t *len,
     char *b;
 
     if (f == NULL) {
-        int e = errno;      /* the caller tells a missing file from the rest */
-        snprintf(err, errlen, "cannot open: %s", strerror(e));
-        errno = e;
-        return -1;
+        int missing = errno == ENOENT;
+        snprintf(err, errlen, "cannot open: %s", strerror(errno));
+        return missing ? PFD_FILE_MISSING : -1;
     }
     b = malloc(cap + 1);
     for (;;) {

@@ -10,10 +10,14 @@
 
 #include <stddef.h>
 
+/** pfd_file_read's return when the file does not exist (ENOENT): a first
+ *  start names a file not yet written, and the caller can say how to make
+ *  one. */
+#define PFD_FILE_MISSING (-2)
+
 /** Read all of @p path, at most @p max bytes, into a NUL-terminated
- *  buffer from malloc() (the caller frees it). @return 0, or -1 with a
- *  message in @p err (errno is fopen's when
- *  the file could not be opened). */
+ *  buffer from malloc() (the caller frees it). @return 0, or -1 (or
+ *  PFD_FILE_MISSING) with a message in @p err. */
 int pfd_file_read(const char *path, size_t max, char **buf, size_t *len,
                   char *err, size_t errlen);
 

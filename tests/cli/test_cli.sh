@@ -291,10 +291,21 @@ expect_err "invalid parameter value names the range" "'beta' .*1.5.*outside \(0,
   "${SIM[@]}" --set beta=1.5
 expect_err "inconsistent pid restrictors" "invalid parameter 'RC[di]'" simulate --config pid \
   --fs 1000 --duration 1 --set RCd=1 --set RCi=0.1
-expect_err "inconsistent pid restrictors name the other one" "'RCd' .*RCd < RCi, and RCi = 0.1" \
+expect_err "inconsistent pid restrictors name the rule and the other one" \
+  "'RCd' .*breaks RCd < RCi, with RCi = 0.1; change --set RCd=VALUE or --set RCi=VALUE" \
   simulate --config pid --fs 1000 --duration 1 --set RCd=1 --set RCi=0.1
-expect_err "pmin above pmax names pmin" "'pmax' .*pmin <= pmax, and pmin = 20" \
+expect_err "pmin above pmax names the rule and pmin" \
+  "'pmax' .*breaks pmin <= pmax, with pmin = 20; change --set pmax=VALUE or --set pmin=VALUE" \
   "${SIM[@]}" --set pmin=20
+expect_err "pid nu above w names the rule" "'w' .*breaks nu <= w, with nu = 0.9" \
+  simulate --config pid --fs 1000 --duration 1 --set nu=0.9 --set w=0.5
+expect_err "bellows compliance out of bounds names the rule and A" \
+  "'ks' .*breaks 1/1e12 <= A/ks <= 1e12, with A = 1000000000" "${SIM[@]}" --set A=1e9 --set ks=1e-4
+# Refused by the design, not by a rule (the in-sample loop nearly singular at
+# this rate with RCd < RCi holding): no rule is claimed broken.
+expect_err "a design refusal claims no broken rule" \
+  "'RCd' .*cannot realise at --fs 0.1" simulate --config pid --fs 0.1 --duration 200 \
+  --set RCd=1 --set RCi=2 --set nu=0.05 --set w=1 --set k1=1e3
 expect_err "bad band syntax" "--band: expected WB:WH" "${SIM[@]}" --band 1-100
 expect_err "band upside down" "--band: need 0 < WB < WH" "${SIM[@]}" --band 100:1
 expect_err "band above Nyquist" "invalid parameter 'wh'" "${SIM[@]}" --band 1:1e6

@@ -82,8 +82,8 @@ CASES = {
     "too-few": "too few samples",
     "flat": "flat",
     "flat-noisy": "flat",
-    "no-validation-excitation": ("validation) of the record; record until the input has "
-                                 "moved in the last 30 % too, or try --holdout blocks"),
+    "no-validation-excitation": ("validation) of the record; the fit learns from one part "
+                                 "and is judged on the other"),
     "flat-output-tail": "output pc does not move in the last 30 % (validation)",
     "flat-output-tail-rounding": "output pc does not move in the last 30 % (validation)",
 }

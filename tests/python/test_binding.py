@@ -178,4 +178,5 @@ def test_library_not_found_names_where_it_looked(monkeypatch):
         binding.load()
     text = str(exc.value)
     assert "searched" in text and "pkg-config" in text and "nothing" not in text
+    assert all(d in text for d in ("build/lib", "lib64"))
     assert binding._lib is None

@@ -199,7 +199,12 @@ def test_input_resting_through_the_tail_falls_back_to_the_blocks():
     assert split == blocks
     assert "held-out tail refused" in why and "each third" in why
     assert data.split_for(rec, "blocks") == (split, None)
-    with pytest.raises(data.DataError, match="last 30 %"):
+    with pytest.raises(data.DataError, match="last 30 %") as refused:
         flat = data.make_record(np.arange(n) / fs, np.r_[e[:400], np.full(n - 400, e[400])],
                                 pc, "moves-only-at-the-start")
         data.split_for(flat, "tail")
+    # Both splits were tried: the refusal says so and asks for another
+    # record, not for the split already tried.
+    text = str(refused.value)
+    assert "(nor in held-out blocks)" in text and "record whose input moves" in text
+    assert "--holdout" not in text

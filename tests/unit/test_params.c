@@ -324,6 +324,20 @@ static void expect_validate(const pf_params *p, pf_param_id want, const char *wh
         expect_names(st, want, what);
 }
 
+/* The rule a refusal within every range came from is the one
+ * pf_params_broken_rule names (what a message tells the user to change);
+ * none when the set is valid. */
+static void expect_broken_rule(const pf_params *p, pf_param_id want, const char *what)
+{
+    const pf_param_rule *r = pf_params_broken_rule(p);
+    if (want == VALID)
+        EXPECT(r == NULL, "%s: valid, yet rule '%s' named", what, r ? r->text : "");
+    else if (pf_param_check(want, pf_params_get(p, want)) == PF_OK)
+        EXPECT(r != NULL && r->refused == want && r->other != want && r->text[0] != '\0',
+               "%s: broken rule %s, want one refusing %s", what,
+               r ? r->text : "none", pname(want));
+}
+
 static void test_validate_pairs(void **state)
 {
     int c;
@@ -337,6 +351,7 @@ static void test_validate_pairs(void **state)
                 continue;
             snprintf(what, sizeof what, "cfg %s, %s", cname(c), k_pair_rules[i].what);
             expect_validate(&p, k_pair_rules[i].want, what);
+            expect_broken_rule(&p, k_pair_rules[i].want, what);
         }
     /* the pid ordering rules mean nothing to the other configurations */
     for (c = 0; c < PF_TOPO_PID; c++) {
@@ -387,6 +402,7 @@ static void test_validate_config_and_null(void **state)
     expect_names(pf_params_validate(&p), PF_P_CONFIG, "config = -1");
     EXPECT(pf_params_validate(NULL) == PF_E_NULL, "validate(NULL) = %d",
            pf_params_validate(NULL));
+    EXPECT(pf_params_broken_rule(NULL) == NULL, "broken_rule(NULL) is not NULL");
     END_SOFT();
 }
 

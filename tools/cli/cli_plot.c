@@ -74,7 +74,7 @@ static int run_plotter(const char *kind, const char *csv, const char *png)
     if (rc != 0) {
         cli_error("--plot: cannot run '%s': %s (it comes with the Python tools: "
                   "scripts/setup.sh puts it in .venv/bin, so put that on PATH or "
-                  "set PNEUFRAC_PLOT=.venv/bin/pneufrac-plot; or pip install "
+                  "set PNEUFRAC_PLOT to its full path; or pip install "
                   "./tools/python); the CSV was written", prog, strerror(rc));
         return CLI_EXIT_PLOT;
     }

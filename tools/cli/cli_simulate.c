@@ -79,25 +79,31 @@ static void describe_param(const cli_run *run, pf_param_id id, char *buf,
     cli_param_range(id, range, sizeof range);
 
     if (id < PF_P_CONFIG) {
-        double v = pf_params_get(&run->p, id);
         const pf_params *p = &run->p;
-        char other[96] = "";
-        /* Outside its own range, the range says what to give; inside it,
-         * pf_params_validate refused it against another parameter
-         * (pf_params.h names which), whose value the user needs to see. */
-        if (pf_param_check(id, v) != PF_OK)
-            snprintf(other, sizeof other, ", outside %s", range);
-        else if (id == PF_P_PMAX)
-            snprintf(other, sizeof other, ": needs pmin <= pmax, and pmin = %.10g", p->pmin);
-        else if (id == PF_P_KS)
-            snprintf(other, sizeof other, ": A/ks = %.10g is beyond the library's bounds",
-                     p->A / p->ks);
-        else if (id == PF_P_W)
-            snprintf(other, sizeof other, ": pid needs nu <= w, and nu = %.10g", p->nu);
-        else if (id == PF_P_RCD)
-            snprintf(other, sizeof other, ": pid needs RCd < RCi, and RCi = %.10g", p->RCi);
-        snprintf(buf, n, "value %.10g for config %s%s; change it with --set %s=VALUE",
-                 v, pf_topology_name(p->topology), other, pf_param_name(id));
+        const pf_param_rule *rule = pf_params_broken_rule(p);
+        double v = pf_params_get(p, id);
+
+        /* Outside its own range, the range says what to give. Inside it,
+         * either a rule between two parameters refused it (the library
+         * says which, and the user may change either), or the design did
+         * at this rate (pf_ctrl_design_make, pf_controller.h). */
+        if (pf_param_check(id, v) != PF_OK) {
+            snprintf(buf, n, "value %.10g for config %s, outside %s; change it with "
+                     "--set %s=VALUE", v, pf_topology_name(p->topology), range,
+                     pf_param_name(id));
+        } else if (rule != NULL && rule->refused == id) {
+            snprintf(buf, n, "value %.10g for config %s breaks %s, with %s = %.10g; change "
+                     "--set %s=VALUE or --set %s=VALUE", v, pf_topology_name(p->topology),
+                     rule->text, pf_param_name(rule->other),
+                     pf_params_get(p, rule->other), pf_param_name(id),
+                     pf_param_name(rule->other));
+        } else {
+            snprintf(buf, n, "value %.10g for config %s, which the design cannot realise "
+                     "at --fs %.10g (an order the approximation cannot reach, or an "
+                     "in-sample loop that is nearly singular); change it with --set "
+                     "%s=VALUE, or --fs", v, pf_topology_name(p->topology), fs,
+                     pf_param_name(id));
+        }
         return;
     }
     switch (id) {

@@ -59,6 +59,21 @@ void pf_params_default(pf_params *p, pf_topology topo);
  *  @return PF_OK or PF_E_PARAM(id) naming the first offending parameter. */
 pf_status pf_params_validate(const pf_params *p);
 
+/** A rule between two parameters that pf_params_validate checks once each
+ *  is within its own range. */
+typedef struct {
+    pf_param_id refused;   /**< the parameter PF_E_PARAM names */
+    pf_param_id other;     /**< the parameter it is checked against */
+    const char *text;      /**< the rule, e.g. "pmin <= pmax" */
+} pf_param_rule;
+
+/** The first rule between two parameters that @p p breaks, in
+ *  pf_params_validate's order (the one whose parameter it names), or NULL
+ *  when all hold or @p p is NULL. Each parameter's own range is
+ *  pf_param_check's, not a rule here. For messages that must say what to
+ *  change: the rules are stated once, in the library. */
+const pf_param_rule *pf_params_broken_rule(const pf_params *p);
+
 /** Set or get a parameter by id (PF_P_A .. PF_P_RCI). Set does not validate.
  *  @return PF_OK or PF_E_PARAM(id) for an id that is not a model parameter. */
 pf_status pf_params_set(pf_params *p, pf_param_id id, double v);

@@ -207,9 +207,10 @@ def load():
             tried[-1] += f" ({exc})"
     else:
         raise LibraryError(
-            "libpneufrac.so not found (tried: %s); run ./scripts/setup.sh, or set "
+            "libpneufrac.so not found (%s); run ./scripts/setup.sh, or set "
             "PNEUFRAC_PREFIX to the prefix of `cmake --install` or PNEUFRAC_LIBRARY "
-            "to the file" % (", ".join(tried) or "none there; searched " + locate.searched()))
+            "to the file" % ("tried: " + ", ".join(tried) if tried
+                             else "searched " + locate.searched()))
     try:
         _declare(lib)
     except AttributeError as exc:

@@ -62,8 +62,9 @@ def searched() -> str:
     """The places candidates() looks without the environment variables, in
     words: what a "not found" message names when none of them held it."""
     here = Path(__file__).resolve().parent
-    return (f"build/lib and lib folders of every folder above {here}, "
-            "pkg-config's pneufrac, the dynamic linker's path")
+    dirs = ", ".join(("build/lib", *LIBDIRS, *_multiarch()))
+    return (f"the folders {dirs} of every folder above {here}; pkg-config's "
+            "pneufrac; the dynamic linker's path")
 
 
 def candidates():

@@ -536,15 +536,21 @@ def split_for(rec: Record, mode: str = holdout.DEFAULT):
         other_mode = next(m for m in holdout.MODES if m != mode)
         other = holdout.layout(rec.n, other_mode)
         if other == split:
-            raise
+            raise DataError(f"{exc}{_PARTS_HINT}") from None
         try:
             check_parts(rec, other)
         except DataError:
-            raise DataError(f"{exc} (nor in {_SPLIT_WORDS[other_mode][0]})") from None
+            raise DataError(f"{exc} (nor in {_SPLIT_WORDS[other_mode][0]}){_PARTS_HINT}") \
+                from None
         why = str(exc).split(": ", 1)[-1]
         return other, (f"{_SPLIT_WORDS[mode][0]} refused ({why}): validated on "
                        f"{_SPLIT_WORDS[other_mode][1]} instead")
 
+
+# What to do when no split has moves in both parts: every split was tried
+# (split_for), so only another record helps.
+_PARTS_HINT = ("; the fit learns from one part and is judged on the other, so give a "
+               "record whose input moves, and output responds, all along it")
 
 # How the report names each split (holdout.MODES), and where it validates.
 _SPLIT_WORDS = {"tail": ("the held-out tail", "the last 30 % of the record"),
@@ -562,12 +568,6 @@ def check_parts(rec: Record, split) -> None:
     tail = len(split.held) == 1 and split.held[0][1] == split.n
     fit_name = "the first 70 % (fit)" if tail else "the fit parts"
     held_name = "the last 30 % (validation)" if tail else "the held-out blocks (validation)"
-    # What to do about it: the fit learns from one part and is judged on the
-    # other, so both must hold a response; with the tail split, blocks
-    # spread the validation over the record's excitation.
-    hint = ("; record until the input has moved in the last 30 % too, or try "
-            "--holdout blocks" if tail else "; record a longer stretch in which the "
-            "input keeps moving")
 
     def moves(x, parts, edge):
         # the input's range over each part, from the sample before it (the
@@ -577,13 +577,13 @@ def check_parts(rec: Record, split) -> None:
     if (moves(e, split.fit_slices(), 0) < 0.05 * span
             or moves(e, split.held_slices(), 1) < 0.05 * span):
         raise DataError(f"{rec.source}: the input must move in both {fit_name} and "
-                        f"{held_name} of the record{hint}")
+                        f"{held_name} of the record")
     for parts, name in ((split.fit_slices(), fit_name), (split.held_slices(), held_name)):
         rng = float(np.ptp(np.concatenate([pc[s] for s in parts])))
         if rng < 0.05 * pspan:
             raise DataError(f"{rec.source}: the output pc does not move in {name} of the "
                             f"record (range {rng:.3g}, under 5 % of its span "
-                            f"{pspan:.3g}): it must respond in both parts{hint}")
+                            f"{pspan:.3g}): it must respond in both parts")
 
 
 def write_csv(path, t, e, pc, comments=()) -> None:
