@@ -65,19 +65,24 @@ static double unwrap(double deg, double prev)
     return deg - 360.0 * round((deg - prev) / 360.0);
 }
 
-static void put(FILE *f, double v, const char *after)
+/* Writes v then @p after. The first write that fails leaves its errno in
+ * @p err (0 until then): saved there, as the writes and the formatting of
+ * the values after it (pfh_fmt's strtod) may set errno again, and the first
+ * failure is the one to report. */
+static void put(FILE *f, double v, const char *after, int *err)
 {
-    pfh_fput_double(f, v);
-    fputs(after, f);
+    if ((pfh_fput_double(f, v) == EOF || fputs(after, f) == EOF) && *err == 0)
+        *err = errno;
 }
 
-/* Whether a write to @p f failed; if so its errno into @p err, saved where
- * the failure is seen (the libm calls of the next row may overwrite it). */
+/* Whether a write to @p f failed; @p err holds the first failed write's
+ * errno (put), or, for an error no call reported, errno now. */
 static int write_failed(FILE *f, int *err)
 {
     if (!ferror(f))
         return 0;
-    *err = errno;
+    if (*err == 0)
+        *err = errno;
     return 1;
 }
 
@@ -122,11 +127,11 @@ static int write_bode(FILE *f, const pf_ctrl_design *d, const pf_effects *fx,
             prev_d = pd;
             have_d = 1;
         }
-        put(f, w, ",");
-        put(f, 20.0 * log10(mi), ",");
-        put(f, pi_ - w * td_ideal * 180.0 / M_PI, ",");
-        put(f, md > 0.0 ? 20.0 * log10(md) : -INFINITY, ",");
-        put(f, md > 0.0 ? pd - w * td_real * 180.0 / M_PI : NAN, "\n");
+        put(f, w, ",", err);
+        put(f, 20.0 * log10(mi), ",", err);
+        put(f, pi_ - w * td_ideal * 180.0 / M_PI, ",", err);
+        put(f, md > 0.0 ? 20.0 * log10(md) : -INFINITY, ",", err);
+        put(f, md > 0.0 ? pd - w * td_real * 180.0 / M_PI : NAN, "\n", err);
         if (write_failed(f, err))
             return CLI_EXIT_IO;
     }

@@ -13,6 +13,7 @@ import dataclasses
 import hashlib
 import inspect
 import pickle
+import sys
 
 import numpy as np
 
@@ -23,6 +24,54 @@ def of(*xs) -> bytes:
     h = hashlib.blake2b(digest_size=20)
     _feed(h, xs)
     return h.digest()
+
+
+# The kinds of value a module constant holds (numbers, names, tables of
+# them); a module, class or function bound to an upper-case name is not a
+# setting
+_PLAIN = (bool, int, float, str, bytes, tuple, list, dict, set, frozenset)
+
+
+def settings(package: str) -> bytes:
+    """A 20-byte digest of the settings of every module of `package` loaded
+    in this process: each public upper-case name (a leading underscore
+    marks a module's own state: its caches) bound to a plain value (a
+    number, a name, a table of them: search and fit iteration counts,
+    tolerances, model.F_SIM_MIN, the groups' ranges), by its value. A
+    cached answer keyed by it is not given to a question asked after any
+    of them changed at run time. All of the package's, not a list of what
+    one computation reads: a list is missed when the code reads one more,
+    and a setting it does not read only costs a repeat made again.
+
+    Of their pickle, not of digest.of's walk (ten times the time, and a
+    fit asks for this each time): a module's constants in a forked worker
+    are the parent's objects, and pickle the same, so a worker finds what
+    its parent cached."""
+    h = hashlib.blake2b(digest_size=20)
+    for name in _modules_of(package):
+        m = sys.modules.get(name)
+        if m is None:
+            continue
+        own = sorted((k, v) for k, v in list(vars(m).items())
+                     if k.isupper() and k[0] != "_" and isinstance(v, _PLAIN))
+        h.update(pickle.dumps((name, own), pickle.HIGHEST_PROTOCOL))
+    return h.digest()
+
+
+def _modules_of(package: str) -> list:
+    """The names of package's loaded modules, sorted; looked for again only
+    when a module was loaded or unloaded (a third of settings' time is the
+    search of the process's thousand modules)."""
+    n = len(sys.modules)
+    got = _MODULES.get(package)
+    if got is None or got[0] != n:
+        pre = package + "."
+        got = (n, sorted(m for m in list(sys.modules) if m == package or m.startswith(pre)))
+        _MODULES[package] = got
+    return got[1]
+
+
+_MODULES: dict = {}
 
 
 def _feed(h, x, path: frozenset = frozenset()) -> None:

@@ -685,12 +685,14 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
     th0 = to_theta(sp, start, pb)
     lo, hi = bounds(sp)
     th0 = np.clip(th0, lo + 1e-9 * (hi - lo), hi - 1e-9 * (hi - lo))
-    key = digest.of(pb, tuple(effects), th0, int(dead), int(budget), float(ftol))
+    key = _fit_key(pb, effects, th0, dead, ftol)
     with _FITS_LOCK:
         hit = _FITS.get(key)
-        if hit is not None:
+        if hit is not None and _answers(hit, budget):
             _FITS.move_to_end(key)
-            hit = copy.deepcopy(hit)
+            hit = copy.deepcopy(hit[2])
+        else:
+            hit = None
     if hit is not None:        # (its last Jacobian is not in memo: a little speed only)
         hit.start = label
         return hit
@@ -727,8 +729,11 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
     if th is None:
         th = th0
     fr = finish(pb, effects, sp, th, dead, c * obj.scale ** 2, label, mo)
+    # converged: stopped by a tolerance (least_squares' status 1-4), or
+    # nothing to search; not by max_nfev (0) or the budget (_Budget)
+    converged = not th0.size or status in ("1", "2", "3", "4")
     with _FITS_LOCK:
-        _FITS[key] = copy.deepcopy(fr)
+        _FITS[key] = (int(budget), converged, copy.deepcopy(fr))
         if len(_FITS) > FITS_KEPT:
             _FITS.popitem(last=False)
     return fr
@@ -737,15 +742,38 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
 # Whole fits repeated: a search makes some fits twice, from the same start
 # on the same data with the same budget (a reference and its confirmation
 # explore the same starts, each on its own exploration copy of the record).
-# lm_fit's answer depends on its arguments, the problem's content and this
-# module's constants alone, so a repeat gets a copy of the first (a few kB
+# lm_fit's answer depends on its arguments, the problem's content and the
+# package's settings alone, so a repeat gets a copy of the first (a few kB
 # each, before evaluate adds the whole-record output). Keyed by a digest
-# of the problem's values and of the arguments (digest.of: the same in a
-# forked worker as in its parent). A lock, as a thread's hit could
-# otherwise meet another's eviction.
+# of the problem's values, of the arguments but the budget, and of the
+# settings (_fit_key); an entry is (budget, converged, fit). A lock, as a
+# thread's hit could otherwise meet another's eviction.
 _FITS: OrderedDict = OrderedDict()
 _FITS_LOCK = threading.Lock()
 FITS_KEPT = 64
+
+
+def _fit_key(pb: Problem, effects, th0, dead: int, ftol: float) -> bytes:
+    """What an lm_fit's answer depends on, but its budget (_answers): the
+    problem's values, the arguments (digest.of: the same in a forked worker
+    as in its parent), and the settings of the package's modules
+    (digest.settings: iteration counts, tolerances, DIFF_STEP,
+    model.F_SIM_MIN, the groups' ranges...), so that a setting changed at
+    run time is not answered with a fit made under the old one."""
+    return digest.of(pb, tuple(effects), th0, int(dead), float(ftol),
+                     digest.settings(__package__))
+
+
+def _answers(entry, budget: int) -> bool:
+    """Whether a cached (budget, converged, fit) is what lm_fit with
+    `budget` returns: the same budget; or a larger one than a fit that
+    converged had. The budget only stops the search (least_squares'
+    max_nfev, _Objective's count): with more, the same path is followed to
+    the same tolerance stop, every call within the first budget already
+    (a confirmation refines the better model so far with twice the
+    iterations its reference did: selection.confirm)."""
+    b, converged, _ = entry
+    return budget == b or (converged and budget > b)
 
 
 def finish(pb: Problem, effects, sp, th, dead: int, cost: float, label: str = "",

@@ -224,7 +224,11 @@ def confirm(pb, effect, fr, t, current, rng, better=None):
     if better is not None and dead and better.dead != dead:
         # the search above runs at one delay, the extended fit's; the better
         # model so far is an optimum at its own, and is refined there too
-        # (reference() says why), the lower of the two kept
+        # (reference() says why), the lower of the two kept. reference()
+        # refined the same start on the same problem at that delay with
+        # half the iterations: where that converged, this is its answer
+        # (fit._answers: the whole-fit cache), no fit made; where it ran
+        # out of iterations, this goes on further, not a repeat
         rb = search.refine(pb, effects, [("better prior", {**better.groups, **better.values})],
                            dead=better.dead, iters=2 * search.REFINE_ITER)
         ref2 = min(ref2, candidates.profile_dead(pb, effects, rb), key=lambda f: f.cost)
@@ -687,8 +691,12 @@ def _earlier_refs(t) -> tuple:
 
 def _cost_on(t, m) -> float:
     """m's cost (a fit without t's effect) on t's problem: its freedoms,
-    samples and weighting, m's delay, K and pc0 re-solved."""
-    return fit.start_cost(t.pb, m.effects, {**m.groups, **m.values}, m.dead)
+    samples and weighting, m's delay, K and pc0 re-solved, and m's
+    saturation where m's fit placed it (candidates.for_model, as _bic:
+    t.pb places it where t's fit did, and a model priced at a placement
+    it was not fitted at is priced too high)."""
+    pb = candidates.for_model(t.pb, m)
+    return fit.start_cost(pb, m.effects, {**m.groups, **m.values}, m.dead)
 
 
 def _short_of(t, better) -> bool:
