@@ -606,7 +606,11 @@ def _test_again(pb, current, t, fr, seed, better=None):
     t2 = try_effect(pb, current, t.effect, _seed_of(seed, t.effect), fitted=fr, better=better)
     if not t2.model.cost < t.model.cost * (1 - 1e-6):
         return None
-    t2.also_without = list(_earlier_refs(t))    # still models without the effect
+    # t's reference, and those it had before, are still models without the
+    # effect fitted on the test's samples: a retest adds its own reference
+    # to them and drops none (as _referred_again), so that the models the
+    # winner must beat (models_without) can only grow
+    t2.also_without = [*_earlier_refs(t), *([t.ref] if t.ref is not t2.ref else [])]
     return t2
 
 
