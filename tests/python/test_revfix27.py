@@ -82,6 +82,19 @@ def test_the_settings_digest_follows_every_module_of_the_package(monkeypatch):
     assert digest.settings("pneufrac_fit") == d0
 
 
+def test_the_corner_cache_is_keyed_by_the_settings_too(monkeypatch):
+    """The corner freed (candidates._CORNERS) is answered only under the
+    settings it was made with, as the whole-fit cache (before: its key was
+    the problem and the model so far alone)."""
+    from pneufrac_fit import search
+    pb = _problem()
+    base = fit.lm_fit(pb, (), _start(pb), 0, 40, "base")
+    k0 = candidates._corner_key(pb, base)
+    assert candidates._corner_key(pb, base) == k0
+    monkeypatch.setattr(search, "REFINE_ITER", search.REFINE_ITER + 1)
+    assert candidates._corner_key(pb, base) != k0
+
+
 # ------------------------------------------- finding 2: a larger budget
 def test_a_converged_fit_answers_a_larger_budget_exactly(monkeypatch):
     """A fit that stopped at a tolerance answers the same fit with a larger
