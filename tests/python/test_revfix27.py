@@ -82,6 +82,19 @@ def test_the_settings_digest_follows_every_module_of_the_package(monkeypatch):
     assert digest.settings("pneufrac_fit") == d0
 
 
+def test_the_corner_cache_is_keyed_by_the_settings_too(monkeypatch):
+    """The corner freed (candidates._CORNERS) is answered only under the
+    settings it was made with, as the whole-fit cache (before: its key was
+    the problem and the model so far alone)."""
+    from pneufrac_fit import search
+    pb = _problem()
+    base = fit.lm_fit(pb, (), _start(pb), 0, 40, "base")
+    k0 = candidates._corner_key(pb, base)
+    assert candidates._corner_key(pb, base) == k0
+    monkeypatch.setattr(search, "REFINE_ITER", search.REFINE_ITER + 1)
+    assert candidates._corner_key(pb, base) != k0
+
+
 # ------------------------------------------- finding 2: a larger budget
 def test_a_converged_fit_answers_a_larger_budget_exactly(monkeypatch):
     """A fit that stopped at a tolerance answers the same fit with a larger
@@ -168,3 +181,23 @@ def test_a_model_without_the_effect_is_priced_at_its_own_placement():
     # the premise: the placement changes the price
     clip = {**vals, "sat_kind": model.SAT_CLIP}
     assert fit.start_cost(at_clip, sat, clip, 0) != own
+
+
+def test_every_setting_of_the_package_is_digested():
+    """digest.settings reads public upper-case names bound to plain values;
+    one bound to anything else (an array changed in place, a lambda in a
+    table) would be left out or fail to pickle. Every such name of the
+    package is plain, or a module, class or function (not settings)."""
+    import inspect
+    import pickle
+    import sys
+    from pneufrac_fit import digest
+    digest.settings("pneufrac_fit")
+    for name in digest._modules_of("pneufrac_fit"):
+        for k, v in vars(sys.modules[name]).items():
+            if not (k.isupper() and k[0] != "_"):
+                continue
+            if inspect.ismodule(v) or inspect.isclass(v) or callable(v):
+                continue
+            assert isinstance(v, digest._PLAIN), f"{name}.{k}: {type(v).__name__}"
+            pickle.dumps(v)

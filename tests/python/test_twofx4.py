@@ -235,3 +235,29 @@ def test_a_winner_replaced_by_its_refinement_is_refined_once(monkeypatch):
     done = []
     out = selection.refine_final(None, None, [noz, _fake("lag", 0.03)], done, 1, lambda s: None)
     assert calls == ["nozzle"] and out[0] is not noz and done == [out[0]]
+
+
+def test_a_retest_on_a_better_fit_keeps_the_old_reference_among_the_rivals(monkeypatch):
+    """_test_again replaces a test by one on a better fit of its model
+    (from_better's refit, refit_rivals, refine_winner): the old test's
+    reference stays among the models without the effect that the winner
+    must beat (models_without), with the references it had before; the
+    retest's own reference joins them, none is dropped."""
+    pb = _problem()
+    poor_lin = _fit(pb, (), _start(pb, rho=3.0), budget=4)
+    good_lin = _fit(pb, (), _start(pb))
+    older = _fit(pb, (), _start(pb, rho=2.0), budget=4)
+    lag = _fit(pb, ("lag",), _start(pb, lag=0.05))
+    t = guards.Test(effect="lag", model=SimpleNamespace(cost=2 * lag.cost), ref=poor_lin,
+                    passes=True)
+    t.also_without = [older]
+    t2 = guards.Test(effect="lag", model=lag, ref=good_lin, passes=True)
+    t.pb = t2.pb = pb
+    current = _fit(pb, (), _start(pb, rho=2.5), budget=4)    # the model so far
+    monkeypatch.setattr(selection, "try_effect", lambda *a, **kw: t2)
+    out = selection._test_again(pb, current, t, lag, 1)
+    assert out is t2
+    without = [m for m, _ in selection.models_without([out], current, pb)]
+    assert without[0] is current
+    for m in (good_lin, older, poor_lin):
+        assert sum(w is m for w in without) == 1

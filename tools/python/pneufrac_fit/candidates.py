@@ -237,8 +237,12 @@ def _corner_key(pb, base) -> bytes:
     model so far's effects, groups, values and delay. Equal digests, equal
     inputs, the same answer; a problem that differs in anything at all,
     even in what the answer does not depend on, is only made again (of
-    the values, digest.of: the same in a worker as in its parent)."""
-    return digest.of(pb, tuple(base.effects), {**base.groups, **base.values}, base.dead)
+    the values, digest.of: the same in a worker as in its parent), and the
+    package's settings (digest.settings, as the whole-fit cache: a setting
+    changed at run time is not answered with a corner freed under the old
+    one)."""
+    return digest.of(pb, tuple(base.effects), {**base.groups, **base.values}, base.dead,
+                     digest.settings(__package__))
 
 
 def _corner_freed(pb, base) -> tuple[dict, list[str]] | None:

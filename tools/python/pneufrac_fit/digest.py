@@ -61,8 +61,14 @@ def settings(package: str) -> bytes:
 def _modules_of(package: str) -> list:
     """The names of package's loaded modules, sorted; looked for again only
     when a module was loaded or unloaded (a third of settings' time is the
-    search of the process's thousand modules)."""
-    n = len(sys.modules)
+    search of the process's thousand modules). Their count and the last
+    loaded name tell: one module unloaded and another loaded leaves the
+    count as it was, not the last name."""
+    try:
+        last = next(reversed(sys.modules), None)
+    except RuntimeError:        # another thread loading a module meanwhile
+        last = object()         # (equal to nothing: the list is made again)
+    n = (len(sys.modules), last)
     got = _MODULES.get(package)
     if got is None or got[0] != n:
         pre = package + "."

@@ -606,7 +606,12 @@ def _test_again(pb, current, t, fr, seed, better=None):
     t2 = try_effect(pb, current, t.effect, _seed_of(seed, t.effect), fitted=fr, better=better)
     if not t2.model.cost < t.model.cost * (1 - 1e-6):
         return None
-    t2.also_without = list(_earlier_refs(t))    # still models without the effect
+    # t's reference, and those it had before, are still models without the
+    # effect fitted on the test's samples: a retest adds its own reference
+    # to them and drops none (as _referred_again), so that the models the
+    # winner must beat (models_without) can only grow
+    t2.also_without = [*_earlier_refs(t),
+                       *([t.ref] if t.ref is not t2.ref and t.ref is not current else [])]
     return t2
 
 
@@ -684,8 +689,8 @@ def from_better(pb, current, tests, seed, say):
 
 def _earlier_refs(t) -> tuple:
     """The references t had before a retest replaced them
-    (_referred_again); a test built elsewhere than guards.test (the
-    tests' stand-ins) may not carry the field: none."""
+    (_referred_again, _test_again); a test built elsewhere than
+    guards.test (the tests' stand-ins) may not carry the field: none."""
     return tuple(getattr(t, "also_without", ()))
 
 
@@ -693,8 +698,8 @@ def _cost_on(t, m) -> float:
     """m's cost (a fit without t's effect) on t's problem: its freedoms,
     samples and weighting, m's delay, K and pc0 re-solved, and m's
     saturation where m's fit placed it (candidates.for_model, as _bic:
-    t.pb places it where t's fit did, and a model priced at a placement
-    it was not fitted at is priced too high)."""
+    the values' own sat_kind already names the placement to the
+    simulation; the problem set up for it keeps the two in agreement)."""
     pb = candidates.for_model(t.pb, m)
     return fit.start_cost(pb, m.effects, {**m.groups, **m.values}, m.dead)
 
@@ -804,7 +809,7 @@ def models_without(tests, current, cur_pb) -> list:
     new effect that a round found: the model so far, and each test's
     reference (the same effects refitted with the freedoms and samples
     that test gave them; and the references it had before a retest:
-    _referred_again). An effect whose model predicts the held-out part
+    _referred_again, _test_again). An effect whose model predicts the held-out part
     no better than one of them explains nothing the model so far cannot,
     refitted: its gain over its own reference is then the freedoms', and
     naming it would credit an effect with what a better fit of the model
