@@ -66,3 +66,22 @@ def test_limits_the_fit_supports_are_left_alone():
     b = search.refine(pk, ("saturation",), [("limits out", st)], dead=base.dead, iters=2)
     # neither limit binds: nothing to refit
     assert candidates._one_limit(pk, ("saturation",), b) is b
+
+
+def test_the_floor_without_rest_is_the_lower_of_the_two_parts_bounds():
+    """Without an opening rest the floor is the final model's residual, an
+    upper bound on each part; a model error only the fit part holds (there
+    an effect the held-out part never reaches) must not raise it above
+    what the held-out part shows (diagnose._floor)."""
+    from types import SimpleNamespace
+    from pneufrac_fit import diagnose
+    rng = np.random.default_rng(1)
+    n, n_fit = 4000, 2800
+    y = np.sin(np.arange(n) / 50.0)
+    resid = 0.01 * rng.standard_normal(n)
+    resid[:n_fit] += 0.2 * np.sin(np.arange(n_fit) / 7.0)   # model error in the fit part
+    pb = SimpleNamespace(y=y, fit_of=lambda x: x[:n_fit], held_of=lambda x: x[n_fit:])
+    final = SimpleNamespace(residual=lambda _: resid)
+    floor, src = diagnose._floor(SimpleNamespace(rest=0), pb, final)
+    assert floor == np.std(resid[n_fit:]) / np.std(y[n_fit:])
+    assert "held-out" in src
