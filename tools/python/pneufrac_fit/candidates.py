@@ -150,7 +150,6 @@ def _fit_saturation(pb, base, rng, hint):
                 explored = _explore_corner(pk, effects, starts, corner, base.dead)
             b = search.explore_refine(pk, effects, starts, dead=base.dead, explored=explored)
             b = _limits_back_in_range(pk, effects, base, b)
-            b = _one_limit(pk, effects, b)
             fits.append((_not_worse(pk, effects, "saturation", base, b), pk, kind))
     fits.sort(key=lambda f: f[0].cost)
     win, pw, _ = fits[0]
@@ -190,32 +189,6 @@ def _limits_back_in_range(pb, effects, base, b):
             st[k] = inner[k]
     alt = search.refine(pb, effects, [("limit back in range", st)], dead=base.dead)
     return search.best([b, alt])
-
-
-def _one_limit(pb, effects, b):
-    """Saturation with one limit nests saturation with two: a fit of two
-    limits one of which the fit part does not support (moved out of the
-    output's reach, the other values as fitted, the cost rises by less
-    than BIC's price of one parameter, log of the counted samples) is also
-    refined from there, and the better fit kept. A limit that binds only
-    at a few samples puts a kink in the cost where a gradient search
-    stalls (a blind id record with one lower stop: its fit kept an
-    upper limit touching the fit part's highest peaks at cost 1744, the
-    one-limit start refined to 324 and predicted the held-out part at the
-    noise floor); a limit the data do not support is no reason to stop
-    the other parameters short. A limit that does not bind at all changes
-    nothing, and nothing is refitted."""
-    m = max(pb.n_counted, 1)
-    full = {**b.groups, **b.values}
-    c0 = fit.start_cost(pb, effects, full, b.dead)
-    out = on_sim(pb, b, no_effect(pb, "saturation"))
-    fits = [b]
-    for k in ("sat_lo", "sat_hi"):
-        st = {**full, k: out[k]}
-        c = fit.start_cost(pb, effects, st, b.dead)
-        if c != c0 and m * math.log(c / c0) < math.log(m):
-            fits.append(search.refine(pb, effects, [("one limit", st)], dead=b.dead))
-    return search.best(fits)
 
 
 def with_freed(pb, groups: list):

@@ -94,20 +94,14 @@ def _floor(rec, pb, final) -> tuple[float, str]:
     colour included) over the sd of the measured validation output. From
     the opening rest stretch when it is long enough to show the noise's
     colour (a direct measurement), else from the final model's residual
-    (an upper bound: any model error left counts as noise). Its residual
-    over the fit part and over the held-out part are each an upper bound
-    (noise plus a model error independent of it), and a model error the
-    fit part holds (an effect the held-out part does not reach) need not
-    be in the other: the lower of the two is the tighter bound."""
+    (an upper bound: any model error left counts as noise)."""
     sy = float(np.std(pb.held_of(pb.y)))
     if rec.rest >= 200:
         v = float(noise.fit(rec.pc[:rec.rest]).var)
         return math.sqrt(v) / sy, f"the opening rest stretch ({rec.rest} samples)"
-    r = final.residual(pb)
-    part, sd = min((("fit", float(np.std(pb.fit_of(r)))),
-                    ("held-out", float(np.std(pb.held_of(r))))), key=lambda x: x[1])
-    return sd / sy, (f"the final model's residual over the {part} part, the lower of the "
-                     "two parts' (an upper bound: model error left counts as noise)")
+    r = pb.fit_of(final.residual(pb))
+    return float(np.std(r)) / sy, ("the final model's residual (an upper bound: model "
+                                   "error left counts as noise)")
 
 
 def _held_blocks_note(split, nm) -> list:
