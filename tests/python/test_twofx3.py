@@ -103,7 +103,7 @@ def test_a_retest_keeps_the_better_model_so_far(monkeypatch):
 
     def try_effect(pb, cur, effect, seed, hint=None, fitted=None, better=None):
         seen.append(better)
-        return SimpleNamespace(model=fitted)
+        return SimpleNamespace(model=fitted, ref=None)     # as try_effect: a reference
 
     monkeypatch.setattr(selection, "try_effect", try_effect)
     assert selection._test_again(None, None, t, SimpleNamespace(cost=0.5), 1) is not None

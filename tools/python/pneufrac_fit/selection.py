@@ -610,8 +610,8 @@ def _test_again(pb, current, t, fr, seed, better=None):
     # effect fitted on the test's samples: a retest adds its own reference
     # to them and drops none (as _referred_again), so that the models the
     # winner must beat (models_without) can only grow
-    t2.also_without = [*_earlier_refs(t),
-                       *([t.ref] if t.ref is not t2.ref and t.ref is not current else [])]
+    kept = t.ref is not None and t.ref is not t2.ref and t.ref is not current
+    t2.also_without = [*_earlier_refs(t), *([t.ref] if kept else [])]
     return t2
 
 
