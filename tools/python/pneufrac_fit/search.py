@@ -7,9 +7,9 @@ of an optimum is fixed long before the end of a long record. Starts are
 ranked and explored on the exploration copy: the fit part block-averaged
 down to about F_EXPLORE (a 10 kHz record to 1 kHz; the groups are
 continuous-time, so they carry over) and cut to its first N_EXPLORE
-samples, or to EXPLORE_STEPS simulation steps where a slow record is
-simulated at many steps a sample (copy_samples). Only the best is refined on the whole fit part, from the copy's
-optimum, a few iterations. Dead time, in samples of the simulation rate,
+samples, or, for a record slower than 1 kHz (simulated at many steps a
+sample), to the time a 1 kHz copy spans (copy_samples). Only the best is
+refined on the whole fit part, from the copy's optimum, a few iterations. Dead time, in samples of the simulation rate,
 is converted between the two."""
 from __future__ import annotations
 
@@ -25,15 +25,6 @@ F_EXPLORE = 1000.0         # Hz: records faster than this are block-averaged for
 STAGE_ITER = 10            # Jacobians per start and stage of the exploration
 EXPLORE_ITER = 30          # Jacobians of a single exploring fit
 REFINE_ITER = 10           # Jacobians per refining fit
-# The copy's cost in simulation steps: N_EXPLORE samples at the multiple
-# an F_EXPLORE copy is simulated at (6000 x 2 = 12 000 steps, 6 s at
-# 2 kHz). Every copy of a record at F_EXPLORE or faster is simulated at 2
-# steps a sample (its rate is in [F_EXPLORE, 2 F_EXPLORE)), so the bound
-# cuts only slower records, whose copy was 6000 samples at up to 2000
-# steps each.
-EXPLORE_STEPS = N_EXPLORE * model.auto_oversample(F_EXPLORE)
-
-
 def best(fits):
     return min(fits, key=lambda r: r.cost)
 
@@ -42,21 +33,29 @@ def _budget(pb, effects, iters: int) -> int:
     return iters * (len(fit.specs(pb, effects)) + 2)
 
 
-def copy_samples(pb, m: int) -> int:
-    """The most samples of pb's exploration copy simulated at m steps a
-    sample: N_EXPLORE, and at most EXPLORE_STEPS steps (a slow record's
-    copy spans the 6 s a 1 kHz record's copy spans: the model's time
-    constants are continuous-time, the same at every rate, so a start's
-    slow modes show on the copy as much as on a fast record's), but never
-    fewer than the samples a record needs to be fit at all
-    (data.MIN_SAMPLES) after the longest delay the dead-time scan tries
-    (candidates.dead_max): at a rate of a few Hz 6 s is a few samples,
-    too few to tell starts apart, and a delay explored on the copy
-    must leave it a fit's samples."""
+def copy_samples(pb, fs: float, burn: int) -> int:
+    """The most samples of pb's exploration copy at rate fs, whose first
+    `burn` the copy does not count: N_EXPLORE, and at most the burn plus
+    the time a 1 kHz record's copy spans, N_EXPLORE / F_EXPLORE (a slow
+    record's copy counts those 6 s: the model's time constants are continuous-time,
+    the same at every rate, so a start's slow modes show on the copy as much
+    as on a fast record's), but never fewer than the burn plus the samples a
+    record needs to be fit at all (data.MIN_SAMPLES) after the longest delay
+    the dead-time scan tries (candidates.dead_max): at a rate of a few Hz
+    6 s is a few samples, too few to tell starts apart, and a delay
+    explored on the copy must leave it a fit's samples. The copy holds
+    twice its burn at least, so that explorer's cap of the burn at half
+    the copy's first fit part leaves the burn whole: the copy counts only
+    samples the whole fit counts (the burn, 2 % of the fit part of a record
+    with no opening rest, grows with a long slow record past the span).
+    Bounded by time, not by simulation steps: a nominal 1 kHz record whose
+    estimated rate is a hair under 1 kHz (a slow clock, jittered stamps),
+    simulated at 3 steps a sample instead of 2, keeps its whole copy."""
     from . import candidates
     from .data import MIN_SAMPLES
     floor = MIN_SAMPLES + candidates.dead_max(pb) // pb.setup.oversample
-    return int(min(N_EXPLORE, max(EXPLORE_STEPS // m, floor)))
+    span = math.ceil(N_EXPLORE / F_EXPLORE * fs - 1e-6)
+    return int(min(N_EXPLORE, max(burn + max(span, floor), 2 * burn)))
 
 
 def explorer(pb):
@@ -69,7 +68,7 @@ def explorer(pb):
     D = min(D, max(1, pb.nsim // MIN_SAMPLES))
     fs = pb.setup.fs / D
     m = model.auto_oversample(fs)
-    cap = copy_samples(pb, m)
+    cap = copy_samples(pb, fs, pb.burn // D)
     if D == 1 and pb.nsim <= 1.3 * cap:
         return None
     take = int(min(pb.nsim // D, cap))
