@@ -9,6 +9,7 @@ from types import SimpleNamespace
 import numpy as np
 
 import cases
+from test_twofx4 import dead_time_fits
 from pneufrac_fit import candidates, data, fit, guards, model, selection
 
 
@@ -129,14 +130,7 @@ def test_confirm_does_not_refit_the_better_start_its_reference_refined(monkeypat
     problem: where the reference's refinement converged, the cache answers
     it (no fit made). Before: made again."""
     pb = _problem()
-
-    def dfit(effects, start, dead):
-        r = fit.lm_fit(pb, model.canonical(effects), start, dead, 400, "test")
-        fit.evaluate(pb, r)
-        return r
-    cur = dfit(("dead_time",), _start(pb), 16)
-    better = dfit(("dead_time",), _start(pb), 4)
-    fr = dfit(("dead_time", "lag"), {**cur.groups, **cur.values, "lag": 0.01}, 16)
+    cur, better, fr = dead_time_fits(pb, _start(pb))
     selection.reference(pb, ("dead_time",), fr, cur, better)
     # the premise: the reference's refinement of the better start at its
     # delay converged

@@ -113,6 +113,20 @@ def test_a_passing_retest_is_judged_against_the_stronger_reference(monkeypatch):
     assert after.better is not None
 
 
+def dead_time_fits(pb, start):
+    """(the model so far, the better model so far, the effect's fit) with a
+    dead time: the dead time fitted at delay 16 and at 4 samples, and a lag
+    on top of the first at its delay."""
+    def dfit(effects, st, dead):
+        r = fit.lm_fit(pb, model.canonical(effects), st, dead, 400, "test")
+        fit.evaluate(pb, r)
+        return r
+    cur = dfit(("dead_time",), start, 16)
+    better = dfit(("dead_time",), start, 4)
+    fr = dfit(("dead_time", "lag"), {**cur.groups, **cur.values, "lag": 0.01}, 16)
+    return cur, better, fr
+
+
 def test_a_reference_with_a_dead_time_reaches_the_better_model_so_far():
     """With a dead time in the model so far, the better model so far sits
     at another delay (4) than the effect's fit (16): the reference, and the
@@ -120,14 +134,7 @@ def test_a_reference_with_a_dead_time_reaches_the_better_model_so_far():
     at least as well as it does (at the effect's delay the search stopped
     at a local delay, about 30 % worse: the review of twofx4)."""
     pb = _problem()
-
-    def dfit(effects, start, dead):
-        r = fit.lm_fit(pb, model.canonical(effects), start, dead, 400, "test")
-        fit.evaluate(pb, r)
-        return r
-    cur = dfit(("dead_time",), _start(pb), 16)
-    better = dfit(("dead_time",), _start(pb), 4)
-    fr = dfit(("dead_time", "lag"), {**cur.groups, **cur.values, "lag": 0.01}, 16)
+    cur, better, fr = dead_time_fits(pb, _start(pb))
     assert better.cost < cur.cost       # the premise: better is better
     cb = fit.start_cost(pb, better.effects, {**better.groups, **better.values}, better.dead)
     ref = selection.reference(pb, ("dead_time",), fr, cur, better)
