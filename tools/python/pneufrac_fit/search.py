@@ -9,8 +9,9 @@ down to about F_EXPLORE (a 10 kHz record to 1 kHz; the groups are
 continuous-time, so they carry over) and cut to its first N_EXPLORE
 samples, or, for a record slower than 1 kHz (simulated at many steps a
 sample), to the time a 1 kHz copy spans (copy_samples). Only the best is
-refined on the whole fit part, from the copy's optimum, a few iterations. Dead time, in samples of the simulation rate,
-is converted between the two."""
+refined on the whole fit part, from the copy's optimum, a few iterations.
+Dead time, in samples of the simulation rate, is converted between the
+two."""
 from __future__ import annotations
 
 import copy
@@ -25,6 +26,8 @@ F_EXPLORE = 1000.0         # Hz: records faster than this are block-averaged for
 STAGE_ITER = 10            # Jacobians per start and stage of the exploration
 EXPLORE_ITER = 30          # Jacobians of a single exploring fit
 REFINE_ITER = 10           # Jacobians per refining fit
+
+
 def best(fits):
     return min(fits, key=lambda r: r.cost)
 
@@ -37,11 +40,12 @@ def copy_samples(pb, fs: float, burn: int) -> int:
     """The most samples of pb's exploration copy at rate fs, whose first
     `burn` the copy does not count: N_EXPLORE, and at most the burn plus
     the time a 1 kHz record's copy spans, N_EXPLORE / F_EXPLORE (a slow
-    record's copy counts those 6 s: the model's time constants are continuous-time,
-    the same at every rate, so a start's slow modes show on the copy as much
-    as on a fast record's), but never fewer than the burn plus the samples a
-    record needs to be fit at all (data.MIN_SAMPLES) after the longest delay
-    the dead-time scan tries (candidates.dead_max): at a rate of a few Hz
+    record's copy counts those 6 s: the model's time constants are
+    continuous-time, the same at every rate, so a start's slow modes show
+    on the copy as much as on a fast record's), but never fewer than the
+    burn plus the samples a record needs to be fit at all
+    (data.MIN_SAMPLES) after the longest delay the dead-time scan tries
+    (candidates.dead_max): at a rate of a few Hz
     6 s is a few samples, too few to tell starts apart, and a delay
     explored on the copy must leave it a fit's samples. The copy holds
     twice its burn at least, so that explorer's cap of the burn at half

@@ -809,8 +809,9 @@ def models_without(tests, current, cur_pb) -> list:
     new effect that a round found: the model so far, and each test's
     reference (the same effects refitted with the freedoms and samples
     that test gave them; and the references it had before a retest:
-    _referred_again, _test_again). An effect whose model predicts the held-out part
-    no better than one of them explains nothing the model so far cannot,
+    _referred_again, _test_again). An effect whose model predicts the
+    held-out part no better than one of them explains nothing the model so
+    far cannot,
     refitted: its gain over its own reference is then the freedoms', and
     naming it would credit an effect with what a better fit of the model
     without it does. Held-out errors compare models fairly whatever their
