@@ -20,12 +20,13 @@ MIN_SAMPLES = 200
 # simulation steps: the record's duration x the simulation rate, which is
 # the smallest whole multiple of the record's rate at or above
 # model.F_SIM_MIN (2 kHz) (model.auto_oversample), or the --oversample
-# asked for (check_cost). The bound is a fixed multiple of the record of issue 8's time target (100 000 samples at
-# 1 kHz, simulated at 2 kHz: under 30 s per diagnosis). The time per step
-# is not the same for every record: every record is explored on a short
-# copy (search.explorer: the 6 s a 1 kHz record's copy spans, or a fit's
-# samples after the longest delay scanned: search.copy_samples), then refined on the
-# whole record, and a slow record's whole record is many steps a sample;
+# asked for (check_cost). The bound is a fixed multiple of the record of
+# issue 8's time target (100 000 samples at 1 kHz, simulated at 2 kHz:
+# under 30 s per diagnosis). The time per step is not the same for every
+# record: every record is explored on a short copy (search.explorer: the
+# 6 s a 1 kHz record's copy spans, or a fit's samples after the longest
+# delay scanned: search.copy_samples), then refined on the whole record,
+# and a slow record's whole record is many steps a sample;
 # at the bound (2000 samples at 1 Hz, 4e6 steps) a diagnosis took 1047 s
 # with --jobs 1 when its copy was the whole record (before branch
 # speed10). The multiple, 20, admits every record a typical
