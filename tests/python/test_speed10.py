@@ -1,14 +1,15 @@
 # SPDX-License-Identifier: MIT
-"""Slow records' exploration copy bounded by time (branches speed10,
-fixs10): a record below 1 kHz is simulated at many steps a sample
-(model.F_SIM_MIN), and its copy was 6000 samples whatever that multiple;
-it now counts the 6 s a 1 kHz record's copy spans (search.copy_samples),
-after the whole fit's burn, never below a fit's samples after the longest
-delay scanned. A copy of a record at 1 kHz or faster, or whose rate is
-estimated a hair under 1 kHz, stays exactly as it was."""
+"""The exploration copy is counted in samples at every rate
+(search.explorer): N_EXPLORE samples of the copy's rate, for a record at
+1 kHz or faster, for one whose rate is estimated a hair under 1 kHz
+(simulated at 3 steps a sample), and for a slow record simulated at many
+steps a sample. Branches speed10/fixs10 cut a slow record's copy to the
+6 s a 1 kHz copy spans; branch speed11 measured a 100 Hz pid record with
+a 0.1 s lag whose right verdict that cut lost (its baseline's search
+ended in a worse optimum), so the cut was taken back."""
 import numpy as np
 
-from pneufrac_fit import candidates, data, excite, fit, generate, model, search
+from pneufrac_fit import data, excite, fit, generate, model, search
 
 
 def _problem(fs, n, t=None, rest=True):
@@ -25,15 +26,15 @@ def _problem(fs, n, t=None, rest=True):
                                    model.auto_oversample(rec.fs))
 
 
-def _steps(q):
-    return q.nsim * q.setup.oversample
+def _first_samples(pb, q, D):
+    assert q.nsim == search.N_EXPLORE, (pb.setup.fs, q.nsim)
+    assert np.array_equal(q.y, pb.y[:search.N_EXPLORE * D].reshape(-1, D).mean(axis=1))
 
 
-def test_fast_records_copy_unchanged():
+def test_fast_records_copy_its_first_samples():
     # 1 kHz (2 steps a sample), 1.5 kHz and 10 kHz (averaged to 1 kHz), and
     # 1 kHz stamps whose estimated rate falls a hair short of 1 kHz (a clock
-    # 1 ppm slow; stamps with jitter), simulated at 3 steps a sample: the
-    # first N_EXPLORE samples of the copy's rate, as before the bound
+    # 1 ppm slow; stamps with jitter)
     n = 12000
     rng = np.random.default_rng(5)
     slow_clock = np.arange(n) / 999.999
@@ -41,40 +42,21 @@ def test_fast_records_copy_unchanged():
     for fs, n, t in ((1000.0, n, None), (1500.0, n, None), (10000.0, 80000, None),
                      (1000.0, n, slow_clock), (1000.0, n, jittered)):
         pb = _problem(fs, n, t)
-        D = max(1, int(pb.setup.fs // search.F_EXPLORE))   # 9 or 10 at 10 kHz
-        q = search.explorer(pb)
-        assert q.nsim == search.N_EXPLORE, (fs, pb.setup.fs)
-        assert np.array_equal(q.y, pb.y[:search.N_EXPLORE * D].reshape(-1, D).mean(axis=1))
-    assert _problem(1000.0, n, slow_clock).setup.oversample == 3    # the premise
+        _first_samples(pb, search.explorer(pb), max(1, int(pb.setup.fs // search.F_EXPLORE)))
 
 
-def test_slow_record_copy_spans_a_fast_records_copy():
-    # 100 Hz, simulated at 20 steps a sample: the copy counts 600 samples
-    # (6 s, as a 1 kHz record's copy), after the whole fit's burn (the
-    # start's free response: these records open without a rest long enough
-    # to set the operating point), not 6000 (120 000 steps each)
+def test_slow_record_copy_holds_as_many_samples():
+    # 100 Hz, simulated at 20 steps a sample, with and without an opening
+    # rest: the copy holds N_EXPLORE samples, as a 1 kHz record's does, not
+    # the 6 s (600 samples) a 1 kHz copy spans
     for rest in (True, False):
         pb = _problem(100.0, 20000, rest=rest)
-        q = search.explorer(pb)
-        assert pb.setup.oversample == 20 and pb.burn > 0
-        assert q.burn == pb.burn              # it counts what the whole fit counts
-        counted = q.nsim - q.burn
-        assert counted >= 600 and (counted == 600 or q.nsim == 2 * q.burn)
-        assert _steps(q) < search.N_EXPLORE * 20 / 2
-
-
-def test_very_slow_record_copy_keeps_a_fits_samples():
-    # 10 Hz, 200 steps a sample: 6 s is 60 samples, too few; the copy keeps
-    # MIN_SAMPLES after the longest delay scanned (it was the whole record)
-    pb = _problem(10.0, 3000)
-    q = search.explorer(pb)
-    assert q is not None
-    assert q.nsim - q.burn - candidates.dead_max(pb) // pb.setup.oversample >= data.MIN_SAMPLES
-    assert q.nsim < pb.nsim and _steps(q) > 12000
+        assert pb.setup.oversample == 20
+        _first_samples(pb, search.explorer(pb), 1)
 
 
 def test_short_slow_record_has_no_copy():
-    # within 1.3 x its copy's samples a record is explored whole
-    pb = _problem(100.0, 1000)
-    assert pb.nsim <= 1.3 * 600
+    # within 1.3 x N_EXPLORE samples a record is explored whole, at any rate
+    pb = _problem(10.0, 3000)
+    assert pb.nsim <= 1.3 * search.N_EXPLORE
     assert search.explorer(pb) is None

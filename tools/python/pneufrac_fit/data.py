@@ -23,13 +23,11 @@ MIN_SAMPLES = 200
 # asked for (check_cost). The bound is a fixed multiple of the record of
 # issue 8's time target (100 000 samples at 1 kHz, simulated at 2 kHz:
 # under 30 s per diagnosis). The time per step is not the same for every
-# record: every record is explored on a short copy (search.explorer: the
-# 6 s a 1 kHz record's copy spans, or a fit's samples after the longest
-# delay scanned: search.copy_samples), then refined on the whole record,
-# and a slow record's whole record is many steps a sample;
-# at the bound (2000 samples at 1 Hz, 4e6 steps) a diagnosis took 1047 s
-# with --jobs 1 when its copy was the whole record (before branch
-# speed10). The multiple, 20, admits every record a typical
+# record: every record is explored on a copy of at most 6000 samples
+# (search.explorer), then refined on the whole record, and a slow
+# record's samples are many steps each: at the bound (2000 samples at
+# 1 Hz, 4e6 steps) a diagnosis took 1047 s with --jobs 1 (its copy is the
+# whole record). The multiple, 20, admits every record a typical
 # 256 MiB file (MAX_FILE_BYTES, about 3.5 M rows at one step each) holds at
 # 2 kHz and faster: it bites only where a slow rate multiplies the steps
 # per sample, a time column in ms read as seconds (1 kHz read as 1 Hz,

@@ -7,11 +7,20 @@ of an optimum is fixed long before the end of a long record. Starts are
 ranked and explored on the exploration copy: the fit part block-averaged
 down to about F_EXPLORE (a 10 kHz record to 1 kHz; the groups are
 continuous-time, so they carry over) and cut to its first N_EXPLORE
-samples, or, for a record slower than 1 kHz (simulated at many steps a
-sample), to the time a 1 kHz copy spans (copy_samples). Only the best is
-refined on the whole fit part, from the copy's optimum, a few iterations.
-Dead time, in samples of the simulation rate, is converted between the
-two."""
+samples at every rate. Only the best is refined on the whole fit part,
+from the copy's optimum, a few iterations. Dead time, in samples of the
+simulation rate, is converted between the two.
+
+The copy is counted in samples, not in time or simulation steps: a slow
+record (simulated at many steps a sample) was briefly explored on the
+6 s a 1 kHz copy spans (branches speed10, fixs10), and its starts were
+then ranked on a tenth of the input's changes a 1 kHz copy sees; a pid
+record at 100 Hz with a 0.1 s lag lost its right verdict that way (the
+baseline's search ended in a worse optimum: branch speed11,
+docs/analysis-bench.md). What a start's rank rests on is the input's
+changes the copy holds, and a record's changes are spaced in its
+samples as often as in seconds; the cost of a slow record is bounded by
+data.MAX_SIM_STEPS instead."""
 from __future__ import annotations
 
 import copy
@@ -36,32 +45,6 @@ def _budget(pb, effects, iters: int) -> int:
     return iters * (len(fit.specs(pb, effects)) + 2)
 
 
-def copy_samples(pb, fs: float, burn: int) -> int:
-    """The most samples of pb's exploration copy at rate fs, whose first
-    `burn` the copy does not count: N_EXPLORE, and at most the burn plus
-    the time a 1 kHz record's copy spans, N_EXPLORE / F_EXPLORE (a slow
-    record's copy counts those 6 s: the model's time constants are
-    continuous-time, the same at every rate, so a start's slow modes show
-    on the copy as much as on a fast record's), but never fewer than the
-    burn plus the samples a record needs to be fit at all
-    (data.MIN_SAMPLES) after the longest delay the dead-time scan tries
-    (candidates.dead_max): at a rate of a few Hz
-    6 s is a few samples, too few to tell starts apart, and a delay
-    explored on the copy must leave it a fit's samples. The copy holds
-    twice its burn at least, so that explorer's cap of the burn at half
-    the copy's first fit part leaves the burn whole: the copy counts only
-    samples the whole fit counts (the burn, 2 % of the fit part of a record
-    with no opening rest, grows with a long slow record past the span).
-    Bounded by time, not by simulation steps: a nominal 1 kHz record whose
-    estimated rate is a hair under 1 kHz (a slow clock, jittered stamps),
-    simulated at 3 steps a sample instead of 2, keeps its whole copy."""
-    from . import candidates
-    from .data import MIN_SAMPLES
-    floor = MIN_SAMPLES + candidates.dead_max(pb) // pb.setup.oversample
-    span = math.ceil(N_EXPLORE / F_EXPLORE * fs - 1e-6)
-    return int(min(N_EXPLORE, max(burn + max(span, floor), 2 * burn)))
-
-
 def explorer(pb):
     """The exploration copy of pb, or None when pb is small enough."""
     from .data import MIN_SAMPLES
@@ -72,10 +55,9 @@ def explorer(pb):
     D = min(D, max(1, pb.nsim // MIN_SAMPLES))
     fs = pb.setup.fs / D
     m = model.auto_oversample(fs)
-    cap = copy_samples(pb, fs, pb.burn // D)
-    if D == 1 and pb.nsim <= 1.3 * cap:
+    if D == 1 and pb.nsim <= 1.3 * N_EXPLORE:
         return None
-    take = int(min(pb.nsim // D, cap))
+    take = int(min(pb.nsim // D, N_EXPLORE))
     n = take * D
     q = copy.copy(pb)
     q.e_abs = pb.e_abs[:n].reshape(take, D).mean(axis=1)
