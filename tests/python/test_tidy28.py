@@ -52,3 +52,46 @@ def test_a_converged_fit_answers_a_smaller_budget_that_holds_its_run(monkeypatch
     n = len(made)
     fit.lm_fit(pb, ("lag",), st, 0, least - 1, "e")
     assert len(made) == n + 1
+
+
+# ---------------------------------------------------- the settings digest
+def test_an_array_setting_changed_in_place_changes_the_digest(monkeypatch):
+    """A numpy array (or scalar) bound to a public upper-case name is a
+    setting: changed in place, the digest changes. Before: left out, so a
+    cached fit made under the old values answered."""
+    from pneufrac_fit import digest
+    monkeypatch.setattr(fit, "TABLE_T28", np.array([1.0, 2.0]), raising=False)
+    monkeypatch.setattr(fit, "SCALAR_T28", np.float64(1.0), raising=False)
+    d0 = digest.settings("pneufrac_fit")
+    fit.TABLE_T28[0] = 3.0
+    d1 = digest.settings("pneufrac_fit")
+    assert d1 != d0
+    monkeypatch.setattr(fit, "SCALAR_T28", np.float64(2.0))
+    assert digest.settings("pneufrac_fit") != d1
+
+
+def test_every_module_of_the_package_has_only_digested_settings():
+    """As test_revfix27's check of the loaded modules, over every module of
+    the package (imported here first: a module a test does not load, as
+    plots or fleet, was not looked at): each public upper-case value is a
+    kind digest.settings digests, and pickles, or a module, class or
+    function. A new kind fails here, not silently out of the digest."""
+    import importlib
+    import inspect
+    import pickle
+    import pkgutil
+    import sys
+    import pneufrac_fit
+    from pneufrac_fit import digest
+    names = [m.name for m in pkgutil.walk_packages(pneufrac_fit.__path__, "pneufrac_fit.")]
+    for name in names:
+        importlib.import_module(name)
+    assert set(names) <= set(digest._modules_of("pneufrac_fit"))
+    for name in names:
+        for k, v in vars(sys.modules[name]).items():
+            if not (k.isupper() and k[0] != "_"):
+                continue
+            if inspect.ismodule(v) or inspect.isclass(v) or callable(v):
+                continue
+            assert isinstance(v, digest._PLAIN), f"{name}.{k}: {type(v).__name__}"
+            pickle.dumps(v)
