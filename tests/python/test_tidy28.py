@@ -95,3 +95,25 @@ def test_every_module_of_the_package_has_only_digested_settings():
                 continue
             assert isinstance(v, digest._PLAIN), f"{name}.{k}: {type(v).__name__}"
             pickle.dumps(v)
+
+
+# ------------------------------------------ the references a retest keeps
+def test_a_retest_carries_earlier_references_but_not_the_model_so_far():
+    """_test_again and _referred_again keep the replaced test's reference
+    among the models without the effect (one helper), but never the model
+    so far itself (in a forked worker a reference can be its copy: the
+    identity guard of revfix27-review 8), nor the kept test's own one."""
+    from types import SimpleNamespace as NS
+    from pneufrac_fit import selection
+    current, old, earlier, own = NS(), NS(), NS(), NS()
+    t = NS(ref=old, also_without=[earlier])
+    keep = NS(ref=own)
+    selection._carry_refs(keep, t, old, current)
+    assert keep.also_without == [earlier, old]
+    for dropped in (current, own, None):
+        selection._carry_refs(keep, t, dropped, current)
+        assert keep.also_without == [earlier]
+    selection._carry_refs(keep, t, current)          # _referred_again's: no model so far given
+    assert keep.also_without == [earlier, current]
+    selection._carry_refs(keep, NS(ref=old), old, current)    # a stand-in without the field
+    assert keep.also_without == [old]
