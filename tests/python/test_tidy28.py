@@ -117,3 +117,22 @@ def test_a_retest_carries_earlier_references_but_not_the_model_so_far():
     assert keep.also_without == [earlier, current]
     selection._carry_refs(keep, NS(ref=old), old, current)    # a stand-in without the field
     assert keep.also_without == [old]
+
+
+# ------------------------------------------------------- cli._wants_json
+def test_a_refused_command_line_is_read_off_the_parser_that_refused_it(monkeypatch, capsys):
+    """main answers --json on a refused command line from the parser it
+    parsed with: one parser made, not a second on the error path."""
+    import json
+    import pytest
+    from pneufrac_fit import cli
+    made, orig = [], cli._parser
+
+    def counted():
+        made.append(1)
+        return orig()
+    monkeypatch.setattr(cli, "_parser", counted)
+    with pytest.raises(SystemExit):
+        cli.main(["diagnose", "--json", "--no-such-option"])
+    assert "error" in json.loads(capsys.readouterr().out)
+    assert len(made) == 1
