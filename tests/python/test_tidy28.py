@@ -136,3 +136,41 @@ def test_a_refused_command_line_is_read_off_the_parser_that_refused_it(monkeypat
         cli.main(["diagnose", "--json", "--no-such-option"])
     assert "error" in json.loads(capsys.readouterr().out)
     assert len(made) == 1
+
+
+# --------------------------------------------- the rate a record can tell
+def test_a_rate_read_a_hair_low_is_simulated_at_the_round_rates_factor():
+    """A 1 kHz record whose stamps read 999.9999 Hz (a clock slightly slow,
+    or jitter) is simulated at 2 steps a sample, as at 1 kHz, not 3 (1.5x
+    the cost); the tolerance is what stamps within timebase's jitter
+    tolerance can tell of a rate (model.FS_RTOL), and a rate further off
+    than that gets the next factor. Before: 3 (a tolerance of 1e-9)."""
+    from pneufrac_fit import data, model
+    assert model.auto_oversample(999.9999) == model.auto_oversample(1000.0) == 2
+    assert model.auto_oversample(1000.0 * (1 - 0.9 * model.FS_RTOL)) == 2
+    assert model.auto_oversample(1000.0 * (1 - 1.1 * model.FS_RTOL)) == 3
+    assert model.auto_oversample(100.0 * (1 - 1e-6)) == 20
+    # through the record: stamps at 1 kHz with jitter, read as uniform
+    rng = np.random.default_rng(3)
+    n = 2000
+    t = np.arange(n) * 1e-3 * (1 + 2e-7) + rng.uniform(-0.2e-3, 0.2e-3, n)
+    e = np.where(np.arange(n) % 400 < 200, 0.5, -0.5) + 0.01 * rng.standard_normal(n)
+    pc = np.cumsum(e) * 1e-3 + 0.01 * rng.standard_normal(n)
+    rec = data.make_record(t, e, pc)
+    assert rec.fs != 1000.0 and abs(rec.fs / 1000.0 - 1) < model.FS_RTOL
+    assert data.check_cost(rec.n, rec.fs) == 2
+
+
+def test_the_rate_tolerance_is_the_worst_slope_error_of_an_accepted_record():
+    """FS_RTOL bounds the rate timebase reads: stamps of the shortest
+    stretch it accepts, each as far off its grid point as it accepts (a
+    quarter period, the sign that tilts the slope most), read a rate off
+    by no more than FS_RTOL (and by about that much: the bound is tight)."""
+    from pneufrac_fit import data, model, timebase
+    n = data.MIN_SAMPLES
+    k = np.arange(n)
+    dev = 0.999 * timebase.JITTER_TOL * np.sign(k - (n - 1) / 2)
+    tb = timebase.analyse((k + dev) * 1e-3)
+    off = abs(tb.fs / 1000.0 - 1)
+    assert off <= model.FS_RTOL
+    assert off > 0.9 * model.FS_RTOL
