@@ -1,6 +1,9 @@
 # SPDX-License-Identifier: MIT
 """Leftovers of stop 27 (issue 8, branch tidy28): the whole-fit cache
-keeps a fit per budget; ..."""
+keeps a fit per budget and answers a smaller budget that holds a converged
+run; numpy settings digested, every module's settings checked; a retest's
+references through one helper; --json read off the parser that refused
+the command line; the rate a record's stamps can tell."""
 import numpy as np
 
 from test_revfix27 import _fits_made, _problem, _same, _start
@@ -150,6 +153,11 @@ def test_a_rate_read_a_hair_low_is_simulated_at_the_round_rates_factor():
     assert model.auto_oversample(1000.0 * (1 - 0.9 * model.FS_RTOL)) == 2
     assert model.auto_oversample(1000.0 * (1 - 1.1 * model.FS_RTOL)) == 3
     assert model.auto_oversample(100.0 * (1 - 1e-6)) == 20
+    # only the excess over a whole factor is forgiven: a slow round rate
+    # keeps its factor, and a slightly slow one its round rate's
+    assert model.auto_oversample(1.0) == 2000
+    assert model.auto_oversample(1.0 * (1 - 1e-5)) == 2000
+    assert model.auto_oversample(2000.0) == 1 and model.auto_oversample(1e6) == 1
     # through the record: stamps at 1 kHz with jitter, read as uniform
     rng = np.random.default_rng(3)
     n = 2000

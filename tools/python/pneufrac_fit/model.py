@@ -202,9 +202,15 @@ FS_RTOL = 3 * timebase.JITTER_TOL / data.MIN_SAMPLES
 
 
 def auto_oversample(fs: float) -> int:
-    """The smallest whole factor that takes fs to F_SIM_MIN, within the
-    precision of a rate read off time stamps (FS_RTOL)."""
-    return max(1, int(math.ceil(F_SIM_MIN / fs * (1 - FS_RTOL))))
+    """The smallest whole factor that takes fs to F_SIM_MIN; the whole
+    factor just under it where the excess is within the precision of a
+    rate read off time stamps (FS_RTOL). Only the excess over a whole
+    factor is forgiven, so a round rate keeps its factor however slow (1 Hz:
+    2000), and a rate above 7.5 Hz (a factor under 1 / FS_RTOL) has at most
+    one whole factor within the tolerance."""
+    x = F_SIM_MIN / fs
+    n = math.floor(x)
+    return max(1, n if n >= 1 and x - n <= x * FS_RTOL else math.ceil(x))
 
 
 @dataclass
