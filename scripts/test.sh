@@ -19,6 +19,17 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 log() { printf '[test] %s\n' "$*"; }
 
+# The checkout's state: HEAD, and a digest of the changes to tracked files
+# and of the untracked files' names. The steps build from the checkout and
+# .venv imports tools/python from it (editable: scripts/setup.sh), so a
+# checkout changed while they run (a merge, a checkout of another branch)
+# is tested half old, half new; the run then fails, saying so.
+tree_state() {
+  git rev-parse HEAD 2>/dev/null || return 0
+  { git diff HEAD; git status --porcelain; } 2>/dev/null | git hash-object --stdin
+}
+state_before=$(tree_state)
+
 ./scripts/setup.sh
 
 jobs=$(nproc 2>/dev/null || echo 2)
@@ -121,6 +132,11 @@ run_step firmware step_firmware
 run_step target step_target
 run_step pytest step_pytest
 run_step clone step_clone
+
+if [[ $(tree_state) != "$state_before" ]]; then
+  summary+=("checkout: CHANGED while the steps ran: they tested two versions; run again on a still tree")
+  failed=1
+fi
 
 log "=== summary ==="
 for line in "${summary[@]}"; do

@@ -330,6 +330,12 @@ if [ -w /dev/full ]; then
   check "bode: write error names the reason, in one line" \
     test "$rc" -eq 1 -a "$(wc -l <"$TMP/err")" -eq 1
   check "bode: write error names the reason" grep -q "No space left on device" "$TMP/err"
+  # help goes out at main's last fflush: its reason read from that flush
+  "$BIN" --help >/dev/full 2>"$TMP/err"
+  rc=$?
+  check "help to a full disk exits 1 and names the reason" \
+    test "$rc" -eq 1 -a "$(wc -l <"$TMP/err")" -eq 1
+  check "help to a full disk: the flush's reason" grep -q "No space left on device" "$TMP/err"
 fi
 "$BIN" simulate --config dd --fs 20000 --duration 20 2>"$TMP/err" | head -n 1 >/dev/null
 rc=${PIPESTATUS[0]}

@@ -2,7 +2,7 @@
 """The exploration copy is counted in samples at every rate
 (search.explorer): N_EXPLORE samples of the copy's rate, for a record at
 1 kHz or faster, for one whose rate is estimated a hair under 1 kHz
-(simulated at 3 steps a sample), and for a slow record simulated at many
+(a slow clock, jittered stamps), and for a slow record simulated at many
 steps a sample. Branches speed10/fixs10 cut a slow record's copy to the
 6 s a 1 kHz copy spans; branch speed11 measured a 100 Hz pid record with
 a 0.1 s lag whose right verdict that cut lost (its baseline's search

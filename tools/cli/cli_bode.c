@@ -65,30 +65,43 @@ static double unwrap(double deg, double prev)
     return deg - 360.0 * round((deg - prev) / 360.0);
 }
 
-/* Writes v then @p after. The first write that fails leaves its errno in
- * @p err (0 until then): saved there, as the writes and the formatting of
- * the values after it (pfh_fmt's strtod) may set errno again, and the first
- * failure is the one to report. */
-static void put(FILE *f, double v, const char *after, int *err)
+/* The first failed write: saved when it fails, as the writes and the
+ * formatting of the values after it (pfh_fmt's strtod) may set errno again,
+ * and the first failure is the one to report. failed, not err, says whether
+ * one was seen: a failing call that leaves errno 0 (a stream that sets none)
+ * reads EIO, not "no failure yet". */
+typedef struct {
+    int failed, err;
+} write_err;
+
+static void failed_now(write_err *we)
 {
-    if ((pfh_fput_double(f, v) == EOF || fputs(after, f) == EOF) && *err == 0)
-        *err = errno;
+    if (!we->failed) {
+        we->failed = 1;
+        we->err = errno != 0 ? errno : EIO;
+    }
 }
 
-/* Whether a write to @p f failed; @p err holds the first failed write's
+/* Writes v then @p after. */
+static void put(FILE *f, double v, const char *after, write_err *we)
+{
+    if (pfh_fput_double(f, v) == EOF || fputs(after, f) == EOF)
+        failed_now(we);
+}
+
+/* Whether a write to @p f failed; @p we holds the first failed write's
  * errno (put), or, for an error no call reported, errno now. */
-static int write_failed(FILE *f, int *err)
+static int write_failed(FILE *f, write_err *we)
 {
     if (!ferror(f))
         return 0;
-    if (*err == 0)
-        *err = errno;
+    failed_now(we);
     return 1;
 }
 
-/* @return CLI_EXIT_OK, or CLI_EXIT_IO with the write's errno in @p err. */
+/* @return CLI_EXIT_OK, or CLI_EXIT_IO with the write's errno in @p we. */
 static int write_bode(FILE *f, const pf_ctrl_design *d, const pf_effects *fx,
-                      double w_lo, double w_hi, int points, int *err)
+                      double w_lo, double w_hi, int points, write_err *we)
 {
     char note[200];
     /* dead times: the exact one, and the realised one in whole samples */
@@ -102,7 +115,7 @@ static int write_bode(FILE *f, const pf_ctrl_design *d, const pf_effects *fx,
     if (cli_csv_head(f, "omega,ideal_db,ideal_deg,discrete_db,discrete_deg",
                      "rad/s,dB,degrees,dB,degrees") != 0 ||
         fprintf(f, "# pneufrac bode: %s\n", note) < 0) {
-        *err = errno;
+        failed_now(we);
         return CLI_EXIT_IO;
     }
     for (k = 0; k < points; k++) {
@@ -127,16 +140,16 @@ static int write_bode(FILE *f, const pf_ctrl_design *d, const pf_effects *fx,
             prev_d = pd;
             have_d = 1;
         }
-        put(f, w, ",", err);
-        put(f, 20.0 * log10(mi), ",", err);
-        put(f, pi_ - w * td_ideal * 180.0 / M_PI, ",", err);
-        put(f, md > 0.0 ? 20.0 * log10(md) : -INFINITY, ",", err);
-        put(f, md > 0.0 ? pd - w * td_real * 180.0 / M_PI : NAN, "\n", err);
-        if (write_failed(f, err))
+        put(f, w, ",", we);
+        put(f, 20.0 * log10(mi), ",", we);
+        put(f, pi_ - w * td_ideal * 180.0 / M_PI, ",", we);
+        put(f, md > 0.0 ? 20.0 * log10(md) : -INFINITY, ",", we);
+        put(f, md > 0.0 ? pd - w * td_real * 180.0 / M_PI : NAN, "\n", we);
+        if (write_failed(f, we))
             return CLI_EXIT_IO;
     }
     if (fflush(f) != 0 || ferror(f)) { /* each row was checked: this is the flush */
-        *err = errno;
+        failed_now(we);
         return CLI_EXIT_IO;
     }
     return CLI_EXIT_OK;
@@ -149,7 +162,8 @@ int cli_bode_main(int argc, char **argv)
     cli_run run;
     cli_plot plot;
     double w_lo, w_hi;
-    int rc, points, err = 0;
+    write_err we = {0, 0};
+    int rc, points;
 
     rc = cli_opts_read(argc, argv, &bode_cmd, &a, &run);
     if (rc != 0)
@@ -174,8 +188,8 @@ int cli_bode_main(int argc, char **argv)
                            ceil(POINTS_PER_DECADE * log10(w_hi / w_lo)) + 1.0);
     if (cli_plot_begin(&plot, a.plot) != 0)
         return CLI_EXIT_IO;
-    rc = write_bode(plot.csv, &d, &run.fx, w_lo, w_hi, points, &err);
+    rc = write_bode(plot.csv, &d, &run.fx, w_lo, w_hi, points, &we);
     if (rc != CLI_EXIT_OK)
-        cli_error("bode: error writing the CSV: %s", strerror(err));
+        cli_error("bode: error writing the CSV: %s", strerror(we.err));
     return cli_plot_finish(&plot, "bode", rc);
 }

@@ -82,7 +82,7 @@ static int dispatch(int argc, char **argv)
 
 int main(int argc, char **argv)
 {
-    int rc;
+    int rc, flush_err;
 
 #ifdef SIGPIPE
     /* A closed pipe (| head) must surface as a write error we report with
@@ -92,10 +92,16 @@ int main(int argc, char **argv)
     setvbuf(stdout, stdout_buf, _IOFBF, sizeof stdout_buf);
     rc = dispatch(argc, argv);
     /* Help, version and the demo summary are output too: check them. A
-     * failure already reported keeps its own status and message. */
-    if (fflush(stdout) != 0 || ferror(stdout)) {
+     * failure already reported keeps its own status and message. errno is
+     * the reason only when this fflush failed (read at once, before
+     * ferror); a write that failed earlier, with the flush then finding
+     * nothing to write, left no reason here: EIO, not a stale errno. A
+     * failing flush that sets no errno also reads EIO. */
+    flush_err = fflush(stdout) != 0 ? (errno != 0 ? errno : EIO) : 0;
+    if (flush_err != 0 || ferror(stdout)) {
         if (rc == CLI_EXIT_OK) {
-            cli_error("error writing standard output: %s", strerror(errno));
+            cli_error("error writing standard output: %s",
+                      strerror(flush_err != 0 ? flush_err : EIO));
             rc = CLI_EXIT_IO;
         }
     }

@@ -365,15 +365,17 @@ def _fail(message: str, status: int, as_json: bool) -> int:
     return status
 
 
-def _wants_json(argv) -> bool:
+def _wants_json(argv, parser=None) -> bool:
     """Whether a command line that argparse refused asked for JSON: its
     command takes --json and --json or an abbreviation argparse accepts
     (one no other option of the command starts with) is among its
     options, before a "--" that ends them. The commands and options are
-    read off the parser. A parsed command line says it itself (a.json)."""
+    read off `parser`, the one that refused it (main's; made here when
+    not given). A parsed command line says it itself (a.json)."""
     args = list(sys.argv[1:] if argv is None else argv)
     args = args[:args.index("--")] if "--" in args else args
-    sub = next((x for x in _parser()._actions
+    parser = _parser() if parser is None else parser
+    sub = next((x for x in parser._actions
                 if isinstance(x, argparse._SubParsersAction)), None)
     cmd = sub.choices.get(args[0]) if sub is not None and args else None
     if cmd is None or "--json" not in cmd._option_string_actions:
@@ -384,10 +386,11 @@ def _wants_json(argv) -> bool:
 
 
 def main(argv=None) -> int:
+    parser = _parser()
     try:
-        a = _parser().parse_args(argv)
+        a = parser.parse_args(argv)
     except _ArgError as exc:    # as argparse ends: SystemExit with the status
-        raise SystemExit(_fail(str(exc), EXIT_USAGE, _wants_json(argv))) from None
+        raise SystemExit(_fail(str(exc), EXIT_USAGE, _wants_json(argv, parser))) from None
     as_json = bool(getattr(a, "json", False))
     from . import data, lib
     try:

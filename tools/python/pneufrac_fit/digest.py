@@ -27,9 +27,11 @@ def of(*xs) -> bytes:
 
 
 # The kinds of value a module constant holds (numbers, names, tables of
-# them); a module, class or function bound to an upper-case name is not a
-# setting
-_PLAIN = (bool, int, float, str, bytes, tuple, list, dict, set, frozenset)
+# them, numpy arrays and scalars: pickle writes their contents, so an
+# array changed in place changes the digest); a module, class or function
+# bound to an upper-case name is not a setting
+_PLAIN = (bool, int, float, str, bytes, tuple, list, dict, set, frozenset,
+          np.ndarray, np.generic)
 
 
 def settings(package: str) -> bytes:

@@ -686,13 +686,12 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
     lo, hi = bounds(sp)
     th0 = np.clip(th0, lo + 1e-9 * (hi - lo), hi - 1e-9 * (hi - lo))
     key = _fit_key(pb, effects, th0, dead, ftol)
+    max_nfev = _max_nfev(budget, th0.size)
     with _FITS_LOCK:
-        hit = _FITS.get(key)
-        if hit is not None and _answers(hit, budget):
-            _FITS.move_to_end(key)
-            hit = copy.deepcopy(hit[2])
-        else:
-            hit = None
+        hit = _answers(key, budget, max_nfev)
+        if hit is not None:
+            _FITS.move_to_end(hit)
+            hit = copy.deepcopy(_FITS[hit][2])
     if hit is not None:        # (its last Jacobian is not in memo: a little speed only)
         hit.start = label
         return hit
@@ -708,13 +707,13 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
         f0 = state["f"] if "x" in state and np.array_equal(state["x"], th) else None
         return obj.jac(th, f0)
 
-    status = "budget"
+    status, nfev = "budget", 0
     if th0.size:
         try:
             res = least_squares(fun, th0, jac=jac, bounds=(lo, hi), method="trf",
                                 x_scale="jac", xtol=1e-6, ftol=ftol, gtol=1e-8,
-                                max_nfev=max(budget // max(th0.size + 1, 1), 3))
-            status = f"{res.status}"
+                                max_nfev=max_nfev)
+            status, nfev = f"{res.status}", res.nfev
         except _Budget:
             pass
     if _TRACE:
@@ -732,11 +731,20 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
     # converged: stopped by a tolerance (least_squares' status 1-4), or
     # nothing to search; not by max_nfev (0) or the budget (_Budget)
     converged = not th0.size or status in ("1", "2", "3", "4")
+    reach = (obj.calls, nfev) if converged else None
     with _FITS_LOCK:
-        _FITS[key] = (int(budget), converged, copy.deepcopy(fr))
-        if len(_FITS) > FITS_KEPT:
+        _FITS[(key, int(budget))] = (int(budget), reach, copy.deepcopy(fr))
+        _FITS.move_to_end((key, int(budget)))
+        while len(_FITS) > FITS_KEPT:
             _FITS.popitem(last=False)
     return fr
+
+
+def _max_nfev(budget: int, p: int) -> int:
+    """least_squares' max_nfev for a budget of simulations and p
+    parameters: each iteration costs a Jacobian (p simulations) and at
+    least one residual."""
+    return max(budget // max(p + 1, 1), 3)
 
 
 # Whole fits repeated: a search makes some fits twice, from the same start
@@ -746,8 +754,12 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
 # package's settings alone, so a repeat gets a copy of the first (a few kB
 # each, before evaluate adds the whole-record output). Keyed by a digest
 # of the problem's values, of the arguments but the budget, and of the
-# settings (_fit_key); an entry is (budget, converged, fit). A lock, as a
-# thread's hit could otherwise meet another's eviction.
+# settings (_fit_key), and by the budget: an entry is (budget, reach, fit),
+# reach the simulations and least_squares' evaluations a converged run
+# made (None where the budget stopped it), which says which other budgets
+# it answers (_answers). Entries of several budgets under one key are kept
+# side by side, so a fit made with one budget does not drop another's. A
+# lock, as a thread's hit could otherwise meet another's eviction.
 _FITS: OrderedDict = OrderedDict()
 _FITS_LOCK = threading.Lock()
 FITS_KEPT = 64
@@ -764,16 +776,30 @@ def _fit_key(pb: Problem, effects, th0, dead: int, ftol: float) -> bytes:
                      digest.settings(__package__))
 
 
-def _answers(entry, budget: int) -> bool:
-    """Whether a cached (budget, converged, fit) is what lm_fit with
-    `budget` returns: the same budget; or a larger one than a fit that
-    converged had. The budget only stops the search (least_squares'
-    max_nfev, _Objective's count): with more, the same path is followed to
-    the same tolerance stop, every call within the first budget already
-    (a confirmation refines the better model so far with twice the
-    iterations its reference did: selection.confirm)."""
-    b, converged, _ = entry
-    return budget == b or (converged and budget > b)
+def _answers(key: bytes, budget: int, max_nfev: int):
+    """The key in _FITS of the fit that lm_fit with `budget` (and
+    least_squares' max_nfev) returns, or None; under _FITS_LOCK. That is
+    the fit made with the same budget; or one that converged, with any
+    budget, whose run fits in this one: its simulations (_Objective's
+    count) within `budget` and least_squares' evaluations within
+    `max_nfev`. The budget only stops the search. In scipy's trf (read in
+    scipy 1.17.1's _lsq/trf.py, trf_bounds), max_nfev is tested only at
+    the loop's top, after the tolerance tests, and in the inner loop's
+    `nfev < max_nfev`; x_scale='jac' and the 'exact' solver read J alone.
+    So a run that stopped at a tolerance after N evaluations made each of
+    them with fewer than N before it: any max_nfev >= N lets the same
+    evaluations through to the same stop, and any budget >= its
+    simulations never stops it (_Objective raises only past the budget).
+    A larger budget than a converged fit's is always such a one (a
+    confirmation refines the better model so far with twice the
+    iterations its reference did: selection.confirm); a smaller one is
+    where the run needed less than it allowed."""
+    if (key, budget) in _FITS:
+        return (key, budget)
+    for k, (_, reach, _) in reversed(_FITS.items()):
+        if k[0] == key and reach is not None and reach[0] <= budget and reach[1] <= max_nfev:
+            return k
+    return None
 
 
 def finish(pb: Problem, effects, sp, th, dead: int, cost: float, label: str = "",

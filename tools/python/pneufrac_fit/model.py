@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import lib, placement_share
+from . import data, lib, placement_share, timebase
 
 CE, CY = 0.9, 0.1          # lever ratios of the fixed mapping (a = 1, b = 9)
 
@@ -186,10 +186,31 @@ def library_effects(effects, ev: dict, fs_int: float, kind: int = SAT_CLIP) -> d
 # smallest whole factor that reaches it), so that a slow record is not
 # simulated coarser than the 1 kHz x 2 the method was validated at.
 F_SIM_MIN = 2000.0
+# How far the rate a record reads can be off its clock's: timebase takes
+# the period as the least-squares slope of the stamps over a gap-free
+# stretch, each stamp within JITTER_TOL periods of its grid point. Over N
+# stamps that slope is off by at most JITTER_TOL * sum|k - mean| /
+# sum (k - mean)^2 = 3 JITTER_TOL / N periods (relative), and N is at least
+# data.MIN_SAMPLES: 3 x 0.25 / 200 = 0.375 %. A rate that reads within
+# that of one whose whole factor reaches F_SIM_MIN may be that rate (a
+# 1 kHz clock a hair slow, or jittered stamps, reads 999.9999 Hz), and is
+# simulated at that factor: not at the next one up, which costs a whole
+# step a sample more (3 instead of 2 at 1 kHz: 1.5x) for a rate the record
+# cannot tell apart. Where the rate is really that much slower, the
+# simulation runs at most 0.375 % under F_SIM_MIN.
+FS_RTOL = 3 * timebase.JITTER_TOL / data.MIN_SAMPLES
 
 
 def auto_oversample(fs: float) -> int:
-    return max(1, int(math.ceil(F_SIM_MIN / fs - 1e-9)))
+    """The smallest whole factor that takes fs to F_SIM_MIN; the whole
+    factor just under it where the excess is within the precision of a
+    rate read off time stamps (FS_RTOL). Only the excess over a whole
+    factor is forgiven, so a round rate keeps its factor however slow (1 Hz:
+    2000), and a rate above 7.5 Hz (a factor under 1 / FS_RTOL) has at most
+    one whole factor within the tolerance."""
+    x = F_SIM_MIN / fs
+    n = math.floor(x)
+    return max(1, n if n >= 1 and x - n <= x * FS_RTOL else math.ceil(x))
 
 
 @dataclass

@@ -606,12 +606,7 @@ def _test_again(pb, current, t, fr, seed, better=None):
     t2 = try_effect(pb, current, t.effect, _seed_of(seed, t.effect), fitted=fr, better=better)
     if not t2.model.cost < t.model.cost * (1 - 1e-6):
         return None
-    # t's reference, and those it had before, are still models without the
-    # effect fitted on the test's samples: a retest adds its own reference
-    # to them and drops none (as _referred_again), so that the models the
-    # winner must beat (models_without) can only grow
-    kept = t.ref is not None and t.ref is not t2.ref and t.ref is not current
-    t2.also_without = [*_earlier_refs(t), *([t.ref] if kept else [])]
+    _carry_refs(t2, t, t.ref, current)
     return t2
 
 
@@ -694,12 +689,29 @@ def _earlier_refs(t) -> tuple:
     return tuple(getattr(t, "also_without", ()))
 
 
+def _carry_refs(keep, t, dropped, current=None) -> None:
+    """keep's earlier references (also_without): t's, and `dropped`, the
+    reference of the test that keep replaced or was kept over
+    (_test_again, _referred_again). They are still models without the
+    effect fitted on the test's samples: a retest adds to them and drops
+    none, so that the models the winner must beat (models_without) can
+    only grow. Not none, nor keep's own reference again, nor `current`
+    where given: _test_again runs in forked workers too (refit_rivals),
+    where a test's reference can be the worker's unpickled copy of the
+    model so far, which models_without, telling the model so far by
+    identity, would list as a second one; _referred_again runs in the
+    parent, where models_without drops the model so far itself."""
+    again = dropped is None or dropped is keep.ref or dropped is current
+    keep.also_without = [*_earlier_refs(t), *(() if again else (dropped,))]
+
+
 def _cost_on(t, m) -> float:
     """m's cost (a fit without t's effect) on t's problem: its freedoms,
     samples and weighting, m's delay, K and pc0 re-solved, and m's
-    saturation where m's fit placed it (candidates.for_model, as _bic:
-    the values' own sat_kind already names the placement to the
-    simulation; the problem set up for it keeps the two in agreement)."""
+    saturation where m's fit placed it: m's values carry their own
+    sat_kind, which decides the placement simulated; candidates.for_model
+    (as _bic) only makes the problem agree with them, a price it does not
+    change."""
     pb = candidates.for_model(t.pb, m)
     return fit.start_cost(pb, m.effects, {**m.groups, **m.values}, m.dead)
 
@@ -742,7 +754,7 @@ def _referred_again(pb, current, tests, i, better, seed, say):
         say(f"  warning: {t.effect}'s reference is still short of the better "
             f"{current.effect} fit")
     keep, drop = (t2, t) if raised or not t2.passes else (t, t2)
-    keep.also_without = [*_earlier_refs(t), drop.ref]
+    _carry_refs(keep, t, drop.ref)
     keep.better = better
     tests = list(tests)
     tests[i] = keep
