@@ -65,7 +65,8 @@ from pneufrac_fit import fit, model  # noqa: E402
 from pneufrac_fit.diagnose import diagnose as diagnose_api  # noqa: E402
 from seedlist import seed_list  # noqa: E402
 
-Z95 = 1.96
+
+Z95 = 1.96                         # fit.uncertainty builds its intervals as +- 1.96 se
 FS = 1000.0                        # the generator's default rate
 NOISE = 0.005                      # sd over the output span, as the limits table
 NOISE_KINDS = ["white", "ar1", "pink"]
@@ -203,7 +204,7 @@ def gen_one(effect, kind, seed, a, keep, procs) -> dict:
         truth = {"sat_lo": lo + SAT_INSET * (hi - lo), "sat_hi": hi - SAT_INSET * (hi - lo)}
         arg = f"saturation:lo={truth['sat_lo']:.9g},hi={truth['sat_hi']:.9g}"
     else:
-        k, v = arg.split(":")[1].split("=")
+        _, v = arg.split(":")[1].split("=")
         truth = {PARAMS[effect][0] if PARAMS[effect] else effect: float(v)}
     rc, _, err = procs.run(base + ["--effect", arg, "-o", f"{stem}.csv"], a.timeout)
     if rc != 0:
