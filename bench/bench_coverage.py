@@ -230,6 +230,7 @@ def indep_one(name, seed, a, keep, procs) -> dict:
     truth = json.loads(stem.with_suffix(".truth.json").read_text())
     (eff,) = truth["effects"]
     row["effect"] = eff["cause"]
+    row["noise"] = str((truth.get("noise") or {}).get("model", "-"))
     js, row["status"] = diagnose(a.tool, f"{stem}.csv", truth["config"], a.timeout, procs)
     if js is not None:
         row["named"] = named_of(js)
