@@ -82,9 +82,11 @@ static void failed_now(write_err *we)
     }
 }
 
-/* Writes v then @p after. */
+/* Writes v then @p after. errno is cleared first, so that a failing call
+ * that sets none is told from one that does (failed_now's EIO). */
 static void put(FILE *f, double v, const char *after, write_err *we)
 {
+    errno = 0;
     if (pfh_fput_double(f, v) == EOF || fputs(after, f) == EOF)
         failed_now(we);
 }

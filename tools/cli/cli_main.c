@@ -97,6 +97,7 @@ int main(int argc, char **argv)
      * ferror); a write that failed earlier, with the flush then finding
      * nothing to write, left no reason here: EIO, not a stale errno. A
      * failing flush that sets no errno also reads EIO. */
+    errno = 0;
     flush_err = fflush(stdout) != 0 ? (errno != 0 ? errno : EIO) : 0;
     if (flush_err != 0 || ferror(stdout)) {
         if (rc == CLI_EXIT_OK) {

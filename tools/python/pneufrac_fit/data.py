@@ -19,7 +19,8 @@ MIN_SAMPLES = 200
 # The longest simulation a record may need. A fit's cost is the number of
 # simulation steps: the record's duration x the simulation rate, which is
 # the smallest whole multiple of the record's rate at or above
-# model.F_SIM_MIN (2 kHz) (model.auto_oversample), or the --oversample
+# model.F_SIM_MIN (2 kHz), within the precision of a rate read off time
+# stamps (model.auto_oversample, FS_RTOL), or the --oversample
 # asked for (check_cost). The bound is a fixed multiple of the record of
 # issue 8's time target (100 000 samples at 1 kHz, simulated at 2 kHz:
 # under 30 s per diagnosis). The time per step is not the same for every

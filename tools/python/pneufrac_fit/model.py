@@ -205,9 +205,11 @@ def auto_oversample(fs: float) -> int:
     """The smallest whole factor that takes fs to F_SIM_MIN; the whole
     factor just under it where the excess is within the precision of a
     rate read off time stamps (FS_RTOL). Only the excess over a whole
-    factor is forgiven, so a round rate keeps its factor however slow (1 Hz:
-    2000), and a rate above 7.5 Hz (a factor under 1 / FS_RTOL) has at most
-    one whole factor within the tolerance."""
+    factor is forgiven, so a rate that F_SIM_MIN divides keeps its factor
+    however slow (1 Hz: 2000), and a rate above 7.5 Hz (a factor under
+    1 / FS_RTOL) has at most one whole factor within the tolerance. Below
+    7.5 Hz every rate between two whole factors takes the lower one (7 Hz:
+    285, not 286): the record cannot tell the two apart."""
     x = F_SIM_MIN / fs
     n = math.floor(x)
     return max(1, n if n >= 1 and x - n <= x * FS_RTOL else math.ceil(x))
