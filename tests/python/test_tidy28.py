@@ -120,6 +120,10 @@ def test_a_retest_carries_earlier_references_but_not_the_model_so_far():
     assert keep.also_without == [earlier, current]
     selection._carry_refs(keep, NS(ref=old), old, current)    # a stand-in without the field
     assert keep.also_without == [old]
+    # an earlier reference that is the model so far (a worker's copy that
+    # an earlier retest carried) is left out too (the review of tidy28)
+    selection._carry_refs(keep, NS(ref=old, also_without=[earlier, current]), old, current)
+    assert keep.also_without == [earlier, old]
 
 
 # ------------------------------------------------------- cli._wants_json

@@ -695,14 +695,15 @@ def _carry_refs(keep, t, dropped, current=None) -> None:
     (_test_again, _referred_again). They are still models without the
     effect fitted on the test's samples: a retest adds to them and drops
     none, so that the models the winner must beat (models_without) can
-    only grow. Not none, nor keep's own reference again, nor `current`
-    where given: _test_again runs in forked workers too (refit_rivals),
+    only grow. Not none, nor keep's own reference again, nor (any of
+    them) `current` where given: _test_again runs in forked workers too (refit_rivals),
     where a test's reference can be the worker's unpickled copy of the
     model so far, which models_without, telling the model so far by
     identity, would list as a second one; _referred_again runs in the
     parent, where models_without drops the model so far itself."""
-    again = dropped is None or dropped is keep.ref or dropped is current
-    keep.also_without = [*_earlier_refs(t), *(() if again else (dropped,))]
+    again = dropped is None or dropped is keep.ref
+    refs = [*_earlier_refs(t), *(() if again else (dropped,))]
+    keep.also_without = [r for r in refs if current is None or r is not current]
 
 
 def _cost_on(t, m) -> float:
