@@ -178,22 +178,3 @@ def test_a_model_without_the_effect_is_priced_at_its_own_placement():
     clip = {**vals, "sat_kind": model.SAT_CLIP}
     assert fit.start_cost(at_clip, sat, clip, 0) != own
 
-
-def test_every_setting_of_the_package_is_digested():
-    """digest.settings reads public upper-case names bound to plain values;
-    one bound to anything else (an array changed in place, a lambda in a
-    table) would be left out or fail to pickle. Every such name of the
-    package is plain, or a module, class or function (not settings)."""
-    import inspect
-    import pickle
-    import sys
-    from pneufrac_fit import digest
-    digest.settings("pneufrac_fit")
-    for name in digest._modules_of("pneufrac_fit"):
-        for k, v in vars(sys.modules[name]).items():
-            if not (k.isupper() and k[0] != "_"):
-                continue
-            if inspect.ismodule(v) or inspect.isclass(v) or callable(v):
-                continue
-            assert isinstance(v, digest._PLAIN), f"{name}.{k}: {type(v).__name__}"
-            pickle.dumps(v)

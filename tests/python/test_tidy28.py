@@ -74,9 +74,9 @@ def test_an_array_setting_changed_in_place_changes_the_digest(monkeypatch):
 
 
 def test_every_module_of_the_package_has_only_digested_settings():
-    """As test_revfix27's check of the loaded modules, over every module of
-    the package (imported here first: a module a test does not load, as
-    plots or fleet, was not looked at): each public upper-case value is a
+    """Over every module of the package (imported here first: a module a
+    test does not load, as plots or fleet, was not looked at; this replaces
+    revfix27's check of the loaded modules only): each public upper-case value is a
     kind digest.settings digests, and pickles, or a module, class or
     function. A new kind fails here, not silently out of the digest."""
     import importlib

@@ -538,29 +538,32 @@ static void nap_ends_at_pollhup(void **state)
     assert_int_equal(m.naps, 0);
 }
 
-/* ... and its last nap is cut to the gap's end. */
-static void nap_runs_to_the_gap(void **state)
+/* Part of a frame waits and nothing more comes: the naps end after @p ms,
+ * the connection with @p reason. */
+static void naps_end_after(int64_t ms, const char *reason)
 {
     const char *why = "";
     const int64_t start = m.now;
+    assert_int_equal(part_of_a_frame(readable, &why), PFD_CONN_TIMEOUT);
+    assert_string_equal(why, reason);
+    assert_int_equal(m.now - start, ms * 1000000LL);
+}
+
+/* ... and its last nap is cut to the gap's end. */
+static void nap_runs_to_the_gap(void **state)
+{
     (void)state;
     D.set.byte_timeout_ms = 1005;
-    assert_int_equal(part_of_a_frame(readable, &why), PFD_CONN_TIMEOUT);
-    assert_string_equal(why, "byte-timeout");
+    naps_end_after(1005, "byte-timeout");
     assert_int_equal(m.naps, 101); /* 100 of 10 ms, one of 5 */
-    assert_int_equal(m.now - start, 1005 * 1000000LL);
 }
 
 /* ... and to the deadline's end, when that comes first. */
 static void nap_runs_to_the_deadline(void **state)
 {
-    const char *why = "";
-    const int64_t start = m.now;
     (void)state;
     D.set.first_request_ms = 505;
-    assert_int_equal(part_of_a_frame(readable, &why), PFD_CONN_TIMEOUT);
-    assert_string_equal(why, "first-request-timeout");
-    assert_int_equal(m.now - start, 505 * 1000000LL);
+    naps_end_after(505, "first-request-timeout");
 }
 
 /* ---- client_main(): busy while holding the next frame whole ------------ */
