@@ -365,16 +365,15 @@ def _fail(message: str, status: int, as_json: bool) -> int:
     return status
 
 
-def _wants_json(argv, parser=None) -> bool:
+def _wants_json(argv, parser: argparse.ArgumentParser) -> bool:
     """Whether a command line that argparse refused asked for JSON: its
     command takes --json and --json or an abbreviation argparse accepts
     (one no other option of the command starts with) is among its
     options, before a "--" that ends them. The commands and options are
-    read off `parser`, the one that refused it (main's; made here when
-    not given). A parsed command line says it itself (a.json)."""
+    read off `parser`, the one that refused it (main's). A parsed command
+    line says it itself (a.json)."""
     args = list(sys.argv[1:] if argv is None else argv)
     args = args[:args.index("--")] if "--" in args else args
-    parser = _parser() if parser is None else parser
     sub = next((x for x in parser._actions
                 if isinstance(x, argparse._SubParsersAction)), None)
     cmd = sub.choices.get(args[0]) if sub is not None and args else None
