@@ -189,7 +189,8 @@ def test_a_refused_command_line_gives_json_for_json_abbreviations_only(capsys, o
 def test_wants_json_reads_the_parser():
     """Commands without --json never want it; an abbreviation is one the
     command's options leave unambiguous."""
-    assert not cli._wants_json(["generate", "--config", "p", "--js"])
-    assert not cli._wants_json(["fleet", ".", "--json"])
-    assert cli._wants_json(["diagnose", "--jso"])
-    assert not cli._wants_json(["diagnose", "--", "--json"])
+    p = cli._parser()
+    assert not cli._wants_json(["generate", "--config", "p", "--js"], p)
+    assert not cli._wants_json(["fleet", ".", "--json"], p)
+    assert cli._wants_json(["diagnose", "--jso"], p)
+    assert not cli._wants_json(["diagnose", "--", "--json"], p)

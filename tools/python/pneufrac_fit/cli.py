@@ -105,7 +105,9 @@ def _parser():
                    help=f"worker processes, 1..{MAX_JOBS} (default 2)")
     d.add_argument("--oversample", type=int, default=None,
                    help="simulate at this multiple of the data rate (default: the "
-                        "smallest that reaches 2 kHz)")
+                        f"smallest that reaches {model.F_SIM_MIN / 1e3:g} kHz, within the "
+                        f"precision of a rate read off time stamps, {100 * model.FS_RTOL:g} %%: "
+                        "999.9999 Hz is taken as 1 kHz, 2)")
     d.add_argument("--order", type=int, default=8, help="Oustaloup order N (default 8)")
     d.add_argument("--seed", type=seed_arg, default=0,
                    help="seed of the fresh starts (a non-negative integer)")
@@ -365,16 +367,15 @@ def _fail(message: str, status: int, as_json: bool) -> int:
     return status
 
 
-def _wants_json(argv, parser=None) -> bool:
+def _wants_json(argv, parser: argparse.ArgumentParser) -> bool:
     """Whether a command line that argparse refused asked for JSON: its
     command takes --json and --json or an abbreviation argparse accepts
     (one no other option of the command starts with) is among its
     options, before a "--" that ends them. The commands and options are
-    read off `parser`, the one that refused it (main's; made here when
-    not given). A parsed command line says it itself (a.json)."""
+    read off `parser`, the one that refused it (main's). A parsed command
+    line says it itself (a.json)."""
     args = list(sys.argv[1:] if argv is None else argv)
     args = args[:args.index("--")] if "--" in args else args
-    parser = _parser() if parser is None else parser
     sub = next((x for x in parser._actions
                 if isinstance(x, argparse._SubParsersAction)), None)
     cmd = sub.choices.get(args[0]) if sub is not None and args else None

@@ -796,6 +796,10 @@ def _answers(key: bytes, budget: int, max_nfev: int):
     where the run needed less than it allowed."""
     if (key, budget) in _FITS:
         return (key, budget)
+    # A scan of every entry, not an index by key: _FITS holds at most
+    # FITS_KEPT (64) entries, so a miss compares 64 digests (bytes), nothing
+    # against the fit (thousands of simulations) the answer saves or the
+    # miss then runs.
     for k, (_, reach, _) in reversed(_FITS.items()):
         if k[0] == key and reach is not None and reach[0] <= budget and reach[1] <= max_nfev:
             return k

@@ -182,37 +182,47 @@ def library_effects(effects, ev: dict, fs_int: float, kind: int = SAT_CLIP) -> d
     return fx
 
 
-# Internal simulation rate: at least F_SIM_MIN (the data rate times the
-# smallest whole factor that reaches it), so that a slow record is not
-# simulated coarser than the 1 kHz x 2 the method was validated at.
+# Internal simulation rate: at least F_SIM_MIN less FS_RTOL (the data rate
+# times the smallest whole factor that reaches it, within the precision of
+# the rate: rate_multiple), so that a slow record is not simulated coarser
+# than the 1 kHz x 2 the method was validated at.
 F_SIM_MIN = 2000.0
 # How far the rate a record reads can be off its clock's: timebase takes
 # the period as the least-squares slope of the stamps over a gap-free
 # stretch, each stamp within JITTER_TOL periods of its grid point. Over N
 # stamps that slope is off by at most JITTER_TOL * sum|k - mean| /
 # sum (k - mean)^2 = 3 JITTER_TOL / N periods (relative), and N is at least
-# data.MIN_SAMPLES: 3 x 0.25 / 200 = 0.375 %. A rate that reads within
-# that of one whose whole factor reaches F_SIM_MIN may be that rate (a
-# 1 kHz clock a hair slow, or jittered stamps, reads 999.9999 Hz), and is
-# simulated at that factor: not at the next one up, which costs a whole
-# step a sample more (3 instead of 2 at 1 kHz: 1.5x) for a rate the record
-# cannot tell apart. Where the rate is really that much slower, the
-# simulation runs at most 0.375 % under F_SIM_MIN.
+# data.MIN_SAMPLES: 3 x 0.25 / 200 = 0.375 %.
 FS_RTOL = 3 * timebase.JITTER_TOL / data.MIN_SAMPLES
 
 
+def rate_multiple(r: float) -> float:
+    """r, a ratio of a rate read off a record's time stamps to a fixed rate
+    (or its inverse), as the whole number it is within the rate's
+    precision (FS_RTOL of r; the nearest one where several are), else r
+    itself. Wherever a rate is cut to a whole factor (the simulation's
+    multiple: auto_oversample; the exploration copy's decimation:
+    search.explorer) the cut goes through here, so that a record whose
+    clock is a hair slow or whose stamps jitter (a 1 kHz record reads
+    999.9999 Hz, a 10 kHz one 9999.999 Hz) is cut as the same record
+    stamped exactly: the record cannot tell the two rates apart, and the
+    next factor over costs a step a sample more (3 instead of 2 at 1 kHz)
+    or makes another copy (a 10 kHz record averaged by 9, a 1111 Hz copy,
+    instead of by 10)."""
+    n = math.floor(r + 0.5)
+    return n if n >= 1 and abs(r - n) <= r * FS_RTOL else r
+
+
 def auto_oversample(fs: float) -> int:
-    """The smallest whole factor that takes fs to F_SIM_MIN; the whole
-    factor just under it where the excess is within the precision of a
-    rate read off time stamps (FS_RTOL). Only the excess over a whole
-    factor is forgiven, so a rate that F_SIM_MIN divides keeps its factor
-    however slow (1 Hz: 2000), and a rate above 7.5 Hz (a factor under
-    1 / FS_RTOL) has at most one whole factor within the tolerance. Below
-    7.5 Hz every rate between two whole factors takes the lower one (7 Hz:
-    285, not 286): the record cannot tell the two apart."""
-    x = F_SIM_MIN / fs
-    n = math.floor(x)
-    return max(1, n if n >= 1 and x - n <= x * FS_RTOL else math.ceil(x))
+    """The smallest whole factor that takes fs to F_SIM_MIN, within the
+    rate's precision (rate_multiple): a rate that reads within FS_RTOL of
+    one a whole factor takes to F_SIM_MIN gets that factor (999.9999 Hz: 2,
+    as 1 kHz), and a rate really that much slower is simulated at most
+    0.375 % under F_SIM_MIN. A rate whose 2000 / fs is whole keeps that
+    factor (1 Hz: 2000). Below 15 Hz (a factor over 0.5 / FS_RTOL) every
+    rate is within the tolerance of a whole factor and takes the nearest
+    (7 Hz: 286, 2002 Hz; 7.01 Hz: 285, 1998 Hz)."""
+    return max(1, math.ceil(rate_multiple(F_SIM_MIN / fs)))
 
 
 @dataclass

@@ -5,22 +5,20 @@ the best one refined on the whole fit part.
 Every simulation costs in proportion to the record's length, but the shape
 of an optimum is fixed long before the end of a long record. Starts are
 ranked and explored on the exploration copy: the fit part block-averaged
-down to about F_EXPLORE (a 10 kHz record to 1 kHz; the groups are
-continuous-time, so they carry over) and cut to its first N_EXPLORE
-samples at every rate. Only the best is refined on the whole fit part,
-from the copy's optimum, a few iterations. Dead time, in samples of the
-simulation rate, is converted between the two.
+down to about F_EXPLORE (a 10 kHz record by 10 to 1 kHz, the factor read
+off the rate as every whole factor of it is: model.rate_multiple; the
+groups are continuous-time, so they carry over) and cut to its first
+N_EXPLORE samples at every rate. Only the best is refined on the whole fit
+part, from the copy's optimum, a few iterations. Dead time, in samples of
+the simulation rate, is converted between the two.
 
-The copy is counted in samples, not in time or simulation steps: a slow
-record (simulated at many steps a sample) was briefly explored on the
-6 s a 1 kHz copy spans (branches speed10, fixs10), and its starts were
-then ranked on a tenth of the input's changes a 1 kHz copy sees; a pid
-record at 100 Hz with a 0.1 s lag lost its right verdict that way (the
-baseline's search ended in a worse optimum: branch speed11,
-docs/analysis-bench.md). What a start's rank rests on is the input's
-changes the copy holds, and a record's changes are spaced in its
-samples as often as in seconds; the cost of a slow record is bounded by
-data.MAX_SIM_STEPS instead."""
+The copy is counted in samples, not in time or simulation steps: what a
+start's rank rests on is the input's changes the copy holds, and a
+record's changes are spaced in its samples as often as in seconds, so a
+copy of a fixed duration would hold a tenth of them on a 100 Hz record
+and rank its starts on that. The cost of a slow record (simulated at many
+steps a sample) is bounded by data.MAX_SIM_STEPS instead. The measurements
+behind both are in docs/analysis-bench.md (branches speed10, speed11)."""
 from __future__ import annotations
 
 import copy
@@ -35,6 +33,15 @@ F_EXPLORE = 1000.0         # Hz: records faster than this are block-averaged for
 STAGE_ITER = 10            # Jacobians per start and stage of the exploration
 EXPLORE_ITER = 30          # Jacobians of a single exploring fit
 REFINE_ITER = 10           # Jacobians per refining fit
+# A fit is better than another of the same problem only when its cost is
+# lower by more than this fraction. It is below the relative cost change
+# per step at which fit.lm_fit stops (ftol 1e-5), so two runs that stop at
+# the one optimum can differ by it; and it is no evidence of anything: in
+# the log-likelihood it is m ln(1 + 1e-6) = 0.1 on a 100 000-sample fit
+# part (4 on the longest a fit takes, data.MAX_SIM_STEPS at one step a
+# sample), where a guard's likelihood-ratio and BIC tests ask for more.
+# Ties so broken keep the fit already found, not the one that ran longer.
+COST_RTOL = 1e-6
 
 
 def best(fits):
@@ -48,7 +55,7 @@ def _budget(pb, effects, iters: int) -> int:
 def explorer(pb):
     """The exploration copy of pb, or None when pb is small enough."""
     from .data import MIN_SAMPLES
-    D = max(1, int(pb.setup.fs // F_EXPLORE))
+    D = max(1, math.floor(model.rate_multiple(pb.setup.fs / F_EXPLORE)))
     # The copy keeps at least the samples a record needs to be fit at all:
     # a short record at a high rate (250 samples at 200 kHz) was averaged
     # down to one sample, and the fit ended in a traceback.
