@@ -42,13 +42,14 @@ python_packages=(numpy scipy matplotlib pymodbus pytest mpmath cryptography cont
 # Python API's table type (to_frame).
 # dask[distributed] and pyarrow: `pneufrac-fit fleet` runs the diagnoses on
 # dask.distributed and writes its report as Parquet too.
-# scipy 1.17.x: pneufrac-fit's whole-fit cache answers a fit with one of
-# another budget (fit._answers) on an argument about least_squares' trf
-# read in scipy 1.17.1's source (where max_nfev is tested); another minor
-# version may move that test, so the cache is exact only on this one.
+# scipy: the range the package states (tools/python/pyproject.toml, with
+# why), installed with the rest so that python-control cannot pull another.
 # numpy is not pinned: nothing rests on its version (the cache's digests
 # live within one run).
-pip_specs=(numpy "scipy>=1.17,<1.18" matplotlib "pymodbus>=3.16,<4" pytest mpmath cryptography
+scipy_spec=$(sed -n 's/.*"\(scipy[<>=][^"]*\)".*/\1/p' tools/python/pyproject.toml)
+scipy_minor=${scipy_spec#scipy>=}
+scipy_minor=${scipy_minor%%,*}
+pip_specs=(numpy "$scipy_spec" matplotlib "pymodbus>=3.16,<4" pytest mpmath cryptography
            control pandas "dask[distributed]" pyarrow)
 
 # --- 1. Debian packages ------------------------------------------------------
@@ -87,7 +88,7 @@ if ! "$venv_python" -c 'import sys' >/dev/null 2>&1; then
   python3 -m venv .venv
 fi
 
-import_check="import $(IFS=,; echo "${python_packages[*]}"); v = tuple(int(x) for x in pymodbus.__version__.split('.')[:2]); assert (3, 16) <= v < (4, 0); assert tuple(int(x) for x in scipy.__version__.split('.')[:2]) == (1, 17)"
+import_check="import $(IFS=,; echo "${python_packages[*]}"); v = tuple(int(x) for x in pymodbus.__version__.split('.')[:2]); assert (3, 16) <= v < (4, 0); assert '.'.join(scipy.__version__.split('.')[:2]) == '$scipy_minor'"
 if "$venv_python" -c "$import_check" >/dev/null 2>&1; then
   log "Python packages: all present"
 else

@@ -32,9 +32,9 @@ def _first_samples(pb, q, D):
 
 
 def test_fast_records_copy_its_first_samples():
-    # 1 kHz (2 steps a sample), 1.5 kHz and 10 kHz (averaged by 10 to 1 kHz:
-    # its stamps read 9999.999999999998 Hz, which model.rate_multiple takes
-    # to 10, as any rate within the stamps' precision; before, by 9), and
+    # 1 kHz (2 steps a sample), 1.5 kHz and 10 kHz (averaged by 10 to 1 kHz;
+    # at this length its stamps read 10000.000000000002 Hz: a rate read a
+    # hair low is test_tidy29's case), and
     # 1 kHz stamps whose estimated rate falls a hair short of 1 kHz (a clock
     # 1 ppm slow; stamps with jitter)
     n = 12000

@@ -90,12 +90,3 @@ def test_a_placement_lower_by_a_tie_does_not_replace_the_best(monkeypatch):
                          {("b", "a"): tie, ("c", "a"): tie}, monkeypatch)
     assert out[0][2] == "a" and out[0][0].values["from"] is None
     assert {f[2]: f[0].values["from"] for f in out[1:]} == {"b": None, "c": "a"}
-
-
-# ------------------------------------------------------------ re-read items
-def test_wants_json_reads_the_parser_it_is_given():
-    """The parser that refused the command line is required: there is no
-    second one to make (before, made when not given)."""
-    import inspect
-    from pneufrac_fit import cli
-    assert inspect.signature(cli._wants_json).parameters["parser"].default is inspect._empty

@@ -165,8 +165,10 @@ def _from_best_placement(fits, effects, base):
     where it is lower by more than search.COST_RTOL; and again from each
     new best's, until the best stays, each pair once (as
     selection.refit_rivals): a best that another overtakes is refined from
-    the new one's optimum in turn, so that no placement the record is told
-    from (_kind_told) stopped short. Sorted by cost, the best first; a
+    the new one's optimum in turn. Pairs are counted by placement: a best
+    that comes back keeps the others refined from its earlier optimum, so a
+    placement the record is told from (_kind_told) can still have stopped
+    a little short of the best's final optimum. Sorted by cost, the best first; a
     placement replaces the best only when lower by COST_RTOL too: where no
     limit binds, every placement is the same model, and a refinement that
     only ran longer edges the best out by 1e-8 (review_blind5: the name then

@@ -105,9 +105,10 @@ def _parser():
                    help=f"worker processes, 1..{MAX_JOBS} (default 2)")
     d.add_argument("--oversample", type=int, default=None,
                    help="simulate at this multiple of the data rate (default: the "
-                        f"smallest that reaches {model.F_SIM_MIN / 1e3:g} kHz, within the "
+                        f"whole multiple that reaches {model.F_SIM_MIN / 1e3:g} kHz, within the "
                         f"precision of a rate read off time stamps, {100 * model.FS_RTOL:g} %%: "
-                        "999.9999 Hz is taken as 1 kHz, 2)")
+                        "999.9999 Hz is taken as 1 kHz, 2; below 15 Hz the nearest, "
+                        "which can be one over the smallest)")
     d.add_argument("--order", type=int, default=8, help="Oustaloup order N (default 8)")
     d.add_argument("--seed", type=seed_arg, default=0,
                    help="seed of the fresh starts (a non-negative integer)")

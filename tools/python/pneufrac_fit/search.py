@@ -33,11 +33,14 @@ F_EXPLORE = 1000.0         # Hz: records faster than this are block-averaged for
 STAGE_ITER = 10            # Jacobians per start and stage of the exploration
 EXPLORE_ITER = 30          # Jacobians of a single exploring fit
 REFINE_ITER = 10           # Jacobians per refining fit
-# A fit is better than another of the same problem only when its cost is
-# lower by more than this fraction. It is below the relative cost change
-# per step at which fit.lm_fit stops (ftol 1e-5), so two runs that stop at
-# the one optimum can differ by it; and it is no evidence of anything: in
-# the log-likelihood it is m ln(1 + 1e-6) = 0.1 on a 100 000-sample fit
+# Where a fit replaces one already found and is called better (selection's
+# tests and retests, saturation's placements), its cost must be lower by
+# more than this fraction; where a search only keeps the lower fit
+# (search.best) no such claim is made. It is below the relative cost change
+# per step at which fit.lm_fit stops (ftol 1e-5), so it absorbs only part
+# of what two runs that stop at the one optimum can differ by (a placement
+# that ran longer can still take the name, marked not told); and it is no
+# evidence of anything: in the deviance it is m ln(1 + 1e-6) = 0.1 on a 100 000-sample fit
 # part (4 on the longest a fit takes, data.MAX_SIM_STEPS at one step a
 # sample), where a guard's likelihood-ratio and BIC tests ask for more.
 # Ties so broken keep the fit already found, not the one that ran longer.
