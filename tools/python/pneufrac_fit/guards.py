@@ -163,7 +163,10 @@ def _interval(pb, fr, effect, contrib_range):
 # baseline.PREMISE (the other direction: a residual that the noise model
 # does not describe because it holds more): 4x in variance, twice in sd,
 # beyond what the AR fit's sampling error on a rest stretch of a few
-# hundred samples makes (about +-35 % for AR(1) noise of pole 0.9 on 650).
+# hundred samples makes (on true noise at rest, AR(1) to pole 0.99,
+# resonant AR(2) and 1/f, 200 or 650 samples: never in 100 draws each, the
+# smallest ratio 0.28; analysis-bench.md, branch twofx5). Where it fires,
+# the comparison is the one every record without a rest stretch gets.
 LONG_RUN_RATIO = 4.0
 
 
