@@ -147,6 +147,48 @@ def _interval(pb, fr, effect, contrib_range):
     return (lo, hi), bool(math.isfinite(s) and lo > 0)
 
 
+# A noise model measured at rest that claims more slow noise than the
+# record holds. The residual of any model is the noise plus what the model
+# misses, independent of the noise, so its spectrum is at least the
+# noise's at every frequency: a missing effect can only add power. The
+# long-run variance (the spectrum at zero frequency, sigma2 / A(1)^2) is
+# what weighs a slow difference between two models' outputs: a noise model
+# that puts it LONG_RUN_RATIO times above what the residual of the model
+# with the effect shows has measured something other than noise (an output
+# still settling from an earlier move in its opening stretch, which the
+# rest stretch's own AR model takes for slow noise), and whitening by it
+# would discount a real effect's slow contribution by that factor. Then
+# the comparison whitens with that residual's own noise model, as for a
+# record without a rest stretch. The ratio mirrors
+# baseline.PREMISE (the other direction: a residual that the noise model
+# does not describe because it holds more): 4x in variance, twice in sd,
+# beyond what the AR fit's sampling error on a rest stretch of a few
+# hundred samples makes (on true noise at rest, AR(1) to pole 0.99,
+# resonant AR(2) and 1/f, 200 or 650 samples: never in 100 draws each, the
+# smallest ratio 0.28; analysis-bench.md, branch twofx5). Where it fires,
+# the comparison is the one every record without a rest stretch gets.
+LONG_RUN_RATIO = 4.0
+
+
+def long_run_var(nm) -> float:
+    """The AR process's spectrum at zero frequency (x 2 pi): sigma2 / A(1)^2,
+    the variance rate of its sums over long stretches."""
+    s = float(np.sum(nm.a))
+    return nm.sigma2 / max(s * s, 1e-300)
+
+
+def noise_for(pb, r1):
+    """The noise model a comparison whitens both models with: the record's,
+    measured at rest (pb.nm), unless the residual r1 of the model with the
+    effect contradicts it (LONG_RUN_RATIO); else, and without a rest
+    stretch, r1's own AR model (under "no effect" both residuals agree;
+    under "effect" r1 is the noise)."""
+    own = noise.fit(pb.fit_pieces(r1))
+    if pb.nm is None or long_run_var(own) * LONG_RUN_RATIO < long_run_var(pb.nm):
+        return own
+    return pb.nm
+
+
 def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
     """Guards for `effect` in model fr against the same-freedom reference.
     so_far: the model chosen before this test (the effect is added to it):
@@ -159,10 +201,7 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
     t = Test(effect, fr, ref)
     r1 = fr.residual(pb)
     r0 = ref.residual(pb_ref)
-    # the record's noise model when it was measured at rest, else the
-    # extended model's residual's (under "no effect" both residuals agree;
-    # under "effect" that residual is the noise)
-    nm = pb.nm if pb.nm is not None else noise.fit(pb.fit_pieces(r1))
+    nm = noise_for(pb, r1)
     t.nm = nm
     w1, w0 = pb.fit_white(r1, nm), pb.fit_white(r0, nm)
     m = w1.size
@@ -417,7 +456,7 @@ def inadequate(pb, fr) -> tuple[bool, float]:
     from scipy.stats import norm
     from . import evidence
     r = fr.residual(pb)
-    nm = pb.nm if pb.nm is not None else noise.fit(pb.fit_pieces(r))
+    nm = noise_for(pb, r)
     k = pb.burn
     rw = nm.whiten(r[k:])
     de = np.diff(pb.e_abs, prepend=pb.e_abs[0])[r.size - rw.size:]
