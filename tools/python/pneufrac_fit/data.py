@@ -527,17 +527,22 @@ def _check_excitation(rec: Record) -> None:
 def split_for(rec: Record, mode: str = holdout.DEFAULT):
     """(split, note): the split of the record into fit parts and held-out
     blocks (holdout.layout) whose parts both see the input and the output
-    move. Where the split asked for does not (an input that rests through
-    the held-out part: a setpoint sequence whose moves all fall in the fit
-    part, a test that ends with a long rest), the other split is used if
-    its parts do, with a note saying so; DataError when neither does."""
+    move, and whose held-out part stays at levels its fit parts visited.
+    Where the split asked for has a part that rests (an input that rests
+    through the held-out part: a setpoint sequence whose moves all fall in
+    the fit part, a test that ends with a long rest), the other split is
+    used if its parts move, with a note saying so; DataError when neither
+    does. Where the split asked for holds out levels its fit parts never
+    reached (uncovered) and the other split's do not, the other split is
+    used, with a note; where both do, the split asked for stays and the
+    note says that its held-out error includes an extrapolation. Computed
+    from the record alone, before any fit."""
     split = holdout.layout(rec.n, mode)
+    other_mode = next(m for m in holdout.MODES if m != mode)
+    other = holdout.layout(rec.n, other_mode)
     try:
         check_parts(rec, split)
-        return split, None
     except DataError as exc:
-        other_mode = next(m for m in holdout.MODES if m != mode)
-        other = holdout.layout(rec.n, other_mode)
         if other == split:
             raise DataError(f"{exc}{_PARTS_HINT}") from None
         try:
@@ -548,6 +553,54 @@ def split_for(rec: Record, mode: str = holdout.DEFAULT):
         why = str(exc).split(": ", 1)[-1]
         return other, (f"{_SPLIT_WORDS[mode][0]} refused ({why}): validated on "
                        f"{_SPLIT_WORDS[other_mode][1]} instead")
+    why = uncovered(rec, split)
+    if why is None:
+        return split, None
+    if other != split and uncovered(rec, other) is None:
+        try:
+            check_parts(rec, other)
+        except DataError:
+            pass
+        else:
+            return other, (f"{_SPLIT_WORDS[mode][0]} refused ({why}: a prediction there "
+                           f"would be an extrapolation, and an effect acting only there "
+                           f"cannot be fitted): validated on {_SPLIT_WORDS[other_mode][1]} "
+                           f"instead, whose held-out samples stay within the levels of "
+                           f"its fit parts")
+    return split, (f"{_SPLIT_WORDS[mode][0]}: {why}, and no other split keeps its held-out "
+                   "samples within its fit parts' levels; the held-out error includes an "
+                   "extrapolation to those levels")
+
+
+# Coverage: a held-out test asks the model fitted on the fit parts to
+# predict samples like those it was fitted on. A held-out sample whose input
+# or output lies outside the range the fit parts visited, by more than
+# signals.REST_SIGMAS noise sd plus one ADC step (the margin within which
+# the record is taken to hold a level at all: noise alone leaves it with a
+# probability under 1e-6 per sample), is at a level the fit never saw: an
+# effect acting only there (a limit reached only in the tail, a nozzle's
+# curve beyond the fitted range) is invisible to every fit and decides the
+# held-out comparison alone. The split is refused for coverage when more
+# than MAX_OUTSIDE of its held-out samples are such samples, on either
+# signal: one held-out sample in twenty, the guards' smallest held-out gain
+# counted as evidence (guards.MIN_VAL_GAIN), so that the share extrapolated
+# is under the share of the held-out error the guards treat as material.
+# The fraction is of samples, not of error: it is a convention at the
+# guards' scale, computed from the data alone before any fit, so no verdict
+# can tune it.
+MAX_OUTSIDE = 0.05
+
+
+def uncovered(rec: Record, split) -> str | None:
+    """Why the split's held-out part is not covered by its fit parts'
+    levels (Coverage, above), or None when it is."""
+    for name, x, sig, q in (("input e", rec.e, rec.sig_e, rec.q_e),
+                            ("output pc", rec.pc, rec.sig_pc, rec.q_pc)):
+        share = holdout.outside_share(x, split, signals.REST_SIGMAS * sig + q)
+        if share > MAX_OUTSIDE:
+            return (f"{100 * share:.0f} % of its held-out samples have the {name} outside "
+                    f"the range its fit part visited")
+    return None
 
 
 # What to do when no split has moves in both parts: every split was tried

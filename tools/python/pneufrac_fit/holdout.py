@@ -159,6 +159,17 @@ class Split:
                 f"{len(self.held)} blocks ({blocks}); the whole record is simulated")
 
 
+def outside_share(x: np.ndarray, split: Split, tol: float) -> float:
+    """The share of the held-out samples of x that lie outside the range the
+    fit parts visited, widened by tol on each side (Coverage, above)."""
+    fit = np.concatenate([x[s] for s in split.fit_slices()] or [np.empty(0)])
+    held = np.concatenate([x[s] for s in split.held_slices()] or [np.empty(0)])
+    if fit.size == 0 or held.size == 0:
+        return 0.0
+    lo, hi = float(np.min(fit)) - tol, float(np.max(fit)) + tol
+    return float(np.mean((held < lo) | (held > hi)))
+
+
 def layout(n: int, mode: str = DEFAULT) -> Split:
     """The split of an n-sample record (see the module's text)."""
     if mode not in MODES:
