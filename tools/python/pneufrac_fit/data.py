@@ -527,18 +527,18 @@ def _check_excitation(rec: Record) -> None:
 def split_for(rec: Record, mode: str = holdout.DEFAULT):
     """(split, note): the split of the record into fit parts and held-out
     blocks (holdout.layout) whose parts both see the input and the output
-    move, and whose held-out part stays at levels its fit parts visited.
-    Where the split asked for has a part that rests (an input that rests
-    through the held-out part: a setpoint sequence whose moves all fall in
-    the fit part, a test that ends with a long rest), the other split is
-    used if its parts move, with a note saying so; DataError when neither
-    does. Where the split asked for holds out levels its fit parts never
-    reached (uncovered) and the other split's do not, the other split is
-    used, with a note; where both do, the split asked for stays and the
-    note says that its held-out error includes an extrapolation. Computed
-    from the record alone, before any fit."""
+    move. Where the split asked for has a part that rests (an input that
+    rests through the held-out part: a setpoint sequence whose moves all
+    fall in the fit part, a test that ends with a long rest), the other
+    split is used if its parts move, with a note saying so; DataError when
+    neither does. Where the split's held-out part goes to levels its fit
+    parts never reached (uncovered), the note says so; with mode "cover"
+    the blocks are then taken if their held-out samples stay within their
+    fit parts' levels. Computed from the record alone, before any fit."""
+    switch = mode == "cover"
+    mode = "tail" if switch else mode
     split = holdout.layout(rec.n, mode)
-    other_mode = next(m for m in holdout.MODES if m != mode)
+    other_mode = next(m for m in holdout.LAYOUTS if m != mode)
     other = holdout.layout(rec.n, other_mode)
     try:
         check_parts(rec, split)
@@ -556,20 +556,29 @@ def split_for(rec: Record, mode: str = holdout.DEFAULT):
     why = uncovered(rec, split)
     if why is None:
         return split, None
-    if other != split and uncovered(rec, other) is None:
-        try:
-            check_parts(rec, other)
-        except DataError:
-            pass
-        else:
-            return other, (f"{_SPLIT_WORDS[mode][0]} refused ({why}: a prediction there "
-                           f"would be an extrapolation, and an effect acting only there "
-                           f"cannot be fitted): validated on {_SPLIT_WORDS[other_mode][1]} "
-                           f"instead, whose held-out samples stay within the levels of "
-                           f"its fit parts")
-    return split, (f"{_SPLIT_WORDS[mode][0]}: {why}, and no other split keeps its held-out "
-                   "samples within its fit parts' levels; the held-out error includes an "
-                   "extrapolation to those levels")
+    if not (other != split and uncovered(rec, other) is None and _moves(rec, other)):
+        return split, (f"{_SPLIT_WORDS[mode][0]}: {why}, and no other split keeps its "
+                       "held-out samples within its fit parts' levels; the held-out error "
+                       "includes an extrapolation to those levels")
+    if switch:
+        return other, (f"{_SPLIT_WORDS[mode][0]} refused ({why}: a prediction there "
+                       f"would be an extrapolation, and an effect acting only there "
+                       f"cannot be fitted): validated on {_SPLIT_WORDS[other_mode][1]} "
+                       f"instead, whose held-out samples stay within the levels of "
+                       f"its fit parts")
+    return split, (f"{_SPLIT_WORDS[mode][0]}: {why}; the held-out error includes an "
+                   "extrapolation to those levels, where an effect acting only there cannot "
+                   f"be fitted; {_SPLIT_WORDS[other_mode][0]} keep theirs within their fit "
+                   "parts' levels (--holdout cover takes them in that case)")
+
+
+def _moves(rec: Record, split) -> bool:
+    """Whether both parts of the split see the input and the output move."""
+    try:
+        check_parts(rec, split)
+    except DataError:
+        return False
+    return True
 
 
 # Coverage: a held-out test asks the model fitted on the fit parts to
@@ -608,7 +617,7 @@ def uncovered(rec: Record, split) -> str | None:
 _PARTS_HINT = ("; the fit learns from one part and is judged on the other, so give a "
                "record whose input moves, and output responds, all along it")
 
-# How the report names each split (holdout.MODES), and where it validates.
+# How the report names each split (holdout.LAYOUTS), and where it validates.
 _SPLIT_WORDS = {"tail": ("the held-out tail", "the last 30 % of the record"),
                 "blocks": ("held-out blocks", "the last 30 % of each third of the record")}
 
