@@ -46,7 +46,7 @@ def test_tail_at_levels_the_fit_part_never_reached_takes_the_blocks_with_cover()
     split, why = data.split_for(rec, holdout.DEFAULT)
     assert split == holdout.layout(N, "tail")
     assert "input e outside the range" in why and "extrapolation" in why
-    assert "--holdout cover" in why
+    assert "--holdout cover" in why and "each third" in why
 
 
 def test_output_beyond_the_fit_range_counts_too():

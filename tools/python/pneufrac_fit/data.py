@@ -568,8 +568,9 @@ def split_for(rec: Record, mode: str = holdout.DEFAULT):
                        f"its fit parts")
     return split, (f"{_SPLIT_WORDS[mode][0]}: {why}; the held-out error includes an "
                    "extrapolation to those levels, where an effect acting only there cannot "
-                   f"be fitted; {_SPLIT_WORDS[other_mode][0]} keep theirs within their fit "
-                   "parts' levels (--holdout cover takes them in that case)")
+                   f"be fitted; validating on {_SPLIT_WORDS[other_mode][1]} would keep the "
+                   "held-out samples within the fit parts' levels (--holdout cover does so "
+                   "in that case)")
 
 
 def _moves(rec: Record, split) -> bool:
@@ -589,14 +590,15 @@ def _moves(rec: Record, split) -> bool:
 # probability under 1e-6 per sample), is at a level the fit never saw: an
 # effect acting only there (a limit reached only in the tail, a nozzle's
 # curve beyond the fitted range) is invisible to every fit and decides the
-# held-out comparison alone. The split is refused for coverage when more
-# than MAX_OUTSIDE of its held-out samples are such samples, on either
-# signal: one held-out sample in twenty, the guards' smallest held-out gain
-# counted as evidence (guards.MIN_VAL_GAIN), so that the share extrapolated
-# is under the share of the held-out error the guards treat as material.
-# The fraction is of samples, not of error: it is a convention at the
-# guards' scale, computed from the data alone before any fit, so no verdict
-# can tune it.
+# held-out comparison alone. A split is uncovered when more than
+# MAX_OUTSIDE of its held-out samples are such samples, on either signal:
+# one held-out sample in twenty, the scale of the guards' smallest held-out
+# gain counted as evidence (guards.MIN_VAL_GAIN). The share is of samples,
+# not of error, so this is a convention at the guards' scale, not a bound;
+# it is computed from the data alone before any fit, so no verdict can
+# tune it. An uncovered split is reported; --holdout cover also replaces
+# an uncovered tail by covered blocks (split_for; why not by default:
+# holdout.DEFAULT).
 MAX_OUTSIDE = 0.05
 
 
