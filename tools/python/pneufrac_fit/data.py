@@ -527,17 +527,22 @@ def _check_excitation(rec: Record) -> None:
 def split_for(rec: Record, mode: str = holdout.DEFAULT):
     """(split, note): the split of the record into fit parts and held-out
     blocks (holdout.layout) whose parts both see the input and the output
-    move. Where the split asked for does not (an input that rests through
-    the held-out part: a setpoint sequence whose moves all fall in the fit
-    part, a test that ends with a long rest), the other split is used if
-    its parts do, with a note saying so; DataError when neither does."""
+    move. Where the split asked for has a part that rests (an input that
+    rests through the held-out part: a setpoint sequence whose moves all
+    fall in the fit part, a test that ends with a long rest), the other
+    split is used if its parts move, with a note saying so; DataError when
+    neither does. Where the split's held-out part goes to levels its fit
+    parts never reached (uncovered), the note says so; with mode "cover"
+    the blocks are then taken if their held-out samples stay within their
+    fit parts' levels. Computed from the record alone, before any fit."""
+    switch = mode == "cover"
+    mode = "tail" if switch else mode
     split = holdout.layout(rec.n, mode)
+    other_mode = next(m for m in holdout.LAYOUTS if m != mode)
+    other = holdout.layout(rec.n, other_mode)
     try:
         check_parts(rec, split)
-        return split, None
     except DataError as exc:
-        other_mode = next(m for m in holdout.MODES if m != mode)
-        other = holdout.layout(rec.n, other_mode)
         if other == split:
             raise DataError(f"{exc}{_PARTS_HINT}") from None
         try:
@@ -548,6 +553,65 @@ def split_for(rec: Record, mode: str = holdout.DEFAULT):
         why = str(exc).split(": ", 1)[-1]
         return other, (f"{_SPLIT_WORDS[mode][0]} refused ({why}): validated on "
                        f"{_SPLIT_WORDS[other_mode][1]} instead")
+    why = uncovered(rec, split)
+    if why is None:
+        return split, None
+    if not (other != split and uncovered(rec, other) is None and _moves(rec, other)):
+        return split, (f"{_SPLIT_WORDS[mode][0]}: {why}, and no other split keeps its "
+                       "held-out samples within its fit parts' levels; the held-out error "
+                       "includes an extrapolation to those levels")
+    if switch:
+        return other, (f"{_SPLIT_WORDS[mode][0]} refused ({why}: a prediction there "
+                       f"would be an extrapolation, and an effect acting only there "
+                       f"cannot be fitted): validated on {_SPLIT_WORDS[other_mode][1]} "
+                       f"instead, whose held-out samples stay within the levels of "
+                       f"its fit parts")
+    return split, (f"{_SPLIT_WORDS[mode][0]}: {why}; the held-out error includes an "
+                   "extrapolation to those levels, where an effect acting only there cannot "
+                   f"be fitted; validating on {_SPLIT_WORDS[other_mode][1]} would keep the "
+                   "held-out samples within the fit parts' levels (--holdout cover does so "
+                   "in that case)")
+
+
+def _moves(rec: Record, split) -> bool:
+    """Whether both parts of the split see the input and the output move."""
+    try:
+        check_parts(rec, split)
+    except DataError:
+        return False
+    return True
+
+
+# Coverage: a held-out test asks the model fitted on the fit parts to
+# predict samples like those it was fitted on. A held-out sample whose input
+# or output lies outside the range the fit parts visited, by more than
+# signals.REST_SIGMAS noise sd plus one ADC step (the margin within which
+# the record is taken to hold a level at all: noise alone leaves it with a
+# probability under 1e-6 per sample), is at a level the fit never saw: an
+# effect acting only there (a limit reached only in the tail, a nozzle's
+# curve beyond the fitted range) is invisible to every fit and decides the
+# held-out comparison alone. A split is uncovered when more than
+# MAX_OUTSIDE of its held-out samples are such samples, on either signal:
+# one held-out sample in twenty, the scale of the guards' smallest held-out
+# gain counted as evidence (guards.MIN_VAL_GAIN). The share is of samples,
+# not of error, so this is a convention at the guards' scale, not a bound;
+# it is computed from the data alone before any fit, so no verdict can
+# tune it. An uncovered split is reported; --holdout cover also replaces
+# an uncovered tail by covered blocks (split_for; why not by default:
+# holdout.DEFAULT).
+MAX_OUTSIDE = 0.05
+
+
+def uncovered(rec: Record, split) -> str | None:
+    """Why the split's held-out part is not covered by its fit parts'
+    levels (Coverage, above), or None when it is."""
+    for name, x, sig, q in (("input e", rec.e, rec.sig_e, rec.q_e),
+                            ("output pc", rec.pc, rec.sig_pc, rec.q_pc)):
+        share = holdout.outside_share(x, split, signals.REST_SIGMAS * sig + q)
+        if share > MAX_OUTSIDE:
+            return (f"{100 * share:.0f} % of its held-out samples have the {name} outside "
+                    f"the range its fit part visited")
+    return None
 
 
 # What to do when no split has moves in both parts: every split was tried
@@ -555,7 +619,7 @@ def split_for(rec: Record, mode: str = holdout.DEFAULT):
 _PARTS_HINT = ("; the fit learns from one part and is judged on the other, so give a "
                "record whose input moves, and output responds, all along it")
 
-# How the report names each split (holdout.MODES), and where it validates.
+# How the report names each split (holdout.LAYOUTS), and where it validates.
 _SPLIT_WORDS = {"tail": ("the held-out tail", "the last 30 % of the record"),
                 "blocks": ("held-out blocks", "the last 30 % of each third of the record")}
 
