@@ -91,7 +91,8 @@ class NoiseModel:
             text = (f"AR({self.order}), lag-1 correlation {rho1:+.2f}, process variance "
                     f"{self.colour_factor():.3g}x the innovation variance")
         if self.d > 0:
-            text += (f"; long memory d = {self.d_est:.2f} +- {1.96 * self.d_sd:.2f} "
+            used = f", {self.d:.2f} used" if self.d < self.d_est else ""
+            text += (f"; long memory d = {self.d_est:.2f} +- {1.96 * self.d_sd:.2f}{used} "
                      f"(power ~ f^-{2 * self.d:.2f} at the lowest frequencies)")
         return text
 
