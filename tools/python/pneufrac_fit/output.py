@@ -74,7 +74,9 @@ def _interval_notes(d, fr) -> dict:
     pbx = copy.copy(d.pb)
     pbx.free = list(fr.free_groups)
     out = {}
-    for name, _, side, lo, hi in baseline.at_edges(pbx, fr.values, fr.effects):
+    # every group's value (a held one too: pid's w is placed from nu)
+    vals = {**fr.groups, **fr.values}
+    for name, _, side, lo, hi in baseline.at_edges(pbx, vals, fr.effects):
         bound = lo if side == "lower" else hi
         out[name] = (f"at its {side} bound {model.fmt_value(name, bound)}: a Wald interval "
                      "does not hold there (one-sided at best)")
