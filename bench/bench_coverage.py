@@ -149,13 +149,16 @@ def scores_of(js: dict, effect: str, truth_params: dict, groups: dict | None) ->
     if groups and named_of(js) == [effect]:
         ext = js.get("extended") or {}
         held = js.get("held") or {}
+        marked = ext.get("ci95_not_reliable") or {}
         for g, ci in (ext.get("ci95") or {}).items():
             if g in groups and g in model.GROUPS:
                 s = score(g, (ext.get("params") or {}).get(g), ci, groups[g])
                 if s is not None:
                     # a group the baseline held (not identified) and the
-                    # extended fits freed again: its own class
-                    out.append(dict(s, param=g, kind="held group" if g in held else "group"))
+                    # extended fits freed again: its own class; marked: the
+                    # report says its interval is not reliable
+                    out.append(dict(s, param=g, kind="held group" if g in held else "group",
+                                    marked=g in marked))
     return out
 
 
@@ -267,6 +270,20 @@ def pooled(rows: list[dict]) -> dict:
     return dict(sorted(out.items(), key=lambda kv: (order.index(kv[0][0]), kv[0][1] == "all")))
 
 
+def pooled_marked(rows: list[dict]) -> dict:
+    """The groups' scores pooled by whether the report calls the interval a
+    95 % one or marks it not reliable, and the noise (all noises too)."""
+    out: dict[tuple, list] = {}
+    for r in rows:
+        for s in r["scores"]:
+            if "marked" not in s:
+                continue
+            what = "marked not reliable" if s["marked"] else "reported 95 %"
+            for noise in (r.get("noise", "-"), "all"):
+                out.setdefault((what, noise), []).append(s)
+    return dict(sorted(out.items(), key=lambda kv: (kv[0][0] != "reported 95 %", kv[0][1] == "all")))
+
+
 def table(rows: list[dict], source: str) -> list[str]:
     """One line per (cell, parameter): records, named, coverage, median |z|,
     median width."""
@@ -297,6 +314,15 @@ def table(rows: list[dict], source: str) -> list[str]:
     L += ["", "| parameters | noise | intervals | contain the truth | median abs(z) | "
           "abs(z) > 1.96 |", "|---|---|---|---|---|---|"]
     for (what, noise), ss in pooled(rs).items():
+        zs = [abs(s["z"]) for s in ss if s["z"] is not None]
+        k = sum(s["in"] for s in ss)
+        L.append(f"| {what} | {noise} | {len(ss)} | {k} ({k / len(ss):.0%}) | {_med(zs)} | "
+                 f"{sum(z > Z95 for z in zs)} of {len(zs)} |")
+    L += ["", "Groups' intervals by what the report says of them (ci95_not_reliable: at a "
+          "bound, or held by the baseline and freed):", "",
+          "| groups' intervals | noise | intervals | contain the truth | median abs(z) | "
+          "abs(z) > 1.96 |", "|---|---|---|---|---|---|"]
+    for (what, noise), ss in pooled_marked(rs).items():
         zs = [abs(s["z"]) for s in ss if s["z"] is not None]
         k = sum(s["in"] for s in ss)
         L.append(f"| {what} | {noise} | {len(ss)} | {k} ({k / len(ss):.0%}) | {_med(zs)} | "
@@ -364,6 +390,7 @@ def main() -> int:
             rows.append(r)
             sc = "; ".join(f"{s['param']} {'in' if s['in'] else 'OUT'} z "
                            + ("-" if s["z"] is None else f"{s['z']:+.2f}")
+                           + (" (marked)" if s.get("marked") else "")
                            for s in r["scores"])
             print(f"[coverage] {r['cell']}-{r['seed']}: named "
                   f"{'n/a' if r['named'] is None else (', '.join(r['named']) or 'none')} "

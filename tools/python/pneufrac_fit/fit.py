@@ -196,6 +196,7 @@ class FitResult:
     start: str = ""
     free_groups: list = field(default_factory=list)   # groups free in this fit
     jac: np.ndarray | None = None
+    noise: object = None     # the noise model of the intervals (uncertainty)
     start_coef: np.ndarray | None = None     # the start's free response (open_start) ...
     start_taus: tuple = ()                   # ... its time constants (samples)
 
@@ -916,8 +917,11 @@ def _without(J: np.ndarray, B: np.ndarray) -> np.ndarray:
 def uncertainty(pb: Problem, fr: FitResult) -> None:
     """Standard errors and 95 % intervals of every parameter (transformed
     coordinates): the sandwich covariance of the estimate, with the noise
-    the AR model of its (whitened, when the criterion is) residual. It holds
-    whether or not the criterion's own noise model is right."""
+    the AR model of its (whitened, when the criterion is) residual, and a
+    long-memory exponent when the residual shows one (noise.with_long_memory:
+    under 1/f noise the AR model alone understates the power the fit's slow
+    directions absorbed). It holds whether or not the criterion's own noise
+    model is right."""
     sp, J = jacobian(pb, fr)
     # The start's coefficients are parameters too (nuisance ones): by Frisch
     # and Waugh, the other parameters' covariance is that of their Jacobian
@@ -926,8 +930,9 @@ def uncertainty(pb: Problem, fr: FitResult) -> None:
     fr.jac = _without(pb.fit_of(J), pb.fit_of(B))
     r = fr.residual(pb)
     Jw = pb.fit_white(J)
-    cov = noise.sandwich(_without(Jw, pb.fit_white(B)) if B.shape[1] else Jw,
-                         noise.fit(pb.fit_white(r)))
+    rw = pb.fit_white(r)
+    fr.noise = noise.with_long_memory(noise.fit(rw), rw)
+    cov = noise.sandwich(_without(Jw, pb.fit_white(B)) if B.shape[1] else Jw, fr.noise)
     se = np.sqrt(np.clip(np.diag(cov), 0, np.inf))
     th = to_theta(sp, fr.values, pb)
     fr.se, fr.ci = {}, {}

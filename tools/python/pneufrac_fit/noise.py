@@ -11,6 +11,20 @@ fitted to a residual (Yule-Walker, Levinson-Durbin), order chosen by BIC, gives
     sandwich (J'J)^-1 J' S J (J'J)^-1 with S the AR model's covariance),
     so that intervals hold under coloured noise;
   - the noise process's variance (not only its white part).
+
+Long memory (with_long_memory, used by the sandwich only). An AR model of
+finite order has a flat spectrum at the lowest frequencies; 1/f-like noise
+does not, and the power it has there is what the slow directions of a fit
+(gain, offset, slow responses) absorb, so the residual's AR model
+understates their variance (coverage28: 61 % coverage under 1/f noise).
+The AR model's innovations are tested for a remaining power law
+f(lam) ~ lam^(-2d) at the lowest frequencies (local Whittle, Robinson
+1995); when d's own 95 % interval excludes 0 the noise is taken as
+ARFIMA(p, d, 0) (Granger and Joyeux 1980, Hosking 1981), A(q) v = w with
+w fractional noise, and the sandwich uses its exact autocovariance, whose
+power law extrapolates the spectrum to the frequencies the fit absorbed.
+Otherwise d = 0 and everything is as without it (white and AR records keep
+their intervals).
 """
 from __future__ import annotations
 
@@ -18,10 +32,21 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import lfilter
+from scipy.optimize import minimize_scalar
+from scipy.signal import fftconvolve, lfilter
+from scipy.special import gammaln
 
 P_MAX = 24            # highest AR order tried
 MAX_ROOT = 0.999      # roots pulled inside this radius (a unit root is drift)
+# Local Whittle bandwidth: the lowest m = n^LW_EXP Fourier frequencies, the
+# bandwidth of Geweke and Porter-Hudak (1983); inside Robinson's (1995)
+# conditions (m -> inf, m/n -> 0), and low enough that the AR model's
+# innovations, flat where the AR model fits, show the power law that remains
+# at the bottom of the spectrum (at n^0.65 they did not: coverage 51-77 %
+# in the Monte Carlo of docs/analysis-bench.md, branch interval29).
+LW_EXP = 0.5
+LW_MIN = 8            # fewer frequencies than this: no test (d = 0)
+D_MAX = 0.49          # d used at most this: fractional noise is stationary for d < 1/2
 
 
 @dataclass
@@ -30,6 +55,9 @@ class NoiseModel:
     sigma2: float         # innovation variance
     var: float            # variance of the residual it was fitted to
     n: int
+    d: float = 0.0        # long-memory exponent (0: none; with_long_memory)
+    d_est: float | None = None   # local Whittle estimate and its sd, when tested
+    d_sd: float | None = None
 
     @property
     def order(self) -> int:
@@ -57,10 +85,16 @@ class NoiseModel:
 
     def describe(self) -> str:
         if self.order == 0:
-            return "white (no AR term earns its place by BIC)"
-        rho1 = _acf1(self.a)
-        return (f"AR({self.order}), lag-1 correlation {rho1:+.2f}, process variance "
-                f"{self.colour_factor():.3g}x the innovation variance")
+            text = "white (no AR term earns its place by BIC)"
+        else:
+            rho1 = _acf1(self.a)
+            text = (f"AR({self.order}), lag-1 correlation {rho1:+.2f}, process variance "
+                    f"{self.colour_factor():.3g}x the innovation variance")
+        if self.d > 0:
+            used = f", {self.d:.2f} used" if self.d < self.d_est else ""
+            text += (f"; long memory d = {self.d_est:.2f} +- {1.96 * self.d_sd:.2f}{used} "
+                     f"(power ~ f^-{2 * self.d:.2f} at the lowest frequencies)")
+        return text
 
 
 def _acf1(a: np.ndarray) -> float:
@@ -119,6 +153,69 @@ def fit(r, p_max: int = P_MAX) -> NoiseModel:
     return NoiseModel(a, s2, var, n)
 
 
+def local_whittle(x: np.ndarray, m: int) -> tuple[float, float]:
+    """Robinson's (1995) local Whittle estimate of d from the lowest m
+    Fourier frequencies of x (spectrum ~ G lam^(-2d) there), and its
+    asymptotic sd 1/(2 sqrt(m)). The objective, G profiled out:
+    R(d) = log(mean(lam_j^(2d) I_j)) - 2d mean(log lam_j)."""
+    n = x.size
+    I = np.abs(np.fft.rfft(x - np.mean(x))[1:m + 1]) ** 2
+    ll = np.log(2.0 * np.pi * np.arange(1, m + 1) / n)
+    dl = ll - ll.mean()
+
+    def R(d):
+        return math.log(float(np.mean(np.exp(2.0 * d * dl) * I)))
+    d = minimize_scalar(R, bounds=(-0.49, 0.99), method="bounded", options={"xatol": 1e-4}).x
+    return float(d), 0.5 / math.sqrt(m)
+
+
+def frac_diff(x: np.ndarray, d: float) -> np.ndarray:
+    """(1 - q^-1)^d x from rest (the binomial series cut at the record's
+    start), by FFT convolution."""
+    k = np.arange(1, x.size)
+    c = np.r_[1.0, np.cumprod((k - 1.0 - d) / k)]
+    return fftconvolve(x, c)[:x.size]
+
+
+def frac_acov(d: float, n: int) -> np.ndarray:
+    """Autocovariance at lags 0..n-1 of fractional noise (1 - q^-1)^-d eps,
+    unit innovation variance (Hosking 1981): gamma0 = G(1-2d)/G(1-d)^2,
+    rho_k = rho_(k-1) (k-1+d)/(k-d)."""
+    k = np.arange(1, n)
+    g0 = math.exp(gammaln(1.0 - 2.0 * d) - 2.0 * gammaln(1.0 - d))
+    return g0 * np.r_[1.0, np.cumprod((k - 1.0 + d) / (k - d))]
+
+
+def with_long_memory(nm: NoiseModel, r: np.ndarray) -> NoiseModel:
+    """nm (an AR model of the residual r) with a long-memory exponent d
+    when r's AR innovations show one: d by local Whittle on the innovations
+    A(q) r, used when its 95 % interval excludes 0 (a one-sided test at
+    2.5 %: white and AR records keep d = 0, so their intervals are the AR
+    sandwich's), capped at D_MAX; the innovation variance is then that of
+    (1 - q^-1)^d A(q) r."""
+    e = lfilter(nm.a, [1.0], np.asarray(r, float) - np.mean(r))[nm.order:]
+    m = int(e.size ** LW_EXP)
+    if m < LW_MIN:
+        return nm
+    d, sd = local_whittle(e, m)
+    out = NoiseModel(nm.a, nm.sigma2, nm.var, nm.n, 0.0, d, sd)
+    if d - 1.96 * sd <= 0:
+        return out
+    out.d = min(d, D_MAX)
+    eps = frac_diff(e - np.mean(e), out.d)
+    out.sigma2 = float(eps @ eps) / eps.size
+    return out
+
+
+def _toeplitz_gram(G: np.ndarray, g: np.ndarray) -> np.ndarray:
+    """G' T G with T the symmetric Toeplitz matrix of first column g: T G
+    by the circulant embedding of size 2n (FFT), exact."""
+    n = G.shape[0]
+    c = np.r_[g, 0.0, g[:0:-1]]
+    TG = np.fft.irfft(np.fft.rfft(c)[:, None] * np.fft.rfft(G, c.size, axis=0), c.size, axis=0)[:n]
+    return G.T @ TG
+
+
 def whiten_parts(nm: NoiseModel | None, x: np.ndarray, parts) -> np.ndarray:
     """x's samples in parts (slices), each whitened by nm on its own (the
     filter restarts at every part's first sample: no whitened value mixes
@@ -141,15 +238,16 @@ def sandwich(J: np.ndarray, nm: NoiseModel) -> np.ndarray:
     """Covariance of the least-squares estimate whose residual Jacobian is
     J, when the noise is the AR process nm: (J'J)^+ J' S J (J'J)^+, with
     S = sigma2 H H' and H the lower-triangular Toeplitz matrix of 1/A. H'J
-    is 1/A run backwards in time over each column. Directions J does not
-    determine get infinite variance."""
+    is 1/A run backwards in time over each column. With long memory (nm.d >
+    0) S = sigma2 H T_d H', T_d the fractional noise's autocovariance
+    matrix. Directions J does not determine get infinite variance."""
     U, S, Vt = np.linalg.svd(J, full_matrices=False)
     p = J.shape[1]
     tol = S.max() * 1e-9 if S.size and S.max() > 0 else 1.0
     keep = S > tol
     Jp = (Vt[keep].T / S[keep] ** 2) @ Vt[keep]          # (J'J)^+
     G = lfilter([1.0], nm.a, J[::-1], axis=0)[::-1]      # H' J
-    M = nm.sigma2 * (G.T @ G)
+    M = nm.sigma2 * (_toeplitz_gram(G, frac_acov(nm.d, G.shape[0])) if nm.d > 0 else G.T @ G)
     cov = Jp @ M @ Jp
     null = ~keep
     if null.any():

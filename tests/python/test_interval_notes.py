@@ -1,0 +1,72 @@
+# SPDX-License-Identifier: MIT
+"""An interval that a Wald interval cannot give is not reported as a 95 %
+interval (issue 8; output._interval_notes). coverage28 measured z of -238
+and -5.9 on groups at a bound of their range in the extended fits, and +4.8
+on one the baseline held as entangled and the extended fits freed.
+
+The groups a model leaves at a bound, or frees after the baseline held
+them, must be marked in the JSON (ci95_not_reliable) and the report, and
+no others: on the independent simulator's lag-real seed 1 (the record of
+test_baseline_corner: rho, beta and q at bounds) and on the own
+generator's nozzle record of coverage28 (q at its bound, three groups
+freed)."""
+import inspect
+
+import pytest
+
+import cases
+from indepsim.make import make
+from pneufrac_fit import cli, data, diagnose, model, output
+
+
+@pytest.fixture(scope="module")
+def diag():
+    rec = make("lag-real", 1)
+    r = data.make_record(rec.t, rec.e, rec.pc, "lag-real-1")
+    return diagnose.diagnose(r, rec.truth["config"], jobs=2, progress=False)
+
+
+def _expected(d, fr) -> set:
+    at = {g for g in fr.free_groups if g in model.GROUPS and g != "K"
+          and cases.near_bound(d.pb.setup, g, fr.groups[g], fr.groups)}
+    freed = {g for g in fr.free_groups if g in d.pb.entangled or g in d.pb.at_bound}
+    return at | freed
+
+
+@pytest.mark.parametrize("which", ["baseline", "extended"])
+def test_intervals_at_a_bound_or_freed_are_marked(diag, which):
+    d = diag
+    j = output.to_dict(d)
+    want = _expected(d, getattr(d, which))
+    if which == "extended":
+        assert want, "premise: the extended model has a group at a bound or freed"
+    assert set(j[which]["ci95_not_reliable"]) == want
+    assert j[which]["intervals_noise_model"]
+
+
+@pytest.fixture(scope="module")
+def diag_named(tmp_path_factory):
+    """The own generator's nozzle record of bench_coverage (dd, x_1/2 = 2,
+    white noise, seed 2, the fit's discretisation): nozzle is named, and
+    the extended model ends with q at its bound 0 (truth 0.9; z -5.9 in
+    coverage28) and L, RC, tau freed after the baseline held them."""
+    path = tmp_path_factory.mktemp("nozzle") / "gen-nozzle-white-2.csv"
+    order = inspect.signature(diagnose.diagnose).parameters["order"].default
+    assert cli.main(["generate", "--config", "dd", "--n", "3000", "--noise", "0.005",
+                     "--noise-kind", "white", "--seed", "2",
+                     "--oversample", str(model.auto_oversample(1000.0)), "--order", str(order),
+                     "--effect", "nozzle:xh=2", "-o", str(path)]) == 0
+    return diagnose.diagnose(data.read_csv(str(path)), "dd", jobs=2, progress=False)
+
+
+def test_report_says_not_reliable(diag_named, tmp_path):
+    d = diag_named
+    assert d.causes == ["nozzle"], "premise: the effect is named"
+    want = _expected(d, d.extended)
+    assert "q" in want, "premise: q at its bound in the extended model"
+    assert set(output.to_dict(d)["extended"]["ci95_not_reliable"]) == want
+    report = output.write_report(d, tmp_path).read_text(encoding="utf-8")
+    rows = {ln.split("|")[1].strip(): ln for ln in report.splitlines()
+            if ln.startswith("| ") and ln.count("|") == 4}
+    for g in want:
+        assert "not reliable" in rows[g], rows[g]
