@@ -35,9 +35,10 @@ CASES = [
 # 28.6) and its 95 % interval under the long-memory noise model is
 # [7.7, 192] ms (docs/analysis-bench.md, branch interval29). It passed
 # before only on the AR model's interval (x/1.8), which under 1/f noise held
-# the truth in 61 % of cases. Checked both ways: a fix that recovers the lag
-# fails the test until the entry is removed.
-SHORT_OF = {("two-lag-backlash", 1): "lag"}
+# the truth in 61 % of cases. The entry excuses that shortfall only: the
+# lag must still be within 50 %, and a fix that brings it within the
+# tolerance fails the test until the entry is removed.
+SHORT_OF = {("two-lag-backlash", 1): ("lag", 0.5)}
 
 
 def check(rec, d) -> list[str]:
@@ -74,10 +75,14 @@ def test_independent_record(scenario, seed):
     r = data.make_record(rec.t, rec.e, rec.pc, f"{scenario}-{seed}")
     d = diagnose.diagnose(r, rec.truth["config"], jobs=2, progress=False)
     bad = check(rec, d)
-    short = SHORT_OF.get((scenario, seed))
-    if short:
-        assert any(b.startswith(short + " ") for b in bad), \
-            f"{scenario}-{seed}: {short} now recovered: remove it from SHORT_OF"
-        bad = [b for b in bad if not b.startswith(short + " ")]
+    if (scenario, seed) in SHORT_OF:
+        key, tol = SHORT_OF[scenario, seed]
+        tp = next(e["params"][key] for e in rec.truth["effects"]
+                  if cases.PARAM_KEY.get(e["cause"]) == key)
+        err = abs(d.effect_params[key] / tp - 1)
+        assert any(b.startswith(key + " ") for b in bad), \
+            f"{scenario}-{seed}: {key} now recovered: remove it from SHORT_OF"
+        assert err <= tol, f"{scenario}-{seed}: {key} off by {err:.0%}, more than {tol:.0%}"
+        bad = [b for b in bad if not b.startswith(key + " ")]
     assert not bad, (f"{scenario}-{seed} ({rec.truth['config']}): " + "; ".join(bad)
                      + " | " + " ".join(d.why))

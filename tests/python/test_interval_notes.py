@@ -70,3 +70,25 @@ def test_report_says_not_reliable(diag_named, tmp_path):
             if ln.startswith("| ") and ln.count("|") == 4}
     for g in want:
         assert "not reliable" in rows[g], rows[g]
+
+
+def test_marks_read_the_problem_as_the_fit_had_it(monkeypatch):
+    """A group the baseline held and the fit freed is free in the problem
+    the marks are judged on, not also held (pid: nu's range is read from a
+    held w; review_interval29 B2)."""
+    from types import SimpleNamespace
+    from pneufrac_fit import baseline
+    seen = {}
+
+    def at_edges(pbx, vals, effects=()):
+        seen["fixed"], seen["free"] = dict(pbx.fixed), list(pbx.free)
+        return []
+
+    monkeypatch.setattr(baseline, "at_edges", at_edges)
+    pb = SimpleNamespace(fixed={"w": 0.9, "q": 0.5}, free=["K", "L"], entangled=["w"], at_bound=[])
+    fr = SimpleNamespace(free_groups=["K", "L", "w"], groups={"K": 1.0, "L": 2.0, "w": 0.9},
+                         values={}, effects=())
+    d = SimpleNamespace(pb=pb)
+    notes = output._interval_notes(d, fr)
+    assert seen["fixed"] == {"q": 0.5} and seen["free"] == ["K", "L", "w"]
+    assert set(notes) == {"w"}

@@ -2,13 +2,12 @@
 """The diagnosis as one JSON object, and as a Markdown report with plots."""
 from __future__ import annotations
 
-import copy
 import json
 import math
 from pathlib import Path
 
 from . import evidence as ev_mod
-from . import baseline, guards, model
+from . import baseline, candidates, guards, model
 
 
 def _num(v):
@@ -71,7 +70,9 @@ def _interval_notes(d, fr) -> dict:
     cost a whole fit per bound of every such group)."""
     if d.pb is None:
         return {}
-    pbx = copy.copy(d.pb)
+    # the problem as this fit had it: freed groups out of `fixed` too (pid
+    # places nu's range from w, which a held w would fix)
+    pbx = candidates.with_freed(d.pb, list(fr.free_groups))
     pbx.free = list(fr.free_groups)
     out = {}
     # every group's value (a held one too: pid's w is placed from nu)
