@@ -551,8 +551,7 @@ def split_for(rec: Record, mode: str = holdout.DEFAULT):
         other_rests = _rests(rec, other)
         if other_rests is not None:
             raise DataError(f"{rests} (nor in {other_name}){_PARTS_HINT}")
-        why = rests.split(": ", 1)[-1]
-        note = f"{name} refused ({why}): validated on {_split_words(other)[1]} instead"
+        note = f"{name} refused ({_reason(rests)}): validated on {_split_words(other)[1]} instead"
         out = uncovered(rec, other)
         return other, note if out is None else f"{note}; {out}, so {extrapolates}"
     why = uncovered(rec, split)
@@ -567,9 +566,9 @@ def split_for(rec: Record, mode: str = holdout.DEFAULT):
                        f"within its fit parts' levels either ({other_out}), so {extrapolates}")
     other_rests = _rests(rec, other)
     if other_rests is not None:
-        return split, (f"{name}: {why}, so {extrapolates}; {other_name} would keep them "
-                       f"within their fit parts' levels but are refused "
-                       f"({other_rests.split(': ', 1)[-1]})")
+        return split, (f"{name}: {why}, so {extrapolates}; the other split, {other_name}, "
+                       f"would keep them within its fit parts' levels but is refused "
+                       f"({_reason(other_rests)})")
     if switch:
         return other, (f"{name} refused ({why}: a prediction there "
                        f"would be an extrapolation, and an effect acting only there "
@@ -580,6 +579,11 @@ def split_for(rec: Record, mode: str = holdout.DEFAULT):
                    f"cannot be fitted; validating on {_split_words(other)[1]} would keep "
                    "the held-out samples within the fit parts' levels (--holdout cover "
                    "does so in that case)")
+
+
+def _reason(message: str) -> str:
+    """A DataError's message without the record's name before it."""
+    return message.split(": ", 1)[-1]
 
 
 def _rests(rec: Record, split) -> str | None:
