@@ -176,10 +176,19 @@ def test_input_resting_in_every_held_out_block_falls_back_to_the_tail():
     split, why = data.split_for(rec, "blocks")
     assert split == holdout.layout(n, "tail")
     assert "held-out blocks refused" in why and "last 30 %" in why
-    # Asked for, the tail stays: its last steps go to levels its first 70 %
-    # never reached, but the blocks' held-out parts rest (data.uncovered).
-    tail, why = data.split_for(rec, "tail")
-    assert tail == split and "refused" not in why
+    # The tail used goes to levels its first 70 % never reached: the note
+    # says so, as when the tail is asked for (data.uncovered).
+    assert "outside the range its fit part visited" in why and "extrapolation" in why
+    # Asked for (or with cover), the tail stays: the blocks would keep their
+    # held-out samples within their fit parts' levels, but their held-out
+    # parts rest (data.check_parts), and the note says that is why.
+    assert data.uncovered(rec, holdout.layout(n, "blocks")) is None
+    for mode in ("tail", "cover"):
+        tail, why = data.split_for(rec, mode)
+        assert tail == split
+        assert why.startswith("the held-out tail: ") and "outside the range" in why
+        assert "the other split, held-out blocks, would keep them" in why
+        assert "is refused (the input must move" in why
 
 
 def test_input_resting_through_the_tail_falls_back_to_the_blocks():

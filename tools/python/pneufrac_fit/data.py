@@ -531,63 +531,87 @@ def split_for(rec: Record, mode: str = holdout.DEFAULT):
     rests through the held-out part: a setpoint sequence whose moves all
     fall in the fit part, a test that ends with a long rest), the other
     split is used if its parts move, with a note saying so; DataError when
-    neither does. Where the split's held-out part goes to levels its fit
-    parts never reached (uncovered), the note says so; with mode "cover"
-    the blocks are then taken if their held-out samples stay within their
-    fit parts' levels. Computed from the record alone, before any fit."""
+    neither does. Where the split used has a held-out part that goes to
+    levels its fit parts never reached (uncovered), the note says so; with
+    mode "cover" the blocks are then taken if their held-out samples stay
+    within their fit parts' levels and both their parts move. Computed
+    from the record alone, before any fit."""
+    if mode not in holdout.MODES:
+        raise ValueError(f"holdout must be one of {', '.join(holdout.MODES)}")
     switch = mode == "cover"
     mode = "tail" if switch else mode
     split = holdout.layout(rec.n, mode)
-    other_mode = next(m for m in holdout.LAYOUTS if m != mode)
-    other = holdout.layout(rec.n, other_mode)
-    try:
-        check_parts(rec, split)
-    except DataError as exc:
+    other = holdout.layout(rec.n, next(m for m in holdout.LAYOUTS if m != mode))
+    name, other_name = _split_words(split)[0], _split_words(other)[0]
+    extrapolates = "the held-out error includes an extrapolation to those levels"
+    rests = _rests(rec, split)
+    if rests is not None:
         if other == split:
-            raise DataError(f"{exc}{_PARTS_HINT}") from None
-        try:
-            check_parts(rec, other)
-        except DataError:
-            raise DataError(f"{exc} (nor in {_SPLIT_WORDS[other_mode][0]}){_PARTS_HINT}") \
-                from None
-        why = str(exc).split(": ", 1)[-1]
-        return other, (f"{_SPLIT_WORDS[mode][0]} refused ({why}): validated on "
-                       f"{_SPLIT_WORDS[other_mode][1]} instead")
+            raise DataError(f"{rests}{_PARTS_HINT}")
+        other_rests = _rests(rec, other)
+        if other_rests is not None:
+            raise DataError(f"{rests} (nor in {other_name}){_PARTS_HINT}")
+        note = f"{name} refused ({_reason(rests)}): validated on {_split_words(other)[1]} instead"
+        out = uncovered(rec, other)
+        return other, note if out is None else f"{note}; {out}, so {extrapolates}"
     why = uncovered(rec, split)
     if why is None:
         return split, None
-    if not (other != split and uncovered(rec, other) is None and _moves(rec, other)):
-        return split, (f"{_SPLIT_WORDS[mode][0]}: {why}, and no other split keeps its "
-                       "held-out samples within its fit parts' levels; the held-out error "
-                       "includes an extrapolation to those levels")
+    if other == split:
+        return split, (f"{name}: {why}; the record is too short for another split, "
+                       f"so {extrapolates}")
+    other_out = uncovered(rec, other)
+    if other_out is not None:
+        return split, (f"{name}: {why}; the other split, {other_name}, does not keep them "
+                       f"within its fit parts' levels either ({other_out}), so {extrapolates}")
+    other_rests = _rests(rec, other)
+    if other_rests is not None:
+        return split, (f"{name}: {why}, so {extrapolates}; the other split, {other_name}, "
+                       f"would keep them within its fit parts' levels but is refused "
+                       f"({_reason(other_rests)})")
     if switch:
-        return other, (f"{_SPLIT_WORDS[mode][0]} refused ({why}: a prediction there "
+        return other, (f"{name} refused ({why}: a prediction there "
                        f"would be an extrapolation, and an effect acting only there "
-                       f"cannot be fitted): validated on {_SPLIT_WORDS[other_mode][1]} "
+                       f"cannot be fitted): validated on {_split_words(other)[1]} "
                        f"instead, whose held-out samples stay within the levels of "
                        f"its fit parts")
-    return split, (f"{_SPLIT_WORDS[mode][0]}: {why}; the held-out error includes an "
-                   "extrapolation to those levels, where an effect acting only there cannot "
-                   f"be fitted; validating on {_SPLIT_WORDS[other_mode][1]} would keep the "
-                   "held-out samples within the fit parts' levels (--holdout cover does so "
-                   "in that case)")
+    return split, (f"{name}: {why}; {extrapolates}, where an effect acting only there "
+                   f"cannot be fitted; validating on {_split_words(other)[1]} would keep "
+                   "the held-out samples within the fit parts' levels (--holdout cover "
+                   "does so in that case)")
 
 
-def _moves(rec: Record, split) -> bool:
-    """Whether both parts of the split see the input and the output move."""
+def _reason(message: str) -> str:
+    """A DataError's message without the record's name before it."""
+    return message.split(": ", 1)[-1]
+
+
+def _rests(rec: Record, split) -> str | None:
+    """Why a part of the split does not see the input and the output move
+    (check_parts' message), or None when both parts do."""
     try:
         check_parts(rec, split)
-    except DataError:
-        return False
-    return True
+    except DataError as exc:
+        return str(exc)
+    return None
 
 
 # Coverage: a held-out test asks the model fitted on the fit parts to
 # predict samples like those it was fitted on. A held-out sample whose input
 # or output lies outside the range the fit parts visited, by more than
 # signals.REST_SIGMAS noise sd plus one ADC step (the margin within which
-# the record is taken to hold a level at all: noise alone leaves it with a
-# probability under 1e-6 per sample), is at a level the fit never saw: an
+# the record is taken to hold a level at all: white noise alone leaves it
+# with a probability under 1e-6 per sample), is at a level the fit never
+# saw. The sd is the sample-to-sample one (signals.noise_sd), so the margin
+# assumes noise near white at the sample scale; slow noise (AR(1) near 1,
+# pink) wanders further than that sd between the fit part and the held-out
+# part and can mark a covered record uncovered: on a record whose every
+# held-out level the fit part held (test_split29's levels-covered), AR(1)
+# noise on one signal did so on 0/40 seeds at phi 0 and 0.9, 1/40 at 0.98,
+# 6/40 at 0.995 (review of split29). With the default that is only a note;
+# with --holdout cover it takes the blocks. An error towards "covered"
+# comes from the range being max/min: one glitch in a fit part widens it. A
+# sample beyond the margin is at a level the fit never saw: an
 # effect acting only there (a limit reached only in the tail, a nozzle's
 # curve beyond the fitted range) is invisible to every fit and decides the
 # held-out comparison alone. A split is uncovered when more than
@@ -609,8 +633,9 @@ def uncovered(rec: Record, split) -> str | None:
                             ("output pc", rec.pc, rec.sig_pc, rec.q_pc)):
         share = holdout.outside_share(x, split, signals.REST_SIGMAS * sig + q)
         if share > MAX_OUTSIDE:
+            parts = "its fit parts" if len(split.fit_slices()) > 1 else "its fit part"
             return (f"{100 * share:.0f} % of its held-out samples have the {name} outside "
-                    f"the range its fit part visited")
+                    f"the range {parts} visited")
     return None
 
 
@@ -619,9 +644,20 @@ def uncovered(rec: Record, split) -> str | None:
 _PARTS_HINT = ("; the fit learns from one part and is judged on the other, so give a "
                "record whose input moves, and output responds, all along it")
 
-# How the report names each split (holdout.LAYOUTS), and where it validates.
-_SPLIT_WORDS = {"tail": ("the held-out tail", "the last 30 % of the record"),
-                "blocks": ("held-out blocks", "the last 30 % of each third of the record")}
+# How the report names a split (holdout.layout), and where it validates:
+# from the layout itself, which on a short record has fewer blocks than
+# the mode asked for.
+_SECTION_WORDS = {2: "half", 3: "third"}
+
+
+def _split_words(split) -> tuple:
+    held = f"{100 * (1 - holdout.FIT_FRACTION):.0f} %"
+    k = len(split.held)
+    if k == 1:
+        return "the held-out tail", f"the last {held} of the record"
+    each = _SECTION_WORDS.get(k, f"of its {k} sections")
+    return "held-out blocks", f"the last {held} of each {each} of the record"
+
 
 
 def check_parts(rec: Record, split) -> None:

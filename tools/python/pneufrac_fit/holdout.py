@@ -58,9 +58,10 @@ SECTIONS = 3             # sections, each with its held-out block at its end
 CORR_TIMES = 20          # a held-out block's length in noise correlation times (see above)
 MIN_HELD = 500           # samples of one held-out block: CORR_TIMES x 24.5 (see above)
 LAYOUTS = ("blocks", "tail")
-# "cover" (--holdout cover) is the tail, or the blocks when more than a few
-# of the tail's held-out samples go to levels its fit part never reached and
-# the blocks' do not (data.split_for, data.uncovered).
+# "cover" (--holdout cover) is the tail, or the blocks when more than
+# data.MAX_OUTSIDE (5 %) of the tail's held-out samples go to levels its fit
+# part never reached, the blocks' do not, and both the blocks' parts move
+# (data.split_for, data.uncovered).
 MODES = LAYOUTS + ("cover",)
 # The default stays the tail split: on the independent simulator's seeds
 # 4-5 the blocks named three more two-effect records right but two records
