@@ -124,9 +124,14 @@ def settling(v: np.ndarray) -> float:
         return 0.0
     k = np.arange(n, dtype=float)
     resid = v - np.polyval(np.polyfit(k, v, 1), k)
+    # The contrast whose least-squares coefficient is the difference itself
+    # (J'J = m/2, J'v = (sum of the last third - sum of the first) / 2), so
+    # that the sandwich, the covariance of that coefficient, is the
+    # difference's variance. With weights of 1/m it is the variance of a
+    # coefficient (m/2) times the difference, and z came out m/2 too small.
     J = np.zeros((n, 1))
-    J[:m, 0] = -1.0 / m
-    J[n - m:, 0] = 1.0 / m
+    J[:m, 0] = -0.5
+    J[n - m:, 0] = 0.5
     var = float(noise.sandwich(J, noise.fit(resid))[0, 0])
     diff = float(np.mean(v[n - m:]) - np.mean(v[:m]))
     return abs(diff) / math.sqrt(var) if var > 0 else (0.0 if diff == 0 else math.inf)
