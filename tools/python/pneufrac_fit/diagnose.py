@@ -12,7 +12,7 @@ import numpy as np
 
 from . import baseline as base_mod
 from . import evidence as ev_mod
-from . import candidates, data, fit, model, noise, selection, signals
+from . import candidates, data, fit, guards, model, noise, selection, signals
 from . import holdout as holdout_mod
 from .fit import FitResult, Problem
 
@@ -191,7 +191,9 @@ def _noise_from_rest(rec, pb) -> list:
     pb.nm = nm
     return [f"The noise, measured on the opening {rest} samples at rest, is "
             f"{nm.describe()}: every fit minimises the residual whitened by it (the "
-            "output's likelihood under that noise), and the guards compare models under it."]
+            "output's likelihood under that noise), and the guards compare models under it "
+            f"unless the residual of the model with the effect holds {guards.LONG_RUN_RATIO:g}x "
+            "less slow noise than it claims (then under that residual's own: guards.noise_for)."]
 
 
 def _best_baseline(pb, base, rounds, notes):

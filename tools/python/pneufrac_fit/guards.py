@@ -165,8 +165,10 @@ def _interval(pb, fr, effect, contrib_range):
 # beyond what the AR fit's sampling error on a rest stretch of a few
 # hundred samples makes (on true noise at rest, AR(1) to pole 0.99,
 # resonant AR(2) and 1/f, 200 or 650 samples: never in 100 draws each, the
-# smallest ratio 0.28; analysis-bench.md, branch twofx5). Where it fires,
-# the comparison is the one every record without a rest stretch gets.
+# smallest ratio 0.28; but with the residual's offset and trend removed, as
+# a fit removes them, 7 in 300 at pole 0.99 on 650 samples: docs/analysis.md,
+# the twofx5 review). Where it fires, the comparison is the one every record
+# without a rest stretch gets.
 LONG_RUN_RATIO = 4.0
 
 
