@@ -284,6 +284,18 @@ def pooled_marked(rows: list[dict]) -> dict:
     return dict(sorted(out.items(), key=lambda kv: (kv[0][0] != "reported 95 %", kv[0][1] == "all")))
 
 
+def _pooled_rows(groups: dict) -> list[str]:
+    """One table row per (what, noise) pool: intervals, how many contain the
+    truth, median abs(z), how many abs(z) beyond the 95 % point."""
+    rows = []
+    for (what, noise), ss in groups.items():
+        zs = [abs(s["z"]) for s in ss if s["z"] is not None]
+        k = sum(s["in"] for s in ss)
+        rows.append(f"| {what} | {noise} | {len(ss)} | {k} ({k / len(ss):.0%}) | {_med(zs)} | "
+                    f"{sum(z > Z95 for z in zs)} of {len(zs)} |")
+    return rows
+
+
 def table(rows: list[dict], source: str) -> list[str]:
     """One line per (cell, parameter): records, named, coverage, median |z|,
     median width."""
@@ -313,20 +325,12 @@ def table(rows: list[dict], source: str) -> list[str]:
                      f"{_med(zs, '{:+.2f}')} | {_med([s['width'] for s in ss], '{:.3g}')} |")
     L += ["", "| parameters | noise | intervals | contain the truth | median abs(z) | "
           "abs(z) > 1.96 |", "|---|---|---|---|---|---|"]
-    for (what, noise), ss in pooled(rs).items():
-        zs = [abs(s["z"]) for s in ss if s["z"] is not None]
-        k = sum(s["in"] for s in ss)
-        L.append(f"| {what} | {noise} | {len(ss)} | {k} ({k / len(ss):.0%}) | {_med(zs)} | "
-                 f"{sum(z > Z95 for z in zs)} of {len(zs)} |")
+    L += _pooled_rows(pooled(rs))
     L += ["", "Groups' intervals by what the report says of them (ci95_not_reliable: at a "
           "bound, or held by the baseline and freed):", "",
           "| groups' intervals | noise | intervals | contain the truth | median abs(z) | "
           "abs(z) > 1.96 |", "|---|---|---|---|---|---|"]
-    for (what, noise), ss in pooled_marked(rs).items():
-        zs = [abs(s["z"]) for s in ss if s["z"] is not None]
-        k = sum(s["in"] for s in ss)
-        L.append(f"| {what} | {noise} | {len(ss)} | {k} ({k / len(ss):.0%}) | {_med(zs)} | "
-                 f"{sum(z > Z95 for z in zs)} of {len(zs)} |")
+    L += _pooled_rows(pooled_marked(rs))
     bad = [f"{r['cell']}-{r['seed']} ({r['status']})" for r in rs if r["named"] is None]
     if bad:
         L.append(f"- not diagnosed: {', '.join(bad)}")

@@ -13,18 +13,10 @@ from types import SimpleNamespace
 import numpy as np
 from scipy.signal import lfilter
 
-import cases
-from pneufrac_fit import data, fit, guards, model, noise
+from pneufrac_fit import fit, guards, model, noise
+from test_converge import _problem
 
 REST = 650
-
-
-def _problem():
-    ds = cases.make("p", "lag", 3, n=3000)
-    rec = data.make_record(ds.t, ds.e, ds.pc)
-    pb = fit.Problem.from_record(rec, "p", {"q": 0.0, "beta": 1.0}, 8, 2)
-    pb.burn = 30
-    return pb
 
 
 def _fit(pb, effects, **kw):
