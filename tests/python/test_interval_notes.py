@@ -92,3 +92,30 @@ def test_marks_read_the_problem_as_the_fit_had_it(monkeypatch):
     notes = output._interval_notes(d, fr)
     assert seen["fixed"] == {"q": 0.5} and seen["free"] == ["K", "L", "w"]
     assert set(notes) == {"w"}
+
+
+def test_the_baseline_prunes_on_the_ar_model_alone(monkeypatch):
+    """baseline.prune judges identification with the AR model of the
+    residual, not a long-memory exponent: the baseline's residual holds the
+    effects not yet modelled, whose slow part reads as long memory (the time
+    bench's id@1k record lost its lag to a group held that way)."""
+    import numpy as np
+    from types import SimpleNamespace
+    from pneufrac_fit import baseline, fit, noise
+
+    def no_long_memory(nm, r):
+        raise AssertionError("prune asked for a long-memory exponent")
+
+    monkeypatch.setattr(noise, "with_long_memory", no_long_memory)
+    seen = []
+    real = fit.uncertainty
+    monkeypatch.setattr(fit, "uncertainty",
+                        lambda pb, fr, **kw: seen.append(kw) or real(pb, fr, **kw))
+    monkeypatch.setattr(fit, "jacobian", lambda pb, fr: ([], np.ones((400, 1))))
+    monkeypatch.setattr(fit, "full_specs", lambda pb, fr: [])
+    r = np.random.default_rng(0).normal(size=400)
+    pb = SimpleNamespace(setup=SimpleNamespace(config="p"), fit_pieces=lambda x: x,
+                         fit_of=lambda x: x, fit_white=lambda x: x, open_start=False, nsim=400)
+    best = SimpleNamespace(residual=lambda pb: r, values={}, groups={})
+    baseline.prune(pb, best, print, {})
+    assert seen == [{"long_memory": False}]
