@@ -659,7 +659,6 @@ def _split_words(split) -> tuple:
     return "held-out blocks", f"the last {held} of each {each} of the record"
 
 
-
 def check_parts(rec: Record, split) -> None:
     """The input and the output must move in both the fit part and the
     held-out part of the split (holdout.Split): a part where the input
