@@ -195,10 +195,10 @@ def _from_best_placement(fits, effects, base):
             fr, pk, kind = fits[i]
             done.add((kind, wk))
             alt = search.refine(pk, effects, [("best placement's optimum", st)], dead=base.dead)
-            if alt.cost < fr.cost * (1 - search.COST_RTOL):
+            if search.lower(alt.cost, fr.cost):
                 fits[i] = (alt, pk, kind)
         rest = sorted(fits[1:], key=lambda f: f[0].cost)
-        if rest[0][0].cost < win.cost * (1 - search.COST_RTOL):
+        if search.lower(rest[0][0].cost, win.cost):
             fits = rest[:1] + sorted([fits[0]] + rest[1:], key=lambda f: f[0].cost)
         else:
             fits = fits[:1] + rest

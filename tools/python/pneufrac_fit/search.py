@@ -47,6 +47,12 @@ REFINE_ITER = 10           # Jacobians per refining fit
 COST_RTOL = 1e-6
 
 
+def lower(cost: float, than: float) -> bool:
+    """cost is lower than `than` by more than COST_RTOL: a fit that is
+    called better than one already found (above)."""
+    return cost < than * (1 - COST_RTOL)
+
+
 def best(fits):
     return min(fits, key=lambda r: r.cost)
 

@@ -149,8 +149,8 @@ def _try_effect(pb, current, effect, seed, hint, fitted, t0, better=None):
     fr = fitted if fitted is not None else candidates.fit_extended(pbx, current, effect, rng,
                                                                     hint)
     pbx = candidates.for_model(pbx, fr)      # saturation where the fit placed it
-    if fr.cost < fit.start_cost(pbx, current.effects, {**current.groups, **current.values},
-                                current.dead) * (1 - search.COST_RTOL):
+    if search.lower(fr.cost, fit.start_cost(pbx, current.effects,
+                                             {**current.groups, **current.values}, current.dead)):
         ref = reference(pbx, current.effects, fr, current, better)
     else:       # no better than the model without it: no reference needed
         ref = current
@@ -600,11 +600,11 @@ def _test_again(pb, current, t, fr, seed, better=None):
     default the one t's reference was searched from, so that a later
     refinement of a test from_better made keeps its reference's start).
     None otherwise."""
-    if not fr.cost < t.model.cost * (1 - search.COST_RTOL):
+    if not search.lower(fr.cost, t.model.cost):
         return None
     better = t.better if better is None else better
     t2 = try_effect(pb, current, t.effect, _seed_of(seed, t.effect), fitted=fr, better=better)
-    if not t2.model.cost < t.model.cost * (1 - search.COST_RTOL):
+    if not search.lower(t2.model.cost, t.model.cost):
         return None
     _carry_refs(t2, t, t.ref, current)
     return t2
@@ -721,7 +721,7 @@ def _short_of(t, better) -> bool:
     """Whether t's reference fits the fit part worse than `better` (a fit of
     the same effects) does, both on t's problem (its freedoms and samples):
     the fit criterion, with _test_again's margin."""
-    return _cost_on(t, better) < _cost_on(t, t.ref) * (1 - search.COST_RTOL)
+    return search.lower(_cost_on(t, better), _cost_on(t, t.ref))
 
 
 def _referred_again(pb, current, tests, i, better, seed, say):
@@ -747,11 +747,11 @@ def _referred_again(pb, current, tests, i, better, seed, say):
     t2 = try_effect(pb, current, t.effect, _seed_of(seed, t.effect), fitted=t.model,
                     better=better)
     old, new, best = _cost_on(t, t.ref), _cost_on(t, t2.ref), _cost_on(t, better)
-    raised = new < old * (1 - search.COST_RTOL)
+    raised = search.lower(new, old)
     say(f"  {t.effect} referred to the better {current.effect} fit (on its samples: "
         f"reference {old:.6g}, better {best:.6g}): reference {new:.6g} -> "
         + ("passes" if t2.passes else "fails: " + "; ".join(t2.reasons[:2])))
-    if best < new * (1 - search.COST_RTOL):
+    if search.lower(best, new):
         say(f"  warning: {t.effect}'s reference is still short of the better "
             f"{current.effect} fit")
     keep, drop = (t2, t) if raised or not t2.passes else (t, t2)
