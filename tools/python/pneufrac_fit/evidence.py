@@ -203,9 +203,7 @@ def verdict(causes, base, ext, tests, checks, evb, eva, pb, floor,
                        f"model explains the data down to the noise (validation NRMSE "
                        f"{base.nrmse_val:.4f}, noise floor {floor:.4f}).")
         else:
-            out.append(f"The baseline's residual still depends on the input (validation "
-                       f"NRMSE {base.nrmse_val:.4f}, noise floor {floor:.4f}), but no "
-                       "catalogued cause explains it materially.")
+            out.append(_unexplained(base, tests, floor))
         return out
     by = {t.effect: t for t in checks}
     p = ext.effect_params(pb.setup.fs_int, m)
@@ -252,6 +250,29 @@ def verdict(causes, base, ext, tests, checks, evb, eva, pb, floor,
     out.append(f"After the fix: the whitened residual leaves the 99 % band against the "
                f"input at {eva['ccf_out']} lags (was {evb['ccf_out']}).")
     return out
+
+
+def _unexplained(base, tests, floor) -> str:
+    """What a verdict without a cause says when the baseline's residual still
+    depends on the input: the model misses something, by how much against
+    the noise floor (the NRMSE the noise alone leaves), and why the effects
+    that could be it were refused. "Not material" is said only when it is
+    true: an effect significant and material on the fit part that fails
+    only by predicting the held-out part, or by BIC, is a large effect the
+    model places wrongly or cannot place alone (two at once, a held-out part
+    at levels the fit part never reached), not a small one, and a record 9x
+    above its floor reported as "nothing material" hides that."""
+    big = [t.effect for t in sorted(tests, key=lambda t: t.model.nrmse_val)
+           if t.significant and t.material]
+    line = ("The model misses something it cannot name: the baseline's residual still "
+            f"depends on the input, and its held-out NRMSE is {base.nrmse_val:.4f}"
+            + (f", {base.nrmse_val / floor:.1f}x the noise floor {floor:.4f}" if floor > 0
+               else f" (noise floor {floor:.4f})"))
+    if not big:
+        return line + "; no catalogued cause explains it materially."
+    return (line + f"; {', '.join(big)} {'is' if len(big) == 1 else 'are'} significant and "
+            "material on the fit part but refused by the held-out part or BIC: the catalogued "
+            "causes, one at a time as the model places them, do not describe it.")
 
 
 def describe_effect(cause: str, p: dict, fs: float) -> str:
