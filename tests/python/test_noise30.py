@@ -28,7 +28,7 @@ def _stub(nm):
     return SimpleNamespace(nm=nm, fit_pieces=lambda r: [r])
 
 
-def test_the_long_run_variance_se_is_the_delta_method_s():
+def test_the_log_lrv_se_is_the_delta_methods():
     """AR(1) of pole phi: n Var(log LRV) = 2 + 4 (1 - phi^2) / (1 - phi)^2
     (Var(log sigma2) = 2/n; Var(phi) = (1 - phi^2)/n; d log LRV / d phi =
     2 / (1 - phi)); white noise: 2."""
