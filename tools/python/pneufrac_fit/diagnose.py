@@ -192,8 +192,10 @@ def _noise_from_rest(rec, pb) -> list:
     return [f"The noise, measured on the opening {rest} samples at rest, is "
             f"{nm.describe()}: every fit minimises the residual whitened by it (the "
             "output's likelihood under that noise), and the guards compare models under it "
-            f"unless the residual of the model with the effect holds {guards.LONG_RUN_RATIO:g}x "
-            "less slow noise than it claims (then under that residual's own: guards.noise_for)."]
+            "unless the residual of the model with the effect holds significantly less slow "
+            f"noise than it claims (its long-run variance below the rest model's by more than "
+            f"{guards.LONG_RUN_Z:.2f} standard errors; then under that residual's own: "
+            "guards.noise_for)."]
 
 
 def _best_baseline(pb, base, rounds, notes):

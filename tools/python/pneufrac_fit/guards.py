@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import fit, model, noise
+from . import fit, longrun, model, noise
 
 Z95 = 1.959963984540054
 MIN_DBIC = 10.0              # "very strong" on Kass & Raftery's scale
@@ -148,45 +148,49 @@ def _interval(pb, fr, effect, contrib_range):
 
 
 # A noise model measured at rest that claims more slow noise than the
-# record holds. The residual of any model is the noise plus what the model
-# misses, independent of the noise, so its spectrum is at least the
-# noise's at every frequency: a missing effect can only add power. The
-# long-run variance (the spectrum at zero frequency, sigma2 / A(1)^2) is
-# what weighs a slow difference between two models' outputs: a noise model
-# that puts it LONG_RUN_RATIO times above what the residual of the model
-# with the effect shows has measured something other than noise (an output
+# record holds. The long-run variance (LRV, the spectrum at zero frequency,
+# longrun.py) is what weighs a slow difference between two models' outputs.
+# Were the rest stretch the noise alone, its AR model and that of the
+# residual of the model with the effect would estimate the noise's LRV, the
+# residual's at least that (a missing effect adds power) up to what the fit
+# itself absorbs (a fit projects out slow directions of the noise: gains,
+# offsets, slow time constants, so a fitted residual's slow power is
+# somewhat below the noise's). A rest model whose LRV is significantly
+# above the residual's has measured something other than noise (an output
 # still settling from an earlier move in its opening stretch, which the
-# rest stretch's own AR model takes for slow noise), and whitening by it
-# would discount a real effect's slow contribution by that factor. Then
-# the comparison whitens with that residual's own noise model, as for a
-# record without a rest stretch. The ratio mirrors
-# baseline.PREMISE (the other direction: a residual that the noise model
-# does not describe because it holds more): 4x in variance, twice in sd,
-# beyond what the AR fit's sampling error on a rest stretch of a few
-# hundred samples makes (on true noise at rest, AR(1) to pole 0.99,
-# resonant AR(2) and 1/f, 200 or 650 samples: never in 100 draws each, the
-# smallest ratio 0.28; but with the residual's offset and trend removed, as
-# a fit removes them, 7 in 300 at pole 0.99 on 650 samples: docs/analysis.md,
-# the twofx5 review). Where it fires, the comparison is the one every record
-# without a rest stretch gets.
-LONG_RUN_RATIO = 4.0
+# AR fit takes for slow noise), and whitening by it would discount a real
+# effect's slow contribution by that factor. Significantly: D = log LRV_rest
+# - log LRV_own beyond LONG_RUN_Z times its standard error, each model's
+# from its own coefficients on its own samples (delta method, longrun.py),
+# the two estimates independent (disjoint samples). LONG_RUN_Z is the
+# one-sided 0.999 normal point: firing costs little (the comparison then
+# whitens with the residual's own model, the one every record without a
+# rest stretch gets), but on true noise it is a departure from the noise
+# model measured, so it should be rare. The asymptotic se is optimistic for
+# a slow pole on a few hundred samples, but there the Yule-Walker LRV is
+# biased low (the pole shrinks), which pushes D away from firing: on true
+# noise (AR(1) 0.9-0.99, resonant AR(2), 1/f; rest 200 or 650 samples; the
+# residual raw or less offset and trend) it fired 0 times in 300 per case,
+# the largest z 2.2 (docs/analysis-bench.md, branch noise30).
+LONG_RUN_Z = 3.090232306167813
 
 
-def long_run_var(nm) -> float:
-    """The AR process's spectrum at zero frequency (x 2 pi): sigma2 / A(1)^2,
-    the variance rate of its sums over long stretches."""
-    s = float(np.sum(nm.a))
-    return nm.sigma2 / max(s * s, 1e-300)
+def long_run_z(rest, own) -> float:
+    """D = log LRV_rest - log LRV_own over its standard error (longrun.py):
+    how far the rest model's slow noise lies above the residual's."""
+    d = math.log(longrun.variance(rest)) - math.log(longrun.variance(own))
+    return d / math.hypot(longrun.log_se(rest, rest.n), longrun.log_se(own, own.n))
 
 
 def noise_for(pb, r1):
     """The noise model a comparison whitens both models with: the record's,
-    measured at rest (pb.nm), unless the residual r1 of the model with the
-    effect contradicts it (LONG_RUN_RATIO); else, and without a rest
-    stretch, r1's own AR model (under "no effect" both residuals agree;
-    under "effect" r1 is the noise)."""
+    measured at rest (pb.nm), unless its long-run variance lies
+    significantly above that of the residual r1 of the model with the
+    effect (LONG_RUN_Z); else, and without a rest stretch, r1's own AR
+    model (under "no effect" both residuals agree; under "effect" r1 is the
+    noise)."""
     own = noise.fit(pb.fit_pieces(r1))
-    if pb.nm is None or long_run_var(own) * LONG_RUN_RATIO < long_run_var(pb.nm):
+    if pb.nm is None or long_run_z(pb.nm, own) > LONG_RUN_Z:
         return own
     return pb.nm
 
