@@ -103,10 +103,10 @@ def test_the_baseline_prunes_on_the_ar_model_alone(monkeypatch):
     from types import SimpleNamespace
     from pneufrac_fit import baseline, fit, noise
 
-    def no_long_memory(nm, r):
+    def no_long_memory(r):
         raise AssertionError("prune asked for a long-memory exponent")
 
-    monkeypatch.setattr(noise, "with_long_memory", no_long_memory)
+    monkeypatch.setattr(noise, "fit_arfima", no_long_memory)
     seen = []
     real = fit.uncertainty
     monkeypatch.setattr(fit, "uncertainty",
@@ -118,4 +118,4 @@ def test_the_baseline_prunes_on_the_ar_model_alone(monkeypatch):
                          fit_of=lambda x: x, fit_white=lambda x: x, open_start=False, nsim=400)
     best = SimpleNamespace(residual=lambda pb: r, values={}, groups={})
     baseline.prune(pb, best, print, {})
-    assert seen == [{"long_memory": False}]
+    assert seen == [{"noise_model": noise.fit}]
