@@ -119,3 +119,15 @@ def test_the_baseline_prunes_on_the_ar_model_alone(monkeypatch):
     best = SimpleNamespace(residual=lambda pb: r, values={}, groups={})
     baseline.prune(pb, best, print, {})
     assert seen == [{"noise_model": noise.fit}]
+
+
+def test_the_python_api_carries_the_marks(diag_named):
+    """pneufrac.Diagnosis's intervals come with the same marks as the JSON
+    (review_interval29 S1: the API gave the unreliable intervals as 95 %
+    ones)."""
+    from pneufrac.diagnosis import Diagnosis
+    dx = Diagnosis(diag_named, None)
+    marks = output.to_dict(diag_named)["extended"]["ci95_not_reliable"]
+    assert marks, "premise: the extended model has marked groups"
+    assert dx.intervals_not_reliable == marks
+    assert set(marks) <= set(dx.intervals)
