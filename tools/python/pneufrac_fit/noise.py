@@ -239,6 +239,7 @@ def fit_arfima(r, p_max: int = P_MAX) -> NoiseModel:
                               method="bounded", options={"xatol": 1e-4}).x)
     if Q(d) > Q(d0):
         d = float(d0)
+
     def at(d):      # the order-p model at d: a and sigma2 profiled
         _, _, a, s2 = next(o for o in orders(d) if o[1] == p)
         return _stabilise(a), float(s2)
@@ -261,8 +262,10 @@ def _d_nodes(d: float, sd: float):
     three-point Gauss-Hermite rule (exact for polynomials of degree 5):
     d^ and d^ +- sqrt(3) sd, weights 2/3, 1/6, 1/6, the nodes kept in
     [0, D_MAX] (d's range). At each node A and sigma2 are the Whittle
-    estimates given that d (the likelihood's ridge: d and A trade off at
-    low frequencies, and holding A would count d's error twice there)."""
+    estimates given that d (the likelihood's ridge): d and A trade off at
+    low frequencies, and A held at its estimate ignores that (on the AR(1)
+    draws of test_coverage the mean's median se / rms error 1.17 with A
+    held, 1.12 on the ridge, 1.07 for the AR model alone)."""
     z = math.sqrt(3.0) * sd
     return tuple((w, min(max(d + k * z, 0.0), D_MAX))
                  for w, k in ((2.0 / 3.0, 0), (1.0 / 6.0, -1), (1.0 / 6.0, 1)))
