@@ -70,9 +70,9 @@ def _interval_notes(d, fr) -> dict:
     cost a whole fit per bound of every such group)."""
     if d.pb is None:
         return {}
-    # the problem as this fit had it: the baseline's, with the groups this
-    # fit freed out of `fixed` too (pid places nu's range from w, which a
-    # held w would fix); an extended fit only frees groups of the baseline's
+    # the problem as this fit had it: the baseline's free groups and those
+    # this fit freed (out of `fixed` too: pid places nu's range from w,
+    # which a held w would fix)
     pbx = candidates.with_freed(d.pb, [g for g in fr.free_groups if g not in d.pb.free])
     out = {}
     # every group's value (a held one too: pid's w is placed from nu)
