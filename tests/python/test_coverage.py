@@ -1,14 +1,16 @@
 # SPDX-License-Identifier: MIT
 """Do the sandwich intervals hold? A Monte Carlo of noise.sandwich on a
-small regression whose truth is known, under AR(1) and 1/f noise: the 95 %
-intervals must contain the truth 95 % of the time, within the binomial
-tolerance of the number of draws. The noise model is the one fit.uncertainty
-uses (noise.fit, then noise.with_long_memory). (bench/bench_coverage.py
-measures the same on whole diagnoses; this is the statistic alone, fast.)"""
+small regression whose truth is known, under white, AR(1), fractional
+(ARFIMA) and 1/f noise: the 95 % intervals must contain the truth 95 % of
+the time, within the binomial tolerance of the number of draws, and be no
+wider than that needs. The noise model is the one fit.uncertainty uses
+(noise.fit_arfima). (bench/bench_coverage.py measures the same on whole
+diagnoses; this is the statistic alone, fast.)"""
 import math
 
 import numpy as np
-from scipy.signal import lfilter
+from scipy.signal import fftconvolve, lfilter
+from scipy.special import gammaln
 
 from pneufrac_fit import noise
 
@@ -18,13 +20,34 @@ POLE = 0.9
 # Binomial sd of a coverage estimated from DRAWS intervals at 95 %: 0.011.
 # Three sd either side (a fixed seed: the test is deterministic; the band is
 # what a correct statistic leaves on one run of this size). The sandwich's
-# own finite-sample bias (the AR coefficient estimated from a residual: at
+# own finite-sample bias (the noise model estimated from a residual: at
 # N = 4000 about 1 % of coverage) lies inside it.
 TOL = 3.0 * math.sqrt(0.95 * 0.05 / DRAWS)
+# The median se over the estimate's rms error: 1 for a right se. The rms
+# from DRAWS draws has a relative sd of 1/sqrt(2 DRAWS) = 3.5 %; 25 % is
+# about 7 of them, and half the factor 1.6-1.8 that the AR model composed
+# with a separately estimated d gave on fractional noise (interval29).
+WIDE = 1.25
+# Under 1/f noise the slow columns' coverage falls short of 95 % by this
+# much (measured, not derived: see test_sandwich_intervals_cover_under_one_over_f_noise).
+ONE_OVER_F_SHORT = 0.03
 
 
 def _ar1(rng, n):
     return lfilter([1.0], [1.0, -POLE], rng.standard_normal(n))
+
+
+def _fractional(d, pole=0.0, burn=20000):
+    """ARFIMA(1, d, 0) noise (pole 0: ARFIMA(0, d, 0)) by the MA(inf)
+    weights psi_k = G(k+d)/(G(k+1)G(d)) of (1 - q^-1)^-d, cut after
+    n + burn terms, the first burn samples dropped: another route than the
+    estimator's (no periodogram, no autocovariance)."""
+    def make(rng, n):
+        k = np.arange(n + burn)
+        psi = np.exp(gammaln(k + d) - gammaln(k + 1) - gammaln(d))
+        v = fftconvolve(rng.standard_normal(n + burn), psi)[burn:n + burn]
+        return lfilter([1.0], [1.0, -pole], v)
+    return make
 
 
 def _one_over_f(rng, n, longer=8):
@@ -41,9 +64,9 @@ def _one_over_f(rng, n, longer=8):
 
 def _draws(seed: int, make_noise=_ar1, n: int = N):
     """(estimate - truth), the sandwich's se under the noise model
-    fit.uncertainty uses, the AR model's alone (noise.fit, the estimator
-    before the long-memory exponent) and the white formula's, of a
-    regression on a constant, a slow sine and a step, DRAWS times."""
+    fit.uncertainty uses (noise.fit_arfima), the AR model's alone (noise.fit)
+    and the white formula's, of a regression on a constant, a slow sine and
+    a step, DRAWS times."""
     rng = np.random.default_rng(seed)
     t = np.arange(n)
     X = np.column_stack([np.ones(n), np.sin(2 * np.pi * 3 * t / n), (t > n // 2) * 1.0])
@@ -54,9 +77,8 @@ def _draws(seed: int, make_noise=_ar1, n: int = N):
         bh = np.linalg.lstsq(X, y, rcond=None)[0]
         r = y - X @ bh
         err.append(bh - b)
-        nm = noise.fit(r)
-        se.append(np.sqrt(np.diag(noise.sandwich(X, noise.with_long_memory(nm, r)))))
-        se_ar.append(np.sqrt(np.diag(noise.sandwich(X, nm))))
+        se.append(np.sqrt(np.diag(noise.sandwich(X, noise.fit_arfima(r)))))
+        se_ar.append(np.sqrt(np.diag(noise.sandwich(X, noise.fit(r)))))
         se_white.append(np.sqrt(np.diag(np.linalg.inv(X.T @ X)) * (r @ r) / n))
     return np.array(err), np.array(se), np.array(se_ar), np.array(se_white)
 
@@ -65,40 +87,70 @@ def _cover(err, se):
     return np.mean(np.abs(err) <= 1.96 * se, axis=0)
 
 
+def _ratio(err, se):
+    """median se over the estimate's rms error, per column"""
+    return np.median(se, axis=0) / np.sqrt(np.mean(err ** 2, axis=0))
+
+
+def test_sandwich_intervals_hold_under_fractional_noise():
+    """ARFIMA(0, 0.3, 0) and ARFIMA(1, 0.3, 0) (pole 0.5), the model family
+    the sandwich assumes: coverage 95 % both ways and the se the estimate's
+    rms error. An AR model with a d estimated after it (interval29) gave
+    88-92 % and a se 1.6-1.8x too wide: this fails there."""
+    for seed, make in ((14, _fractional(0.3)), (15, _fractional(0.3, 0.5))):
+        err, se, se_ar, _ = _draws(seed, make, 3000)
+        cover = _cover(err, se)
+        assert np.all(np.abs(cover - 0.95) <= TOL), (seed, cover)
+        assert np.all(np.abs(np.log(_ratio(err, se))) < math.log(WIDE)), (seed, _ratio(err, se))
+        # the check has power: the AR model's intervals fall far below the band
+        assert np.all(_cover(err, se_ar) < 0.95 - TOL), _cover(err, se_ar)
+
+
 def test_sandwich_intervals_cover_under_one_over_f_noise():
     """Under 1/f noise the residual's AR model alone understates the power
     at the frequencies the regression's slow columns absorbed (coverage
-    about 50-65 %); with the long-memory exponent the intervals hold."""
+    about 40-70 %); with the long-memory exponent the intervals nearly
+    hold."""
     err, se, se_ar, _ = _draws(13, _one_over_f, 3000)
     cover = _cover(err, se)
-    # They hold: not below the band. Above it they may be (0.95-0.99 here):
-    # d's own estimation error, which the interval does not count, makes
-    # the se vary from draw to draw, and the widths are then set by the
-    # draws with a high d. Not useless wide either: the median se at most
-    # 2.5x the estimate's rms error (1.4-2.1 here).
-    assert np.all(cover >= 0.95 - TOL), cover
-    ratio = np.median(se, axis=0) / np.sqrt(np.mean(err ** 2, axis=0))
-    assert np.all(ratio < 2.5), ratio
+    ratio = _ratio(err, se)
+    # The sine and the step: the se their rms error, and coverage near 95 %
+    # but short of it: 92-93 % at 1000 draws (se / rms 0.91-0.93; branch
+    # arfima30, docs/analysis-bench.md). 1/f power is d = 1/2, the edge of
+    # the stationary model (d at its bound 0.49; a bound of 0.499 gave the
+    # same). The band below is the measured shortfall (3 %) on top of the
+    # binomial one; not above the band either.
+    assert np.all(cover[1:] >= 0.95 - ONE_OVER_F_SHORT - TOL), cover
+    assert np.all(cover[1:] <= 0.95 + TOL), cover
+    assert np.all(np.abs(np.log(ratio[1:])) < math.log(WIDE)), ratio
+    # The constant holds too, but wider than its error (about 3x): 1/f power
+    # (d = 1/2) makes the variance of a record's mean grow without bound
+    # with the record's length, and this noise has power only down to the
+    # frequency of a record 8 times longer. No record shows where 1/f
+    # stops below its own lowest frequency, so the model extrapolates the
+    # power law: the conservative side.
+    assert cover[0] >= 0.95 - TOL, cover
     # the check has power: the AR model's intervals fall far below the band
     assert np.all(_cover(err, se_ar) < 0.95 - TOL), _cover(err, se_ar)
 
 
 def test_sandwich_intervals_cover_under_ar1_noise():
-    """AR(1) noise has no long memory: the exponent stays 0 (or nearly
-    always), and the intervals are the AR sandwich's."""
+    """AR(1) noise has no long memory: d comes out near 0, the intervals
+    are nearly the AR sandwich's (no test decides whether d is used)."""
     err, se, se_ar, se_white = _draws(11)
-    assert np.mean(se == se_ar) > 0.9
-    cover = np.mean(np.abs(err) <= 1.96 * se, axis=0)
+    assert np.median(se / se_ar) < 1.1, np.median(se / se_ar, axis=0)
+    cover = _cover(err, se)
     assert np.all(np.abs(cover - 0.95) <= TOL), cover
+    assert np.all(np.abs(np.log(_ratio(err, se))) < math.log(WIDE)), _ratio(err, se)
     # the check has power: the white formula's intervals (what the sandwich
     # would give if it ignored the colour) fall far outside the band
-    white = np.mean(np.abs(err) <= 1.96 * se_white, axis=0)
+    white = _cover(err, se_white)
     assert np.all(white < 0.95 - TOL), white
 
 
 def test_sandwich_intervals_cover_under_white_noise():
-    """On white noise the AR order is 0 and the sandwich is the classical
-    interval: coverage 95 % too, not wider."""
+    """On white noise the AR order is 0, d near 0, and the sandwich is
+    nearly the classical interval: coverage 95 % too, not wider."""
     rng = np.random.default_rng(12)
     n = 2000
     X = np.column_stack([np.ones(n), rng.standard_normal(n)])
@@ -108,7 +160,7 @@ def test_sandwich_intervals_cover_under_white_noise():
         y = X @ b + rng.standard_normal(n)
         bh = np.linalg.lstsq(X, y, rcond=None)[0]
         r = y - X @ bh
-        se = np.sqrt(np.diag(noise.sandwich(X, noise.with_long_memory(noise.fit(r), r))))
+        se = np.sqrt(np.diag(noise.sandwich(X, noise.fit_arfima(r))))
         hits += np.abs(bh - b) <= 1.96 * se
     cover = hits / DRAWS
     assert np.all(np.abs(cover - 0.95) <= TOL), cover

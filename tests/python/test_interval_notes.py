@@ -103,10 +103,10 @@ def test_the_baseline_prunes_on_the_ar_model_alone(monkeypatch):
     from types import SimpleNamespace
     from pneufrac_fit import baseline, fit, noise
 
-    def no_long_memory(nm, r):
+    def no_long_memory(r):
         raise AssertionError("prune asked for a long-memory exponent")
 
-    monkeypatch.setattr(noise, "with_long_memory", no_long_memory)
+    monkeypatch.setattr(noise, "fit_arfima", no_long_memory)
     seen = []
     real = fit.uncertainty
     monkeypatch.setattr(fit, "uncertainty",
@@ -118,4 +118,16 @@ def test_the_baseline_prunes_on_the_ar_model_alone(monkeypatch):
                          fit_of=lambda x: x, fit_white=lambda x: x, open_start=False, nsim=400)
     best = SimpleNamespace(residual=lambda pb: r, values={}, groups={})
     baseline.prune(pb, best, print, {})
-    assert seen == [{"long_memory": False}]
+    assert seen == [{"noise_model": noise.fit}]
+
+
+def test_the_python_api_carries_the_marks(diag_named):
+    """pneufrac.Diagnosis's intervals come with the same marks as the JSON
+    (review_interval29 S1: the API gave the unreliable intervals as 95 %
+    ones)."""
+    from pneufrac.diagnosis import Diagnosis
+    dx = Diagnosis(diag_named, None)
+    marks = output.to_dict(diag_named)["extended"]["ci95_not_reliable"]
+    assert marks, "premise: the extended model has marked groups"
+    assert dx.intervals_not_reliable == marks
+    assert set(marks) <= set(dx.intervals)

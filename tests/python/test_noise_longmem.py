@@ -1,12 +1,14 @@
 # SPDX-License-Identifier: MIT
-"""The long-memory parts of noise.py: the local Whittle estimate of d, the
-fractional noise's autocovariance, the fractional difference, the Toeplitz
-product, and the gate that leaves records without long memory alone."""
+"""The long-memory parts of noise.py: the joint Whittle estimate of
+ARFIMA(p, d, 0) and d's sd, the fractional noise's autocovariance, the
+fractional difference, the Toeplitz product, and short-memory noise left
+(nearly) as the AR model has it."""
 import math
 
 import numpy as np
+import pytest
 from scipy.linalg import toeplitz
-from scipy.signal import fftconvolve
+from scipy.signal import fftconvolve, lfilter
 from scipy.special import gammaln
 
 from pneufrac_fit import noise
@@ -21,16 +23,31 @@ def _fractional_noise(rng, n, d, burn=20000):
     return fftconvolve(rng.standard_normal(n + burn), psi)[burn:n + burn]
 
 
-def test_local_whittle_recovers_d():
+def test_fit_arfima_recovers_d_and_its_sd():
+    """ARFIMA(0, 0.3, 0): d's estimates average to d within 3 sd of a mean
+    of 20, their spread is the Whittle sd (Fox and Taqqu 1986: 6/(pi^2 n)
+    for d alone, the AR order being 0 here), and the order 0 is chosen."""
     rng = np.random.default_rng(3)
     n = 8192
-    est = []
-    for _ in range(20):
-        d, sd = noise.local_whittle(_fractional_noise(rng, n, 0.3), int(n ** 0.5))
-        est.append(d)
-    assert sd == 0.5 / math.sqrt(int(n ** 0.5))
-    # the mean of 20 estimates within 3 sd of the mean of 20
-    assert abs(np.mean(est) - 0.3) < 3 * sd / math.sqrt(20), np.mean(est)
+    fits = [noise.fit_arfima(_fractional_noise(rng, n, 0.3)) for _ in range(20)]
+    d = np.array([m.d for m in fits])
+    sd = math.sqrt(6.0 / (math.pi ** 2 * n))
+    assert all(abs(m.d_sd / sd - 1) < 0.05 for m in fits if m.order == 0)
+    assert np.mean([m.order == 0 for m in fits]) >= 0.9
+    assert abs(np.mean(d) - 0.3) < 3 * sd / math.sqrt(20), np.mean(d)
+    assert 0.5 < np.std(d) / sd < 1.5, np.std(d) / sd
+
+
+def test_fit_arfima_separates_the_ar_pole_from_d():
+    """ARFIMA(1, 0.3, 0), pole 0.5: the joint fit finds both (an AR model
+    fitted first and d on its innovations found d = 0.22 on average)."""
+    rng = np.random.default_rng(9)
+    fits = [noise.fit_arfima(lfilter([1.0], [1.0, -0.5], _fractional_noise(rng, 4000, 0.3)))
+            for _ in range(20)]
+    d = np.array([m.d for m in fits])
+    sd = np.mean([m.d_sd for m in fits])
+    assert abs(np.mean(d) - 0.3) < 3 * sd / math.sqrt(20), (np.mean(d), sd)
+    assert np.median([-m.a[1] for m in fits if m.order == 1]) == pytest.approx(0.5, abs=0.1)
 
 
 def test_frac_acov_hosking():
@@ -60,21 +77,34 @@ def test_toeplitz_gram_exact():
     assert np.allclose(noise._toeplitz_gram(G, g), G.T @ toeplitz(g) @ G)
 
 
-def test_no_long_memory_no_change():
-    """White noise: d's interval includes 0 (d = 0), the sandwich is the AR
-    one exactly; the estimate is recorded all the same."""
+def test_short_memory_keeps_the_ar_model():
+    """White and AR(1) noise: d comes out near 0 (within 2 of its sd), the
+    AR part is the AR model's, and the sandwich's variances are the AR
+    model's within 10 % (no test decides whether d is used)."""
     rng = np.random.default_rng(7)
-    r = rng.standard_normal(3000)
-    nm = noise.fit(r)
-    nl = noise.with_long_memory(nm, r)
-    assert nl.d == 0.0 and nl.d_est is not None
     J = rng.standard_normal((3000, 2))
-    assert np.array_equal(noise.sandwich(J, nl), noise.sandwich(J, nm))
-    assert "long memory" not in nl.describe()
+    J[:, 0] = 1.0
+    for pole in (0.0, 0.9):
+        r = lfilter([1.0], [1.0, -pole], rng.standard_normal(3000))
+        nm, ar = noise.fit_arfima(r), noise.fit(r)
+        assert nm.d <= 2 * nm.d_sd and nm.order == ar.order, (pole, nm.d, nm.d_sd)
+        ratio = np.diag(noise.sandwich(J, nm)) / np.diag(noise.sandwich(J, ar))
+        assert np.all(np.abs(ratio - 1) < 0.1), (pole, ratio)
 
 
 def test_long_memory_found_in_fractional_noise():
     rng = np.random.default_rng(8)
-    r = _fractional_noise(rng, 3000, 0.4)
-    nl = noise.with_long_memory(noise.fit(r), r)
-    assert nl.d > 0 and "long memory" in nl.describe()
+    nm = noise.fit_arfima(_fractional_noise(rng, 3000, 0.4))
+    assert nm.d - 1.96 * nm.d_sd > 0 and "long memory" in nm.describe()
+    # the sandwich averages over d's error: three nodes around d
+    assert [x[3] for x in nm.spread] == pytest.approx(
+        [nm.d, nm.d - math.sqrt(3) * nm.d_sd, nm.d + math.sqrt(3) * nm.d_sd])
+
+
+def test_one_over_f_noise_at_the_bound():
+    """1/f power (d = 1/2): d at its bound D_MAX (stationarity), said."""
+    rng = np.random.default_rng(10)
+    f = np.fft.rfftfreq(3000)
+    v = np.fft.irfft(np.fft.rfft(rng.standard_normal(3000)) * np.r_[0.0, f[1:] ** -0.5], 3000)
+    nm = noise.fit_arfima(v)
+    assert nm.d == noise.D_MAX and "at its bound" in nm.describe()

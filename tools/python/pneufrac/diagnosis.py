@@ -95,7 +95,10 @@ class Diagnosis:
     cause: the first named effect, or "none"; causes: the named effects,
     most important first, each {"name", "place", "params", "ci95"}; params:
     every parameter of the final (extended) model, groups and effects;
-    intervals: their 95 % intervals, {name: [lo, hi]}; verdict and
+    intervals: their 95 % intervals, {name: [lo, hi]};
+    intervals_not_reliable: {name: why} for the intervals that are no 95 %
+    intervals (a group at a bound of its range, or held by the baseline and
+    freed in this fit: the JSON's ci95_not_reliable); verdict and
     evidence: the report's sentences; raw: pneufrac_fit's own result.
     """
 
@@ -108,6 +111,7 @@ class Diagnosis:
         self.config = j["config"]
         self.params = dict(j["extended"]["params"])
         self.intervals = {k: tuple(v) for k, v in j["extended"]["ci95"].items()}
+        self.intervals_not_reliable = dict(j["extended"]["ci95_not_reliable"])
         self.causes = causes_of(j)
         self.cause = self.causes[0]["name"] if self.causes else "none"
         self.verdict = list(j["verdict"])

@@ -174,13 +174,13 @@ def prune(pb, best, say, reasons: dict):
     nom = model.nominal_groups(pb.setup.config)
     while True:
         nm = noise.fit(pb.fit_pieces(best.residual(pb)))
-        # The AR model alone, not a long-memory exponent: the baseline's
-        # residual holds every effect not yet modelled, whose slow part reads
-        # as long memory, and the wider se then held groups a right model
-        # determines (the time bench's id@1k record: q held as entangled, the
-        # lag then found at 0.0058 s for 0.012). The extended models, whose
-        # intervals are reported for the effects, keep it (fit.uncertainty).
-        fit.uncertainty(pb, best, long_memory=False)
+        # The AR model alone, not the ARFIMA one: the baseline's residual
+        # holds every effect not yet modelled, whose slow part reads as long
+        # memory, and the wider se then held groups a right model determines
+        # (the time bench's id@1k record: q held as entangled, the lag then
+        # found at 0.0058 s for 0.012). The extended models, whose intervals
+        # are reported for the effects, keep it (fit.uncertainty's default).
+        fit.uncertainty(pb, best, noise_model=noise.fit)
         sp = fit.full_specs(pb, best)
         worst, worst_ratio = None, 1.0
         for name, tr, _, _ in sp:

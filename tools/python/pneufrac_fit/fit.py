@@ -914,14 +914,14 @@ def _without(J: np.ndarray, B: np.ndarray) -> np.ndarray:
     return J - B @ np.linalg.lstsq(B, J, rcond=None)[0]
 
 
-def uncertainty(pb: Problem, fr: FitResult, long_memory: bool = True) -> None:
+def uncertainty(pb: Problem, fr: FitResult, noise_model=noise.fit_arfima) -> None:
     """Standard errors and 95 % intervals of every parameter (transformed
     coordinates): the sandwich covariance of the estimate, with the noise
-    the AR model of its (whitened, when the criterion is) residual, and a
-    long-memory exponent when the residual shows one (noise.with_long_memory:
-    under 1/f noise the AR model alone understates the power the fit's slow
-    directions absorbed; long_memory False: the AR model alone). It holds
-    whether or not the criterion's own noise model is right."""
+    modelled from its (whitened, when the criterion is) residual by
+    noise_model: by default ARFIMA(p, d, 0) (noise.fit_arfima: under 1/f or
+    long-memory noise an AR model alone understates the power the fit's slow
+    directions absorbed); noise.fit for the AR model alone. It holds whether
+    or not the criterion's own noise model is right."""
     sp, J = jacobian(pb, fr)
     # The start's coefficients are parameters too (nuisance ones): by Frisch
     # and Waugh, the other parameters' covariance is that of their Jacobian
@@ -931,7 +931,7 @@ def uncertainty(pb: Problem, fr: FitResult, long_memory: bool = True) -> None:
     r = fr.residual(pb)
     Jw = pb.fit_white(J)
     rw = pb.fit_white(r)
-    fr.noise = noise.with_long_memory(noise.fit(rw), rw) if long_memory else noise.fit(rw)
+    fr.noise = noise_model(rw)
     cov = noise.sandwich(_without(Jw, pb.fit_white(B)) if B.shape[1] else Jw, fr.noise)
     se = np.sqrt(np.clip(np.diag(cov), 0, np.inf))
     th = to_theta(sp, fr.values, pb)

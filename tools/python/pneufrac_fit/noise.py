@@ -12,19 +12,19 @@ fitted to a residual (Yule-Walker, Levinson-Durbin), order chosen by BIC, gives
     so that intervals hold under coloured noise;
   - the noise process's variance (not only its white part).
 
-Long memory (with_long_memory, used by the sandwich only). An AR model of
-finite order has a flat spectrum at the lowest frequencies; 1/f-like noise
-does not, and the power it has there is what the slow directions of a fit
-(gain, offset, slow responses) absorb, so the residual's AR model
-understates their variance (coverage28: 61 % coverage under 1/f noise).
-The AR model's innovations are tested for a remaining power law
-f(lam) ~ lam^(-2d) at the lowest frequencies (local Whittle, Robinson
-1995); when d's own 95 % interval excludes 0 the noise is taken as
-ARFIMA(p, d, 0) (Granger and Joyeux 1980, Hosking 1981), A(q) v = w with
-w fractional noise, and the sandwich uses its exact autocovariance, whose
-power law extrapolates the spectrum to the frequencies the fit absorbed.
-Otherwise d = 0 and everything is as without it (white and AR records keep
-their intervals).
+Long memory (fit_arfima, used by the sandwich). An AR model of finite
+order has a flat spectrum at the lowest frequencies; 1/f-like noise does
+not, and the power it has there is what the slow directions of a fit (gain,
+offset, slow responses) absorb, so the residual's AR model understates
+their variance (coverage28: 61 % coverage under 1/f noise). fit_arfima
+models the residual as ARFIMA(p, d, 0) (Granger and Joyeux 1980, Hosking
+1981), A(q) (1 - q^-1)^d v = eps, with (a, d) estimated jointly by Whittle's
+likelihood (Fox and Taqqu 1986), and the sandwich uses its exact
+autocovariance, whose power law extrapolates the spectrum to the
+frequencies the fit absorbed. Short-memory noise gives d near 0 (the AR
+sandwich, nearly), so no test decides whether d is used (branch arfima30:
+a test's misses kept the AR model's coverage, about 50 %, on fractional
+noise).
 """
 from __future__ import annotations
 
@@ -38,15 +38,8 @@ from scipy.special import gammaln
 
 P_MAX = 24            # highest AR order tried
 MAX_ROOT = 0.999      # roots pulled inside this radius (a unit root is drift)
-# Local Whittle bandwidth: the lowest m = n^LW_EXP Fourier frequencies, the
-# bandwidth of Geweke and Porter-Hudak (1983); inside Robinson's (1995)
-# conditions (m -> inf, m/n -> 0), and low enough that the AR model's
-# innovations, flat where the AR model fits, show the power law that remains
-# at the bottom of the spectrum (at n^0.65 they did not: coverage 51-77 %
-# in the Monte Carlo of docs/analysis-bench.md, branch interval29).
-LW_EXP = 0.5
-LW_MIN = 8            # fewer frequencies than this: no test (d = 0)
 D_MAX = 0.49          # d used at most this: fractional noise is stationary for d < 1/2
+D_GRID = 50           # points of fit_arfima's grid over [0, D_MAX] (a step of 0.01)
 
 
 @dataclass
@@ -55,9 +48,9 @@ class NoiseModel:
     sigma2: float         # innovation variance
     var: float            # variance of the residual it was fitted to
     n: int
-    d: float = 0.0        # long-memory exponent (0: none; with_long_memory)
-    d_est: float | None = None   # local Whittle estimate and its sd, when tested
-    d_sd: float | None = None
+    d: float = 0.0        # long-memory exponent (0: none; fit_arfima)
+    d_sd: float | None = None    # its sd (Whittle information), when estimated
+    spread: tuple = ()    # (weight, a, sigma2, d) over d's error: the sandwich's (fit_arfima)
 
     @property
     def order(self) -> int:
@@ -91,8 +84,8 @@ class NoiseModel:
             text = (f"AR({self.order}), lag-1 correlation {rho1:+.2f}, process variance "
                     f"{self.colour_factor():.3g}x the innovation variance")
         if self.d > 0:
-            used = f", {self.d:.2f} used" if self.d < self.d_est else ""
-            text += (f"; long memory d = {self.d_est:.2f} +- {1.96 * self.d_sd:.2f}{used} "
+            bound = " (at its bound: stationarity)" if self.d >= D_MAX else ""
+            text += (f"; long memory d = {self.d:.2f} +- {1.96 * self.d_sd:.2f}{bound} "
                      f"(power ~ f^-{2 * self.d:.2f} at the lowest frequencies)")
         return text
 
@@ -112,6 +105,26 @@ def _stabilise(a: np.ndarray) -> np.ndarray:
         return a
     lam = MAX_ROOT / r
     return a * lam ** np.arange(a.size)
+
+
+def _levinson(acov: np.ndarray):
+    """The AR models of orders 0..len(acov)-1 that solve the autocorrelation
+    (Yule-Walker) equations of acov, all at once by the Levinson-Durbin
+    recursion: (p, [1, a1..ap], prediction error variance) per order, up to
+    the first order whose error is not positive."""
+    a = np.array([1.0])
+    err = float(acov[0])
+    yield 0, a, err
+    for p in range(1, acov.size):
+        k = -float(acov[1:p + 1][::-1] @ a) / err if err > 0 else 0.0
+        b = np.zeros(p + 1)
+        b[:p] = a
+        b[1:] += k * a[::-1]
+        a = b
+        err *= (1.0 - k * k)
+        if not err > 0:
+            return
+        yield p, a, err
 
 
 def fit(r, p_max: int = P_MAX) -> NoiseModel:
@@ -135,38 +148,12 @@ def fit(r, p_max: int = P_MAX) -> NoiseModel:
         c = np.fft.irfft(f * np.conj(f), nf)[:min(p_max + 1, x.size)]
         acov[:c.size] += c
     acov /= n
-    a = np.array([1.0])
-    err = acov[0]
-    best = (n * math.log(max(err, 1e-300)), a, err)
-    for p in range(1, p_max + 1):
-        k = -float(acov[1:p + 1][::-1] @ a) / err if err > 0 else 0.0
-        a = np.r_[a, 0.0] + k * np.r_[0.0, a[::-1]]
-        err *= (1.0 - k * k)
-        if not err > 0:
-            break
-        bic = n * math.log(err) + p * math.log(n)
-        if bic < best[0]:
-            best = (bic, a.copy(), err)
+    best = min(((n * math.log(max(err, 1e-300)) + p * math.log(n), a, err)
+                for p, a, err in _levinson(acov)), key=lambda b: b[0])
     a = _stabilise(best[1])
     e = np.concatenate([lfilter(a, [1.0], x)[a.size - 1:] for x in pieces])
     s2 = float(e @ e) / max(e.size, 1)
     return NoiseModel(a, s2, var, n)
-
-
-def local_whittle(x: np.ndarray, m: int) -> tuple[float, float]:
-    """Robinson's (1995) local Whittle estimate of d from the lowest m
-    Fourier frequencies of x (spectrum ~ G lam^(-2d) there), and its
-    asymptotic sd 1/(2 sqrt(m)). The objective, G profiled out:
-    R(d) = log(mean(lam_j^(2d) I_j)) - 2d mean(log lam_j)."""
-    n = x.size
-    I = np.abs(np.fft.rfft(x - np.mean(x))[1:m + 1]) ** 2
-    ll = np.log(2.0 * np.pi * np.arange(1, m + 1) / n)
-    dl = ll - ll.mean()
-
-    def R(d):
-        return math.log(float(np.mean(np.exp(2.0 * d * dl) * I)))
-    d = minimize_scalar(R, bounds=(-0.49, 0.99), method="bounded", options={"xatol": 1e-4}).x
-    return float(d), 0.5 / math.sqrt(m)
 
 
 def frac_diff(x: np.ndarray, d: float) -> np.ndarray:
@@ -186,25 +173,114 @@ def frac_acov(d: float, n: int) -> np.ndarray:
     return g0 * np.r_[1.0, np.cumprod((k - 1.0 + d) / (k - d))]
 
 
-def with_long_memory(nm: NoiseModel, r: np.ndarray) -> NoiseModel:
-    """nm (an AR model of the residual r) with a long-memory exponent d
-    when r's AR innovations show one: d by local Whittle on the innovations
-    A(q) r, used when its 95 % interval excludes 0 (a one-sided test at
-    2.5 %: white and AR records keep d = 0, so their intervals are the AR
-    sandwich's), capped at D_MAX; the innovation variance is then that of
-    (1 - q^-1)^d A(q) r."""
-    e = lfilter(nm.a, [1.0], np.asarray(r, float) - np.mean(r))[nm.order:]
-    m = int(e.size ** LW_EXP)
-    if m < LW_MIN:
-        return nm
-    d, sd = local_whittle(e, m)
-    out = NoiseModel(nm.a, nm.sigma2, nm.var, nm.n, 0.0, d, sd)
-    if d - 1.96 * sd <= 0:
-        return out
-    out.d = min(d, D_MAX)
-    eps = frac_diff(e - np.mean(e), out.d)
-    out.sigma2 = float(eps @ eps) / eps.size
-    return out
+def _whittle_terms(x: np.ndarray, p_max: int):
+    """The periodogram pieces of the Whittle likelihood of x: I_j = |X_j|^2/n
+    at the Fourier frequencies lam_j = 2 pi j/n, j = 1..n/2 (the mean, j = 0,
+    left out), L_j = log|1 - e^(i lam_j)|^2 (the fractional factor's log
+    transfer), and cos(k lam_j), k = 0..p_max."""
+    n = x.size
+    I = (np.abs(np.fft.rfft(x - np.mean(x))) ** 2 / n)[1:]
+    lam = 2.0 * np.pi * np.arange(1, I.size + 1) / n
+    L = 2.0 * np.log(2.0 * np.sin(lam / 2.0))
+    return I, lam, L, np.cos(np.outer(np.arange(p_max + 1), lam))
+
+
+def fit_arfima(r, p_max: int = P_MAX) -> NoiseModel:
+    """ARFIMA(p, d, 0) model of a residual, A(q) (1 - q^-1)^d v = eps
+    (Granger and Joyeux 1980, Hosking 1981), (a, d) estimated jointly by
+    Whittle's likelihood over all Fourier frequencies (Fox and Taqqu 1986;
+    Beran 1994, ch. 5), p by BIC over the joint fits, d in [0, D_MAX].
+
+    Why jointly: an AR model fitted first absorbs part of the low-frequency
+    power, and a d estimated on its innovations then counts it again (about
+    2x in se on fractional noise, branch interval29's review); a d tested
+    first and used only when significant leaves long memory the test missed
+    at the AR model's coverage (about 50 %).
+
+    The Whittle objective with sigma2 profiled out is
+        Q(a, d) = log mean_j(I_j |1 - e^(i lam_j)|^(2d) |A(e^(i lam_j))|^2)
+                  - d mean_j(L_j),
+    the mean of log|A|^2 dropped (0 for a monic causal A: Kolmogorov's
+    formula). For a fixed d the first term is a quadratic form in a with the
+    Toeplitz matrix of c_k = mean_j(I_j |1 - e^(i lam_j)|^(2d) cos(k lam_j)),
+    the autocovariance of the fractionally differenced x: Levinson-Durbin
+    gives its minimum over a for every order at once (a causal A, c being
+    positive definite). So d is searched on a grid (every order's BIC at
+    each point), and d refined by a bounded scalar search at the best order.
+    BIC = n Q + (p + 1) log n, n Q being -2 log-likelihood (up to a constant)
+    as in fit's BIC. d >= 0: the residual of a fit has lost low-frequency
+    power to the fit's slow columns, which reads as anti-persistence
+    (d < 0) and would narrow exactly the intervals of those columns.
+    d's sd is from the Whittle information, W = (1/4 pi) int grad log f
+    grad log f' dlam (Fox and Taqqu 1986): var(d^) = (W^-1)_dd / n."""
+    x = np.asarray(r, float)
+    n = x.size
+    var = float(np.var(x)) if n else 0.0
+    p_max = int(min(p_max, max(0, n // 20)))
+    if n < 40 or not var > 0:
+        return fit(x, p_max)
+    I, lam, L, C = _whittle_terms(x, p_max)
+    mL = float(np.mean(L))
+
+    def orders(d):
+        c = C @ (I * np.exp(d * L)) / I.size
+        return [(n * (math.log(err) - d * mL) + (p + 1) * math.log(n), p, a, err)
+                for p, a, err in _levinson(c)]
+
+    grid = np.linspace(0.0, D_MAX, D_GRID)
+    # the grid point and order of the least BIC
+    best = min(((b, q, d) for d in grid for b, q, _, _ in orders(d)), key=lambda o: o[0])
+    _, p, d0 = best
+    step = grid[1] - grid[0]
+
+    def Q(d):
+        return next((o[0] for o in orders(d) if o[1] == p), math.inf)
+    d = float(minimize_scalar(Q, bounds=(max(0.0, d0 - step), min(D_MAX, d0 + step)),
+                              method="bounded", options={"xatol": 1e-4}).x)
+    if Q(d) > Q(d0):
+        d = float(d0)
+
+    def at(d):      # the order-p model at d: a and sigma2 profiled
+        _, _, a, s2 = next(o for o in orders(d) if o[1] == p)
+        return _stabilise(a), float(s2)
+    a, s2 = at(d)
+    sd = _whittle_sd(a, d, lam, L, n)
+    spread = tuple((w, *at(dk), dk) for w, dk in _d_nodes(d, sd))
+    return NoiseModel(a, s2, var, n, d, sd, spread)
+
+
+def _d_nodes(d: float, sd: float):
+    """(weight, d) to average the sandwich over d's estimation error.
+
+    Why: the estimate's error does not depend on d, but its variance does,
+    steeply at the slow directions (a mean's variance grows like
+    n^(2d - 1)); the plug-in at d^ leaves the intervals short where d^
+    comes out low: on ARFIMA(1, 0.3, 0), where d and the AR pole trade off,
+    it covered 91 % (1000 draws, branch arfima30). So the variance is
+    averaged over d ~ N(d^, sd^2), the Whittle estimate's asymptotic law
+    (the law of total variance, the estimate itself fixed), by the
+    three-point Gauss-Hermite rule (exact for polynomials of degree 5):
+    d^ and d^ +- sqrt(3) sd, weights 2/3, 1/6, 1/6, the nodes kept in
+    [0, D_MAX] (d's range). At each node A and sigma2 are the Whittle
+    estimates given that d (the likelihood's ridge): d and A trade off at
+    low frequencies, and A held at its estimate ignores that (on the AR(1)
+    draws of test_coverage the mean's median se / rms error 1.17 with A
+    held, 1.12 on the ridge, 1.07 for the AR model alone)."""
+    z = math.sqrt(3.0) * sd
+    return tuple((w, min(max(d + k * z, 0.0), D_MAX))
+                 for w, k in ((2.0 / 3.0, 0), (1.0 / 6.0, -1), (1.0 / 6.0, 1)))
+
+
+def _whittle_sd(a: np.ndarray, d: float, lam: np.ndarray, L: np.ndarray, n: int) -> float:
+    """sd of d^ from the Whittle information of ARFIMA(p, d, 0): the
+    gradient of log f is -L_j for d and -2 Re(e^(-ik lam) conj A)/|A|^2 for
+    a_k; W = (1/2) mean over (0, pi) of its outer product."""
+    k = np.arange(1, a.size)
+    A = np.exp(-1j * np.outer(lam, np.arange(a.size))) @ a
+    grad = np.vstack([-L] + [-2.0 * np.real(np.exp(-1j * kk * lam) * np.conj(A)) / np.abs(A) ** 2
+                             for kk in k])
+    W = 0.5 * (grad @ grad.T) / lam.size
+    return float(math.sqrt(max(np.linalg.pinv(W)[0, 0], 0.0) / n))
 
 
 def _toeplitz_gram(G: np.ndarray, g: np.ndarray) -> np.ndarray:
@@ -234,20 +310,28 @@ def white(var: float, n: int) -> NoiseModel:
     return NoiseModel(np.array([1.0]), var, var, n)
 
 
+def _gram(J: np.ndarray, a: np.ndarray, d: float) -> np.ndarray:
+    """J' H T_d H' J (unit innovation variance): H'J is 1/A run backwards in
+    time over each column; T_d the identity when d = 0."""
+    G = lfilter([1.0], a, J[::-1], axis=0)[::-1]
+    return _toeplitz_gram(G, frac_acov(d, G.shape[0])) if d > 0 else G.T @ G
+
+
 def sandwich(J: np.ndarray, nm: NoiseModel) -> np.ndarray:
     """Covariance of the least-squares estimate whose residual Jacobian is
     J, when the noise is the AR process nm: (J'J)^+ J' S J (J'J)^+, with
     S = sigma2 H H' and H the lower-triangular Toeplitz matrix of 1/A. H'J
-    is 1/A run backwards in time over each column. With long memory (nm.d >
-    0) S = sigma2 H T_d H', T_d the fractional noise's autocovariance
-    matrix. Directions J does not determine get infinite variance."""
+    is 1/A run backwards in time over each column. With long memory
+    (fit_arfima's models) S = sigma2 H T_d H', T_d the fractional noise's
+    autocovariance matrix, averaged over d's error (nm.spread, each node
+    with its own A and sigma2). Directions J does not determine get
+    infinite variance."""
     U, S, Vt = np.linalg.svd(J, full_matrices=False)
     p = J.shape[1]
     tol = S.max() * 1e-9 if S.size and S.max() > 0 else 1.0
     keep = S > tol
     Jp = (Vt[keep].T / S[keep] ** 2) @ Vt[keep]          # (J'J)^+
-    G = lfilter([1.0], nm.a, J[::-1], axis=0)[::-1]      # H' J
-    M = nm.sigma2 * (_toeplitz_gram(G, frac_acov(nm.d, G.shape[0])) if nm.d > 0 else G.T @ G)
+    M = sum(w * s2 * _gram(J, a, d) for w, a, s2, d in nm.spread or ((1.0, nm.a, nm.sigma2, nm.d),))
     cov = Jp @ M @ Jp
     null = ~keep
     if null.any():

@@ -70,10 +70,10 @@ def _interval_notes(d, fr) -> dict:
     cost a whole fit per bound of every such group)."""
     if d.pb is None:
         return {}
-    # the problem as this fit had it: freed groups out of `fixed` too (pid
-    # places nu's range from w, which a held w would fix)
-    pbx = candidates.with_freed(d.pb, list(fr.free_groups))
-    pbx.free = list(fr.free_groups)
+    # the problem as this fit had it: the baseline's free groups and those
+    # this fit freed (out of `fixed` too: pid places nu's range from w,
+    # which a held w would fix)
+    pbx = candidates.with_freed(d.pb, [g for g in fr.free_groups if g not in d.pb.free])
     out = {}
     # every group's value (a held one too: pid's w is placed from nu)
     vals = {**fr.groups, **fr.values}
