@@ -47,3 +47,18 @@ def test_only_small_effects_still_read_not_material():
     last = _verdict([lag], floor=0.0125)[-1]
     assert "no catalogued cause explains it materially" in last
     assert "0.2326" in last and "18.6x the noise floor 0.0125" in last
+
+
+def test_an_unnamed_effect_that_passes_is_not_called_refused():
+    # the review of blind7: an effect that passes every guard but is left
+    # unnamed (the record cannot tell it from an imitator, said first) is
+    # not "refused by the held-out part or BIC"
+    sat = _test("saturation", 0.0300, 17368.0, 32.5, 33173.0, [])
+    sat.passes = True
+    nozzle = _test("nozzle", 0.0310, 9000.0, 20.0, 800.0, [])
+    nozzle.passes = True
+    out = evidence.verdict([], BASE, BASE, [sat, nozzle], [], EVB, EVB, PB, 0.0264,
+                           ["saturation or nozzle: the record cannot tell which."])
+    last = out[-1]
+    assert "saturation, nozzle pass every guard" in last
+    assert "refused" not in last

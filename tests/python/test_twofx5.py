@@ -7,13 +7,13 @@ effect holds (an output still settling in its opening stretch) does not
 whiten the comparison; that residual's own model does, as for a record
 without a rest stretch (analysis-bench.md, branches twofx5 and noise30)."""
 import copy
-from types import SimpleNamespace
 
 import numpy as np
 from scipy.signal import lfilter
 
 from pneufrac_fit import fit, guards, longrun, model, noise
 from test_converge import _problem
+from test_noise30 import _stub
 
 REST = 650
 
@@ -101,10 +101,6 @@ def test_lack_of_fit_reads_the_same_noise_model():
                                                                               lag)
 
 
-def _stub(nm):
-    return SimpleNamespace(nm=nm, fit_pieces=lambda r: [r])
-
-
 def test_a_coloured_rest_model_is_kept_in_these_draws():
     """No firing on a rest stretch that is the noise alone, AR(1) of pole
     0.95 and resonant AR(2), on the shortest rest stretch that gives a
@@ -119,7 +115,7 @@ def test_a_coloured_rest_model_is_kept_in_these_draws():
             for _ in range(25):
                 x = lfilter([1.0], den, rng.standard_normal(n_rest + 14_500))[500:]
                 rest = noise.fit(x[:n_rest])
-                assert guards.noise_for(_stub(rest), x[n_rest:]) is rest
+                assert guards.noise_for(_stub(rest), x[:n_rest + 14_000]) is rest
 
 
 def test_a_settling_rest_stretch_is_told_from_noise():
@@ -128,6 +124,7 @@ def test_a_settling_rest_stretch_is_told_from_noise():
     rng = np.random.default_rng(9)
     for amplitude, tau in ((3.0, 150.0), (5.0, 50.0)):
         for _ in range(10):
-            rest = noise.fit(_settling_rest(rng, 1.0, amplitude, tau))
-            resid = rng.standard_normal(14_000)
+            opening = _settling_rest(rng, 1.0, amplitude, tau)
+            rest = noise.fit(opening)
+            resid = np.r_[opening, rng.standard_normal(14_000)]   # flat model: the settling too
             assert guards.noise_for(_stub(rest), resid) is not rest

@@ -268,6 +268,10 @@ def _unexplained(base, tests, floor) -> str:
             f"depends on the input, and its held-out NRMSE is {base.nrmse_val:.4f}"
             + (f", {base.nrmse_val / floor:.1f}x the noise floor {floor:.4f}" if floor > 0
                else f" (noise floor {floor:.4f})"))
+    passed = [t.effect for t in tests if t.passes]
+    if passed:       # passed every guard, left unnamed: imitators (the ambiguity above)
+        return (line + f"; {', '.join(passed)} {'passes' if len(passed) == 1 else 'pass'} "
+                "every guard but the record cannot tell which cause it is.")
     if not big:
         return line + "; no catalogued cause explains it materially."
     return (line + f"; {', '.join(big)} {'is' if len(big) == 1 else 'are'} significant and "

@@ -160,11 +160,11 @@ class Problem:
         """x's samples in the held-out parts, concatenated."""
         return noise.whiten_parts(None, x, self.held_parts)
 
-    def fit_pieces(self, x: np.ndarray) -> list:
-        """x's samples in each fit part, one array per part (what a noise
-        model of the residual is fitted to: noise.fit pairs no samples
-        across a held-out block)."""
-        return [x[s] for s in self.fit_parts]
+    def fit_pieces(self, x: np.ndarray, start: int = 0) -> list:
+        """x's samples in each fit part from sample start on, one array per
+        part (what a noise model of the residual is fitted to: noise.fit
+        pairs no samples across a held-out block)."""
+        return [x[s] for s in self.split.fit_slices(max(self.burn, start))]
 
     def fit_white(self, x: np.ndarray, nm=False) -> np.ndarray:
         """x over the fit parts, each whitened on its own by nm (default:

@@ -51,6 +51,7 @@ class NoiseModel:
     d: float = 0.0        # long-memory exponent (0: none; fit_arfima)
     d_sd: float | None = None    # its sd (Whittle information), when estimated
     spread: tuple = ()    # (weight, a, sigma2, d) over d's error: the sandwich's (fit_arfima)
+    kurt: float = 3.0     # the innovations' kurtosis (noise.fit; 3: Gaussian)
 
     @property
     def order(self) -> int:
@@ -153,7 +154,8 @@ def fit(r, p_max: int = P_MAX) -> NoiseModel:
     a = _stabilise(best[1])
     e = np.concatenate([lfilter(a, [1.0], x)[a.size - 1:] for x in pieces])
     s2 = float(e @ e) / max(e.size, 1)
-    return NoiseModel(a, s2, var, n)
+    kurt = float(np.mean(e ** 4)) / (s2 * s2) if s2 > 0 else 3.0
+    return NoiseModel(a, s2, var, n, kurt=kurt)
 
 
 def frac_diff(x: np.ndarray, d: float) -> np.ndarray:
