@@ -79,6 +79,8 @@ def test_paper_start_apart_only_beside_a_corner():
     halved, apart = candidates._apart(starts, corner)
     assert [s[0] for s in halved] == ["warm0", "fresh0"]
     assert [s[0] for s in apart] == ["paper", "corner freed (L)"]
+    alone = [("paper", {})]
+    assert candidates._apart(alone, corner) == (alone, [corner])
 
 
 def test_pid_lag_in_the_baselines_corner_is_found_with_the_blocks():
