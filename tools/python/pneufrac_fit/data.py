@@ -559,7 +559,7 @@ def split_for(rec: Record, mode: str = holdout.DEFAULT):
                        "within the levels of its fit parts")
     if stop is None:
         stop = (f"validating on {other_where} would keep the held-out samples within the "
-                "fit parts' levels (--holdout cover does so in that case)")
+                "fit parts' levels (--holdout cover, the default, does so in that case)")
     return split, f"{name}: {why}; {stop}; so {_EXTRAPOLATES}"
 
 
