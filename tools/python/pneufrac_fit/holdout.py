@@ -75,7 +75,7 @@ MODES = LAYOUTS + ("cover",)
 # the first held-out block cuts short, fit.start_taus). "cover" used to
 # lose the own generator's pid lag of seed 132 with the blocks (a lag fit
 # that stayed in the baseline's corner); the start at the paper's values,
-# explored on its own beside a corner (candidates._apart), finds it
+# also explored on its own beside a corner (candidates._apart), finds it
 # (docs/analysis-bench.md, "A split that covers the input's levels, as the
 # default").
 DEFAULT = "cover"
