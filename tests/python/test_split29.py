@@ -36,15 +36,17 @@ def test_tail_at_levels_the_fit_part_never_reached_takes_the_blocks_with_cover()
     the last 30 % go below every level of the first 70 %. With --holdout
     cover the held-out blocks, whose held-out samples all lie within the
     levels of their fit parts (the last fit part, 4200-5400, holds -2), are
-    taken, and the note says why; with the default the tail stays and the
-    note says that it extrapolates and that the blocks would not."""
+    taken, and the note says why; that is the default. Asked for the tail,
+    the tail stays and the note says that it extrapolates and that the
+    blocks would not."""
     rec = _record([0, 1, -1, 0.5, -0.5, 1, 0, -2.0, -2.0, 0.5], "new-level-in-tail")
     assert data.uncovered(rec, holdout.layout(N, "tail")) is not None
     split, why = data.split_for(rec, "cover")
     assert split == holdout.layout(N, "blocks")
     assert "held-out tail refused" in why and "input e outside the range" in why
     assert "each third" in why
-    split, why = data.split_for(rec, holdout.DEFAULT)
+    assert holdout.DEFAULT == "cover"
+    split, why = data.split_for(rec, "tail")
     assert split == holdout.layout(N, "tail")
     assert "input e outside the range" in why and "extrapolation" in why
     assert "--holdout cover" in why and "each third" in why

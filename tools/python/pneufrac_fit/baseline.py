@@ -236,10 +236,15 @@ def keep_order(config: str, name: str, value: float, groups: dict) -> float:
     return min(value, other) if name == "nu" else max(value, other)
 
 
+# The label of the start at the paper's values (here and candidates._starts;
+# candidates._apart explores it on its own where the model sits in a corner).
+PAPER = "paper"
+
+
 def starts(pb, rng, label=""):
     """The paper's values and the best fresh starts of the linear model."""
     fresh = search.rank_fresh(pb, (), fit.random_starts(pb, rng, N_FRESH), N_FRESH_KEEP)
-    return [("paper", _paper_start(pb))] + [(f"fresh{i}", s) for i, s in enumerate(fresh)]
+    return [(PAPER, _paper_start(pb))] + [(f"fresh{i}", s) for i, s in enumerate(fresh)]
 
 
 def premise_ratio(pb, fr) -> float:

@@ -113,11 +113,11 @@ def _parser():
     d.add_argument("--seed", type=seed_arg, default=0,
                    help="seed of the fresh starts (a non-negative integer)")
     d.add_argument("--holdout", default=holdout.DEFAULT, choices=list(holdout.MODES),
-                   help="what is held out for validation: 'tail' (default: the last 30 %% "
-                        "of the record), 'blocks' (the last 30 %% of each third of the "
-                        "record, the whole record simulated) or 'cover' (the tail, or the "
-                        "blocks when the tail goes to levels the first 70 %% never reached "
-                        "and the blocks do not)")
+                   help="what is held out for validation: 'cover' (default: the tail, "
+                        "or the blocks when the tail goes to levels the first 70 %% never "
+                        "reached and the blocks do not), 'tail' (the last 30 %% of the "
+                        "record) or 'blocks' (the last 30 %% of each third of the record, "
+                        "the whole record simulated)")
     d.add_argument("--quiet", action="store_true", help="no progress on stderr")
     g = sub.add_parser("generate", help="synthetic bump test with a hidden effect",
                        epilog=EXIT_HELP)

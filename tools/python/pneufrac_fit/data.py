@@ -526,59 +526,83 @@ def _check_excitation(rec: Record) -> None:
 
 def split_for(rec: Record, mode: str = holdout.DEFAULT):
     """(split, note): the split of the record into fit parts and held-out
-    blocks (holdout.layout) whose parts both see the input and the output
-    move. Where the split asked for has a part that rests (an input that
-    rests through the held-out part: a setpoint sequence whose moves all
-    fall in the fit part, a test that ends with a long rest), the other
-    split is used if its parts move, with a note saying so; DataError when
-    neither does. Where the split used has a held-out part that goes to
-    levels its fit parts never reached (uncovered), the note says so; with
-    mode "cover" the blocks are then taken if their held-out samples stay
-    within their fit parts' levels and both their parts move. Computed
-    from the record alone, before any fit."""
+    blocks (holdout.layout), chosen from the record alone before any fit,
+    in three steps:
+    1. the split asked for ("cover": the tail) must have an input that moves
+       and an output that responds in both its parts; where it does not,
+       the other layout is used if its parts do (_fallback), DataError
+       when neither does;
+    2. its held-out samples should stay at levels its fit parts visited
+       (uncovered); when they do, it is used without a note;
+    3. when they do not, mode "cover" takes the other layout if that one
+       is covered and its parts move (_other_refused names what stops it);
+       otherwise the split stays and the note says that its held-out error
+       includes an extrapolation, and why the other layout does not help."""
     if mode not in holdout.MODES:
         raise ValueError(f"holdout must be one of {', '.join(holdout.MODES)}")
     switch = mode == "cover"
     mode = "tail" if switch else mode
     split = holdout.layout(rec.n, mode)
     other = holdout.layout(rec.n, next(m for m in holdout.LAYOUTS if m != mode))
-    name, other_name = _split_words(split)[0], _split_words(other)[0]
-    extrapolates = "the held-out error includes an extrapolation to those levels"
     rests = _rests(rec, split)
     if rests is not None:
-        if other == split:
-            raise DataError(f"{rests}{_PARTS_HINT}")
-        other_rests = _rests(rec, other)
-        if other_rests is not None:
-            raise DataError(f"{rests} (nor in {other_name}){_PARTS_HINT}")
-        note = f"{name} refused ({_reason(rests)}): validated on {_split_words(other)[1]} instead"
-        out = uncovered(rec, other)
-        return other, note if out is None else f"{note}; {out}, so {extrapolates}"
+        return _fallback(rec, split, other, rests)
     why = uncovered(rec, split)
     if why is None:
         return split, None
+    name, other_where = _split_words(split)[0], _split_words(other)[1]
+    stop = _other_refused(rec, split, other)
+    if stop is None and switch:
+        return other, (f"{name} refused ({why}: a prediction there would be an "
+                       "extrapolation, and an effect acting only there cannot be fitted): "
+                       f"validated on {other_where} instead, whose held-out samples stay "
+                       "within the levels of its fit parts")
+    if stop is None:
+        stop = (f"validating on {other_where} would keep the held-out samples within the "
+                "fit parts' levels (--holdout cover, the default, does so in that case)")
+    return split, f"{name}: {why}; {stop}; so {_EXTRAPOLATES}"
+
+
+# What an uncovered split's note ends with (split_for, _fallback).
+_EXTRAPOLATES = ("the held-out error includes an extrapolation to those levels, where an "
+                 "effect acting only there cannot be fitted")
+
+
+def _fallback(rec: Record, split, other, rests: str):
+    """split_for's step 1: the split asked for has a part that rests (an
+    input that rests through the held-out part: a setpoint sequence whose
+    moves all fall in the fit part, a test that ends with a long rest):
+    the other layout if its parts move, with a note saying so and whether
+    it covers its held-out levels; DataError when neither moves."""
     if other == split:
-        return split, (f"{name}: {why}; the record is too short for another split, "
-                       f"so {extrapolates}")
-    other_out = uncovered(rec, other)
-    if other_out is not None:
-        return split, (f"{name}: {why}; the other split, {other_name}, does not keep them "
-                       f"within its fit parts' levels either ({other_out}), so {extrapolates}")
+        raise DataError(f"{rests}{_PARTS_HINT}")
     other_rests = _rests(rec, other)
     if other_rests is not None:
-        return split, (f"{name}: {why}, so {extrapolates}; the other split, {other_name}, "
-                       f"would keep them within its fit parts' levels but is refused "
-                       f"({_reason(other_rests)})")
-    if switch:
-        return other, (f"{name} refused ({why}: a prediction there "
-                       f"would be an extrapolation, and an effect acting only there "
-                       f"cannot be fitted): validated on {_split_words(other)[1]} "
-                       f"instead, whose held-out samples stay within the levels of "
-                       f"its fit parts")
-    return split, (f"{name}: {why}; {extrapolates}, where an effect acting only there "
-                   f"cannot be fitted; validating on {_split_words(other)[1]} would keep "
-                   "the held-out samples within the fit parts' levels (--holdout cover "
-                   "does so in that case)")
+        raise DataError(f"{rests} (nor in {_split_words(other)[0]}){_PARTS_HINT}")
+    note = (f"{_split_words(split)[0]} refused ({_reason(rests)}): validated on "
+            f"{_split_words(other)[1]} instead")
+    out = uncovered(rec, other)
+    return other, note if out is None else f"{note}; {out}, so {_EXTRAPOLATES}"
+
+
+def _other_refused(rec: Record, split, other) -> str | None:
+    """split_for's step 3: why the other layout cannot replace an uncovered
+    split (a phrase for the note), or None when it can: the first that
+    holds of: the record is too short for another layout; the other's
+    held-out samples go beyond its fit parts' levels too; a part of the
+    other rests."""
+    if other == split:
+        return "the record is too short for another split"
+    other_name = _split_words(other)[0]
+    out = uncovered(rec, other)
+    if out is not None:
+        return (f"the other split, {other_name}, does not keep them within its fit parts' "
+                f"levels either ({out})")
+    rests = _rests(rec, other)
+    if rests is not None:
+        return (f"the other split, {other_name}, would keep them within its fit parts' "
+                f"levels but is refused ({_reason(rests)})")
+    return None
 
 
 def _reason(message: str) -> str:
@@ -599,39 +623,63 @@ def _rests(rec: Record, split) -> str | None:
 # Coverage: a held-out test asks the model fitted on the fit parts to
 # predict samples like those it was fitted on. A held-out sample whose input
 # or output lies outside the range the fit parts visited, by more than
-# signals.REST_SIGMAS noise sd plus one ADC step (the margin within which
-# the record is taken to hold a level at all: white noise alone leaves it
-# with a probability under 1e-6 per sample), is at a level the fit never
-# saw. The sd is the sample-to-sample one (signals.noise_sd), so the margin
-# assumes noise near white at the sample scale; slow noise (AR(1) near 1,
-# pink) wanders further than that sd between the fit part and the held-out
-# part and can mark a covered record uncovered: on a record whose every
-# held-out level the fit part held (test_split29's levels-covered), AR(1)
-# noise on one signal did so on 0/40 seeds at phi 0 and 0.9, 1/40 at 0.98,
-# 6/40 at 0.995 (review of split29). With the default that is only a note;
-# with --holdout cover it takes the blocks. An error towards "covered"
-# comes from the range being max/min: one glitch in a fit part widens it. A
-# sample beyond the margin is at a level the fit never saw: an
-# effect acting only there (a limit reached only in the tail, a nozzle's
-# curve beyond the fitted range) is invisible to every fit and decides the
-# held-out comparison alone. A split is uncovered when more than
-# MAX_OUTSIDE of its held-out samples are such samples, on either signal:
-# one held-out sample in twenty, the scale of the guards' smallest held-out
-# gain counted as evidence (guards.MIN_VAL_GAIN). The share is of samples,
-# not of error, so this is a convention at the guards' scale, not a bound;
-# it is computed from the data alone before any fit, so no verdict can
-# tune it. An uncovered split is reported; --holdout cover also replaces
-# an uncovered tail by covered blocks (split_for; why not by default:
-# holdout.DEFAULT).
+# signals.REST_SIGMAS times the noise's level sd plus one ADC step (the
+# margin within which the record is taken to hold a level at all), is at a
+# level the fit never saw. The level sd (level_sd) is how far the noise
+# alone moves a signal's level within a window of a held-out block's
+# length, not the sample-to-sample sd: slow noise (AR(1) near 1, drift,
+# pink) wanders several times further than its sample-to-sample sd says
+# (AR(1) 0.95: 5x), and a margin from that sd alone called such wander a new
+# level (review of split29: 6 covered records in 40 flagged at AR(1)
+# 0.995). For white noise the two are the same and 5 sd is left with a
+# probability under 1e-6 per sample. An error towards "covered" comes from
+# the range being max/min (one glitch in a fit part widens it) and from a
+# level sd inflated by the signal's own curvature within a window (a sine
+# sweep's output): both only keep the split asked for. A sample beyond
+# the margin is at a level the fit never saw: an effect acting only there
+# (a limit reached only in the tail, a nozzle's curve beyond the fitted
+# range) is invisible to every fit and decides the held-out comparison
+# alone. A split is uncovered when more than MAX_OUTSIDE of its held-out
+# samples are such samples, on either signal: one held-out sample in
+# twenty, the scale of the guards' smallest held-out gain counted as
+# evidence (guards.MIN_VAL_GAIN). The share is of samples, not of error, so
+# this is a convention at the guards' scale, not a bound; it is computed
+# from the data alone before any fit, so no verdict can tune it.
 MAX_OUTSIDE = 0.05
+
+
+def level_sd(x: np.ndarray, cuts: np.ndarray, sig: float) -> float:
+    """The sd of x's noise as a level: the robust sd (signals.mad_sd) of x
+    less its straight line over windows of holdout.MIN_HELD samples (a
+    held-out block's shortest length) that no input change (cuts:
+    signals.change_points of e) crosses; sig (the sample-to-sample sd) when
+    it is larger or no window fits. The line takes out a ramp and an
+    integrator's drift; the windows are laid from the end of each stretch
+    between input changes, where a response to the change has settled, and
+    the robust sd discounts what remains of it. Noise slower than the window
+    (1/f at the longest scales) is not counted: the margin then stays that
+    of the noise within a block."""
+    w = holdout.MIN_HELD
+    edges = np.r_[0, np.asarray(cuts, int), x.size]
+    rows = [x[s:s + w] for a, b in zip(edges[:-1], edges[1:])
+            for s in range(b - w, a - 1, -w)]
+    if not rows:
+        return sig
+    X = np.asarray(rows, float)
+    k = np.arange(w, dtype=float)
+    A = np.c_[np.ones(w), k]
+    resid = X - (X @ np.linalg.pinv(A).T) @ A.T
+    return max(sig, signals.mad_sd(resid.ravel()))
 
 
 def uncovered(rec: Record, split) -> str | None:
     """Why the split's held-out part is not covered by its fit parts'
     levels (Coverage, above), or None when it is."""
+    cuts = signals.change_points(rec.e, rec.sig_e, rec.q_e)
     for name, x, sig, q in (("input e", rec.e, rec.sig_e, rec.q_e),
                             ("output pc", rec.pc, rec.sig_pc, rec.q_pc)):
-        share = holdout.outside_share(x, split, signals.REST_SIGMAS * sig + q)
+        tol = signals.REST_SIGMAS * level_sd(x, cuts, sig) + q
+        share = holdout.outside_share(x, split, tol)
         if share > MAX_OUTSIDE:
             parts = "its fit parts" if len(split.fit_slices()) > 1 else "its fit part"
             return (f"{100 * share:.0f} % of its held-out samples have the {name} outside "
