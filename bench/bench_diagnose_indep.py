@@ -6,7 +6,7 @@ measures and prints, it never fails on the scores or on time.
 
     .venv/bin/python bench/bench_diagnose_indep.py [--scenarios PATTERN[,PATTERN]]
         [--seeds 1|1-3|1,4] [--jobs 2] [--tool-jobs 1] [--timeout 900]
-        [--tool PATH] [--keep DIR] [--holdout tail|blocks]
+        [--tool PATH] [--keep DIR] [--holdout tail|blocks|cover]
 
 Default: every scenario, seed 1, two records at a time (about 20 minutes on
 the shared 2-core machine).

@@ -33,7 +33,7 @@ def test_layout(n):
         for j, (a, b) in enumerate(s.held):
             assert j * n // k <= a < b <= (j + 1) * n // k
     assert s.held[0][0] == s.first_end > 0
-    assert holdout.layout(n).held == ((int(holdout.FIT_FRACTION * n), n),)   # the default
+    assert holdout.layout(n).held == ((int(holdout.FIT_FRACTION * n), n),)   # layout's default: the tail
 
 
 def test_layout_refuses_an_unknown_mode():
