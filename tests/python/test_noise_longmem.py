@@ -77,19 +77,46 @@ def test_toeplitz_gram_exact():
     assert np.allclose(noise._toeplitz_gram(G, g), G.T @ toeplitz(g) @ G)
 
 
-def test_short_memory_keeps_the_ar_model():
-    """White and AR(1) noise: d comes out near 0 (within 2 of its sd), the
-    AR part is the AR model's, and the sandwich's variances are the AR
-    model's within 10 % (no test decides whether d is used)."""
-    rng = np.random.default_rng(7)
-    J = rng.standard_normal((3000, 2))
+def _short_memory_ratios(seed, records=20, n=3000):
+    """For white and AR(1) 0.9 noise, `records` residuals each: (pole, d, d's
+    sd, the orders agree, the sandwich's variances over the AR model's) of
+    a regression on a constant and a white column."""
+    rng = np.random.default_rng(seed)
+    J = rng.standard_normal((n, 2))
     J[:, 0] = 1.0
+    out = []
     for pole in (0.0, 0.9):
-        r = lfilter([1.0], [1.0, -pole], rng.standard_normal(3000))
-        nm, ar = noise.fit_arfima(r), noise.fit(r)
-        assert nm.d <= 2 * nm.d_sd and nm.order == ar.order, (pole, nm.d, nm.d_sd)
-        ratio = np.diag(noise.sandwich(J, nm)) / np.diag(noise.sandwich(J, ar))
-        assert np.all(np.abs(ratio - 1) < 0.1), (pole, ratio)
+        for _ in range(records):
+            r = lfilter([1.0], [1.0, -pole], rng.standard_normal(n))
+            nm, ar = noise.fit_arfima(r), noise.fit(r)
+            ratio = np.diag(noise.sandwich(J, nm)) / np.diag(noise.sandwich(J, ar))
+            out.append((pole, nm.d, nm.d_sd, nm.order == ar.order, ratio))
+    return out
+
+
+def test_short_memory_keeps_the_ar_model():
+    """White and AR(1) 0.9 noise, 20 records each. Where d^ is at its bound
+    0 (about half the records) the sandwich is the AR model's, within 2 %
+    (the Whittle A against the Yule-Walker one): no spread node above 0
+    widens it (d^'s law is not normal at its bound: noise._d_nodes; the
+    clipped node gave +6-8 % there). d^ > 0 is used as estimated (no test
+    decides whether d is used), so single records reach 1.5-2x the AR
+    model's variance for a mean (d^ near 2 sd), and a few AR(1) 0.9 records
+    trade the pole for d (d^ 0.17-0.26, the mean's variance 6-15x, 4 of
+    400): only d^ <= 2 sd on 90 % (a one-sided 2-sd bound holds on 97.7 %
+    where d = 0; measured 92.5-100 %), the AR order the AR model's on 90 %
+    (99 % measured), the median ratio of a mean under 1.25 (1.00-1.19) and
+    a column with no slow part within 10 % (4.6 % at most) are held.
+    Measured over seeds 1-20 (docs/analysis-bench.md, branch fixarf)."""
+    rows = _short_memory_ratios(7)
+    assert np.mean([d <= 2 * sd for _, d, sd, _, _ in rows]) >= 0.9
+    assert np.mean([same for _, _, _, same, _ in rows]) >= 0.9
+    for pole in (0.0, 0.9):
+        ratio = np.array([x for p, _, _, _, x in rows if p == pole])
+        at0 = np.array([x for p, d, _, _, x in rows if p == pole and d == 0.0])
+        assert at0.size and np.all(np.abs(at0 - 1) < 0.02), (pole, at0)
+        assert np.median(ratio[:, 0]) < 1.25, (pole, np.median(ratio[:, 0]))
+        assert np.all(np.abs(ratio[:, 1] - 1) < 0.1), (pole, ratio[:, 1])
 
 
 def test_long_memory_found_in_fractional_noise():
@@ -108,3 +135,22 @@ def test_one_over_f_noise_at_the_bound():
     v = np.fft.irfft(np.fft.rfft(rng.standard_normal(3000)) * np.r_[0.0, f[1:] ** -0.5], 3000)
     nm = noise.fit_arfima(v)
     assert nm.d == noise.D_MAX and "at its bound" in nm.describe()
+
+
+def test_long_memory_said_only_where_its_interval_excludes_0():
+    """describe() says "long memory" exactly when d's 95 % interval excludes
+    0: white noise gives d^ > 0 on about half its records (d^ = 0.01 +-
+    0.03), which its own interval does not show; d is still reported. The
+    interval is a one-sided 2.5 % test here (d >= 0), so a few of 20 white
+    records may still show it (4 or more: 1.6 % at a 5 % rate)."""
+    rng = np.random.default_rng(11)
+    said, shown, quiet = [], [], 0
+    for _ in range(20):
+        nm = noise.fit_arfima(rng.standard_normal(3000))
+        said.append("long memory" in nm.describe())
+        shown.append(nm.d - 1.96 * nm.d_sd > 0)
+        if 0 < nm.d and not shown[-1]:
+            assert "not distinguishable from 0" in nm.describe(), nm.describe()
+            quiet += 1
+    assert said == shown and sum(said) <= 3, (said, shown)
+    assert quiet > 0
