@@ -71,15 +71,13 @@ def test_slow_noise_on_covered_levels_is_not_a_new_level():
 
 
 def test_paper_start_apart_only_beside_a_corner():
-    """Without a corner every start is halved; beside one the paper start
-    and the corner-freed start are also explored on their own, and the
-    halving keeps every start (its own winner is what it was)."""
+    """Without a corner nothing is explored apart; beside one the paper
+    start and the corner-freed start are also explored on their own (the
+    halving still takes every start: its own winner is what it was)."""
     starts = [("warm0", {}), ("paper", {}), ("fresh0", {})]
     corner = ("corner freed (L)", {})
-    assert candidates._apart(starts, None) == (starts, [])
-    halved, apart = candidates._apart(starts, corner)
-    assert halved == starts
-    assert [s[0] for s in apart] == ["paper", "corner freed (L)"]
+    assert candidates._apart(starts, None) == []
+    assert [s[0] for s in candidates._apart(starts, corner)] == ["paper", "corner freed (L)"]
 
 
 def test_pid_lag_in_the_baselines_corner_is_found_with_the_blocks():

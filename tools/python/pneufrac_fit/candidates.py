@@ -603,7 +603,7 @@ def _explore_corner(pb, effects, starts, corner, dead: int = 0, stage: int = sea
     on the exploration copy: the best; None when pb has no exploration
     copy. Adding them never makes the halving's own winner worse: they only
     compete at the end."""
-    starts, apart = _apart(starts, corner)
+    apart = _apart(starts, corner)
     e = search.explore(pb, effects, starts, dead, stage)
     if e is None or not apart:
         return e
@@ -624,8 +624,8 @@ def explore_refine_corner(pb, effects, starts, corner, dead: int = 0, **kw):
     stage = kw.pop("stage_iter", search.STAGE_ITER)
     e = _explore_corner(pb, effects, starts, corner, dead, stage)
     if e is None:            # no exploration copy: the halving and the corner on pb itself
-        halved, apart = _apart(starts, corner)
-        h = search._halving(pb, effects, halved, dead, stage)
+        apart = _apart(starts, corner)
+        h = search._halving(pb, effects, starts, dead, stage)
         b = search.best([h] + [_corner_fit(pb, effects, st, dead) for st in apart])
         if b is not h:       # an exploring fit: refined, as the halving's stages were
             return search.refine(pb, effects, [(b.start, b.values)], dead=dead)
@@ -634,11 +634,11 @@ def explore_refine_corner(pb, effects, starts, corner, dead: int = 0, **kw):
     return search.explore_refine(pb, effects, starts, dead=dead, explored=e, **kw)
 
 
-def _apart(starts, corner) -> tuple[list, list]:
-    """(the starts for the halving, the starts explored on their own beside
-    it). Without a corner (corner None) every start is halved. Where the
-    model so far sits in a corner, the corner-freed start and the start at
-    the paper's values are also explored on their own: the warm starts
+def _apart(starts, corner) -> list:
+    """The starts explored on their own beside the halving of all of them:
+    none without a corner (corner None). Where the model so far sits in a
+    corner, the corner-freed start and the start at the paper's values are
+    also explored on their own: the warm starts
     begin at the corner's own optimum, and the halving's first stage
     (search.STAGE_ITER Jacobians) ranks a start by how far it got, so a
     start that begins away from the corner is cut by warm starts that end
@@ -656,8 +656,8 @@ def _apart(starts, corner) -> tuple[list, list]:
     where 30 Jacobians from the paper's values alone reach 23.26 with
     16.5 ms (truth 18.6 ms)."""
     if corner is None:
-        return list(starts), []
-    return list(starts), [s for s in starts if s[0] == baseline.PAPER] + [corner]
+        return []
+    return [s for s in starts if s[0] == baseline.PAPER] + [corner]
 
 
 def _corner_fit(w, effects, start, dead: int):
