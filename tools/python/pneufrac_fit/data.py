@@ -567,7 +567,7 @@ def split_for(rec: Record, mode: str = holdout.DEFAULT):
     if stop is None:
         stop = (f"validating on {other_where} would keep the held-out samples within the "
                 "fit parts' levels (--holdout cover, the default, does so in that case)")
-    return split, f"{name}: {why}; {stop}; so {_EXTRAPOLATES}"
+    return split, f"{name}: {why}, so {_EXTRAPOLATES}; {stop}"
 
 
 # What an uncovered split's note ends with (split_for, _fallback).
