@@ -22,7 +22,8 @@ the samples the tool held out, `--holdout` passed to it when given). The
 effect size next to the true causes is the rms change the effects make to
 the sampled output over the noise sd (an upper bound on what a fit can
 attribute to them); with several effects, each one's on top of the others
-in the fit part and in the held-out part (bench/indep_contributions.py:
+in the fit part and in the held-out part of the split the tool used
+(bench/indep_contributions.py:
 an effect absent from the held-out part cannot pass the held-out guard).
 """
 from __future__ import annotations
@@ -176,8 +177,6 @@ def one(name: str, seed: int, tool: str, tool_args: list[str], timeout: float, k
     pc = np.loadtxt(f"{stem}.csv", delimiter=",", skiprows=1, usecols=2)
     row.update(config=truth["config"], truth=truth["causes"],
                size=truth["noise"]["effect_rms_over_sd"])
-    if len(truth["causes"]) >= 2:
-        row["parts"] = parts_of(name, seed, timeout, env, procs)
     cmd = [tool, "diagnose", f"{stem}.csv", "--config", truth["config"], "--json", "--quiet",
            *tool_args]
     t0 = time.monotonic()
@@ -205,6 +204,9 @@ def one(name: str, seed: int, tool: str, tool_args: list[str], timeout: float, k
     row["noise"] = (_num(recd.get("noise_sd")), truth["noise"]["realised_sd"])
     if before is not None and after is not None and truth["causes"]:
         row["halfway"] = after <= 0.5 * (before + floor_true)
+    if len(truth["causes"]) >= 2:
+        # on the split the tool validated on (it may be the held-out blocks)
+        row["parts"] = parts_of(name, seed, recd.get("held_out"), timeout, env, procs)
     return row
 
 
@@ -215,12 +217,13 @@ def true_floor(stem: Path, pc: np.ndarray, truth: dict, recd: dict) -> float:
                       truth["noise"]["noise_floor_val"])
 
 
-def parts_of(name: str, seed: int, timeout: float, env: dict, procs: Procs) -> dict:
+def parts_of(name: str, seed: int, held, timeout: float, env: dict, procs: Procs) -> dict:
     """Each true effect's rms change to the sampled output on top of the
-    others, over the noise sd, in the fit and the held-out part
+    others, over the noise sd, in the fit and the held-out parts of the
+    tool's split (held: its JSON record.held_out; None: the tail)
     (bench/indep_contributions.py); {} when it cannot be had."""
-    rc, out, _ = procs.run([sys.executable, str(ROOT / "bench" / "indep_contributions.py"),
-                            name, str(seed)], timeout, env)
+    cmd = [sys.executable, str(ROOT / "bench" / "indep_contributions.py"), name, str(seed)]
+    rc, out, _ = procs.run(cmd + ([json.dumps(held)] if held else []), timeout, env)
     try:
         return json.loads(out) if rc == 0 else {}
     except json.JSONDecodeError:

@@ -2,10 +2,12 @@
 # SPDX-License-Identifier: MIT
 """How much each true effect of an independent-simulator record moves its
 sampled output on top of the others, in the part pneufrac-fit fits on and
-in the part it validates on (its default split,
-pneufrac_fit.holdout.layout), over the noise sd.
+in the part it validates on, over the noise sd: the split the tool used
+(HELD_OUT, its JSON record.held_out, e.g. '[[1400, 2000], ...]'; the
+tool chooses it from the record, data.split_for), or the tail
+(pneufrac_fit.holdout.layout) when not given.
 
-    PYTHONPATH=tests/python .venv/bin/python bench/indep_contributions.py NAME SEED
+    PYTHONPATH=tests/python .venv/bin/python bench/indep_contributions.py NAME SEED [HELD_OUT]
 
 Prints one JSON object: {effect: {"fit": rms/sd, "val": rms/sd}}. It
 answers, for a record whose diagnosis misses one of two effects, whether
@@ -39,7 +41,7 @@ OFF = {"dead_time": {"dead_time": 0.0}, "lag": {"lag": 0.0},
        "backlash": {"deadband": 0.0}, "nozzle": {"nozzle_xh": 0.0}}
 
 
-def contributions(name: str, seed: int) -> dict:
+def contributions(name: str, seed: int, held: list | None = None) -> dict:
     runs: dict[str, object] = {}
     times: list[np.ndarray] = []
     run, sample_times = simulate.run, daq.sample_times
@@ -70,7 +72,7 @@ def contributions(name: str, seed: int) -> dict:
     t_start = -truth["record"]["pre_roll"] - 2.0 / fs
     sd = truth["noise"]["sd"]
     t = times[0]
-    split = holdout.layout(t.size)
+    split = holdout.layout(t.size) if held is None else split_of(held, t.size)
     fit_rows = np.concatenate([np.arange(s.start, s.stop) for s in split.fit_slices()])
     held_rows = np.concatenate([np.arange(s.start, s.stop) for s in split.held_slices()])
     full = daq.average(runs["all"][0].line, t_start, runs["all"][1], t, fs)
@@ -83,13 +85,24 @@ def contributions(name: str, seed: int) -> dict:
     return out
 
 
+def split_of(held: list, n: int) -> holdout.Split:
+    """The tool's split from its held-out blocks ([[start, stop], ...], in
+    samples of the record it read: the same n samples make() wrote, or the
+    indices would not be this record's)."""
+    blocks = tuple((int(a), int(b)) for a, b in held)
+    if not blocks or any(not 0 <= a < b <= n for a, b in blocks):
+        raise ValueError(f"held-out blocks {held} do not lie within the record's {n} samples")
+    return holdout.Split(n, blocks)
+
+
 def main(argv: list[str]) -> int:
-    if len(argv) != 2 or argv[0] not in CATALOGUE or not argv[1].isdigit() \
+    if len(argv) not in (2, 3) or argv[0] not in CATALOGUE or not argv[1].isdigit() \
             or not 0 <= int(argv[1]) <= SEED_MAX:
-        print(f"usage: indep_contributions.py SCENARIO SEED (seed 0..{SEED_MAX})",
-              file=sys.stderr)
+        print(f"usage: indep_contributions.py SCENARIO SEED [HELD_OUT] (seed 0..{SEED_MAX}; "
+              "HELD_OUT: the tool's JSON record.held_out)", file=sys.stderr)
         return 2
-    print(json.dumps(contributions(argv[0], int(argv[1]))))
+    held = json.loads(argv[2]) if len(argv) == 3 else None
+    print(json.dumps(contributions(argv[0], int(argv[1]), held)))
     return 0
 
 

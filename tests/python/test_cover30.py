@@ -44,9 +44,9 @@ def test_level_sd_is_the_slow_noise_level_spread_not_its_sample_to_sample_sd():
     proc = 1e-3 / np.sqrt(1 - 0.95 ** 2)
     sig = signals.noise_sd(x)
     assert sig < 0.3 * proc                                          # the premise
-    assert abs(data.level_sd(x, cuts, sig) / proc - 1) < 0.2
+    assert abs(data.level_sd(x, data.rest_windows(x, cuts), sig) / proc - 1) < 0.2
     w = lv + 1e-3 * np.random.default_rng(5).normal(size=N)
-    assert abs(data.level_sd(w, cuts, signals.noise_sd(w)) / 1e-3 - 1) < 0.1
+    assert abs(data.level_sd(w, data.rest_windows(w, cuts), signals.noise_sd(w)) / 1e-3 - 1) < 0.1
 
 
 def test_slow_noise_on_covered_levels_is_not_a_new_level():

@@ -149,7 +149,14 @@ def _fit_saturation(pb, base, rng, hint):
                 starts = _starts(pk, effects, "saturation", base, rngs[kind], hint)
                 corner = _corner_of(pk, effects, "saturation", base, hint)
                 explored = _explore_corner(pk, effects, starts, corner, base.dead)
-            b = search.explore_refine(pk, effects, starts, dead=base.dead, explored=explored)
+            if explored is None:
+                # no exploration copy: the corner-freed and paper starts
+                # explored on their own on pk itself, as for every other
+                # effect and for the reference (explore_refine_corner)
+                b = explore_refine_corner(pk, effects, starts, corner, base.dead)
+            else:
+                b = search.explore_refine(pk, effects, starts, dead=base.dead,
+                                          explored=explored)
             b = _limits_back_in_range(pk, effects, base, b)
             fits.append((_not_worse(pk, effects, "saturation", base, b), pk, kind))
         fits = _from_best_placement(fits, effects, base)

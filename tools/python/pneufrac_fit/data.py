@@ -72,6 +72,8 @@ class Record:
     q_pc: float = 0.0
     sig_e: float = 0.0       # sample-to-sample noise sd (signals.noise_sd)
     sig_pc: float = 0.0
+    level_e: float = 0.0     # the noise's level sd (level_sd), for coverage
+    level_pc: float = 0.0
 
     @property
     def n(self) -> int:
@@ -454,6 +456,11 @@ def _levels(rec: Record) -> None:
     rec.q_pc = signals.quantum(rec.pc)
     rec.sig_e = signals.noise_sd(rec.e, rec.q_e)
     rec.sig_pc = signals.noise_sd(rec.pc, rec.q_pc)
+    # the levels' margins depend on the record alone, not on a split: made
+    # once here, read by every split's coverage (uncovered)
+    rests = rest_windows(rec.e, signals.change_points(rec.e, rec.sig_e, rec.q_e))
+    rec.level_e = level_sd(rec.e, rests, rec.sig_e)
+    rec.level_pc = level_sd(rec.pc, rests, rec.sig_pc)
     for name, q, v in (("e", rec.q_e, rec.e), ("pc", rec.q_pc, rec.pc)):
         if q > 0:
             bits = math.log2(max(float(np.ptp(v)) / q, 1.0))
@@ -560,7 +567,7 @@ def split_for(rec: Record, mode: str = holdout.DEFAULT):
     if stop is None:
         stop = (f"validating on {other_where} would keep the held-out samples within the "
                 "fit parts' levels (--holdout cover, the default, does so in that case)")
-    return split, f"{name}: {why}; {stop}; so {_EXTRAPOLATES}"
+    return split, f"{name}: {why}, so {_EXTRAPOLATES}; {stop}"
 
 
 # What an uncovered split's note ends with (split_for, _fallback).
@@ -632,40 +639,64 @@ def _rests(rec: Record, split) -> str | None:
 # (AR(1) 0.95: 5x), and a margin from that sd alone called such wander a new
 # level (review of split29: 6 covered records in 40 flagged at AR(1)
 # 0.995). For white noise the two are the same and 5 sd is left with a
-# probability under 1e-6 per sample. An error towards "covered" comes from
-# the range being max/min (one glitch in a fit part widens it) and from a
-# level sd inflated by the signal's own curvature within a window (a sine
-# sweep's output): both only keep the split asked for. A sample beyond
-# the margin is at a level the fit never saw: an effect acting only there
-# (a limit reached only in the tail, a nozzle's curve beyond the fitted
-# range) is invisible to every fit and decides the held-out comparison
-# alone. A split is uncovered when more than MAX_OUTSIDE of its held-out
-# samples are such samples, on either signal: one held-out sample in
-# twenty, the scale of the guards' smallest held-out gain counted as
-# evidence (guards.MIN_VAL_GAIN). The share is of samples, not of error, so
-# this is a convention at the guards' scale, not a bound; it is computed
-# from the data alone before any fit, so no verdict can tune it.
+# probability under 1e-6 per sample. The level sd is a property of the
+# noise, so it is measured only where the signal holds a level: in windows
+# where the input rests (rest_windows), at the end of a stretch between
+# input changes, where the output's response has settled. Where the input
+# never rests (a sine, a multisine, a jitter, a wander) a window holds the
+# excitation itself, and its spread measured the input's own motion as
+# noise (review of cover30: 20-106x the noise sd on e, 9-60x on pc), so a
+# tail at new levels read as covered; without a model nothing there tells
+# the noise from the response, and the sample-to-sample sd is taken:
+# exact for white noise, and for slow noise an error towards "uncovered",
+# which costs the split asked for only where the other split is covered
+# (split_for). An error towards "covered" comes from the range being
+# max/min (one glitch in a fit part widens it) and from a level sd
+# inflated by what moves within a resting window (a response not yet
+# settled, an input's small dither under REST_SHARE): both only keep the
+# split asked for. A sample beyond the margin is at a level the fit never
+# saw: an effect acting only there (a limit reached only in the tail, a
+# nozzle's curve beyond the fitted range) is invisible to every fit and
+# decides the held-out comparison alone. A split is uncovered when more
+# than MAX_OUTSIDE of its held-out samples are such samples, on either
+# signal: one held-out sample in twenty, the scale of the guards' smallest
+# held-out gain counted as evidence (guards.MIN_VAL_GAIN). The share is of
+# samples, not of error, so this is a convention at the guards' scale, not
+# a bound; it is computed from the data alone before any fit, so no verdict
+# can tune it.
 MAX_OUTSIDE = 0.05
+# The input rests over a stretch (a split's part, a window of level_sd)
+# when its range there is under this share of its span over the record:
+# the record's own test of a part that does not move (check_parts).
+REST_SHARE = 0.05
 
 
-def level_sd(x: np.ndarray, cuts: np.ndarray, sig: float) -> float:
-    """The sd of x's noise as a level: the robust sd (signals.mad_sd) of x
-    less its straight line over windows of holdout.MIN_HELD samples (a
-    held-out block's shortest length) that no input change (cuts:
-    signals.change_points of e) crosses; sig (the sample-to-sample sd) when
-    it is larger or no window fits. The line takes out a ramp and an
-    integrator's drift; the windows are laid from the end of each stretch
-    between input changes, where a response to the change has settled, and
-    the robust sd discounts what remains of it. Noise slower than the window
+def rest_windows(e: np.ndarray, cuts: np.ndarray) -> list:
+    """Starts of the windows of holdout.MIN_HELD samples (a held-out block's
+    shortest length) in which the input rests (its range under REST_SHARE
+    of its span): laid from the end of each stretch between input changes
+    (cuts: signals.change_points of e) backwards, so that none crosses a
+    change and the last of each sits where the response has settled."""
+    w = holdout.MIN_HELD
+    tol = REST_SHARE * float(np.ptp(e))
+    edges = np.r_[0, np.asarray(cuts, int), e.size]
+    return [s for a, b in zip(edges[:-1], edges[1:]) for s in range(b - w, a - 1, -w)
+            if float(np.ptp(e[s:s + w])) < tol]
+
+
+def level_sd(x: np.ndarray, starts: list, sig: float) -> float:
+    """The sd of x's noise as a level (Coverage, above): the robust sd
+    (signals.mad_sd) of x less its straight line over the windows of
+    holdout.MIN_HELD samples at starts (rest_windows); sig (the
+    sample-to-sample sd) when it is larger or there is no such window. The
+    line takes out a ramp and an integrator's drift; the robust sd
+    discounts what remains of a response. Noise slower than the window
     (1/f at the longest scales) is not counted: the margin then stays that
     of the noise within a block."""
-    w = holdout.MIN_HELD
-    edges = np.r_[0, np.asarray(cuts, int), x.size]
-    rows = [x[s:s + w] for a, b in zip(edges[:-1], edges[1:])
-            for s in range(b - w, a - 1, -w)]
-    if not rows:
+    if not starts:
         return sig
-    X = np.asarray(rows, float)
+    w = holdout.MIN_HELD
+    X = np.asarray([x[s:s + w] for s in starts], float)
     k = np.arange(w, dtype=float)
     A = np.c_[np.ones(w), k]
     resid = X - (X @ np.linalg.pinv(A).T) @ A.T
@@ -675,10 +706,9 @@ def level_sd(x: np.ndarray, cuts: np.ndarray, sig: float) -> float:
 def uncovered(rec: Record, split) -> str | None:
     """Why the split's held-out part is not covered by its fit parts'
     levels (Coverage, above), or None when it is."""
-    cuts = signals.change_points(rec.e, rec.sig_e, rec.q_e)
-    for name, x, sig, q in (("input e", rec.e, rec.sig_e, rec.q_e),
-                            ("output pc", rec.pc, rec.sig_pc, rec.q_pc)):
-        tol = signals.REST_SIGMAS * level_sd(x, cuts, sig) + q
+    for name, x, lsd, q in (("input e", rec.e, rec.level_e, rec.q_e),
+                            ("output pc", rec.pc, rec.level_pc, rec.q_pc)):
+        tol = signals.REST_SIGMAS * lsd + q
         share = holdout.outside_share(x, split, tol)
         if share > MAX_OUTSIDE:
             parts = "its fit parts" if len(split.fit_slices()) > 1 else "its fit part"
@@ -724,8 +754,8 @@ def check_parts(rec: Record, split) -> None:
         # step into a part is a move of that part)
         return max((float(np.ptp(x[max(s.start - edge, 0):s.stop])) for s in parts),
                    default=0.0)
-    if (moves(e, split.fit_slices(), 0) < 0.05 * span
-            or moves(e, split.held_slices(), 1) < 0.05 * span):
+    if (moves(e, split.fit_slices(), 0) < REST_SHARE * span
+            or moves(e, split.held_slices(), 1) < REST_SHARE * span):
         raise DataError(f"{rec.source}: the input must move in both {fit_name} and "
                         f"{held_name} of the record")
     for parts, name in ((split.fit_slices(), fit_name), (split.held_slices(), held_name)):

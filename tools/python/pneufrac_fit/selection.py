@@ -209,14 +209,22 @@ def confirm(pb, effect, fr, t, current, rng, better=None):
     successive halving, a longer refinement): a gain that a better optimum
     of the model without the effect removes is no gain. Where the model so
     far sits in a corner, the reference is also searched from that corner
-    freed, as the extended fit was (candidates.explore_refine_corner): a
-    gain that only leaving the corner brings is the reference's too."""
+    freed, as the extended fit was (candidates.explore_refine_corner), and
+    from the paper's values, in every round: a gain that only leaving the
+    corner brings is the reference's too."""
     effects = model.canonical(current.effects)
     st = confirm_starts(fr, t.ref, current)
     if better is not None:
         st.append(("better prior", {**better.groups, **better.values}))
     if not effects:
         st += baseline.starts(pb, rng)
+    else:
+        # from round 2 on, the paper shape keeping the model so far's
+        # effects, as the extended fit has it (candidates._starts): beside a
+        # corner it is explored on its own for both (candidates._apart), so
+        # a gain that only this start brings is the reference's too
+        st.append((baseline.PAPER, candidates._paper_shape(pb, {**current.groups,
+                                                                **current.values})))
     dead = fr.dead if "dead_time" in effects else 0
     ref2 = candidates.explore_refine_corner(
         pb, effects, st, candidates.corner_start(pb, effects, current, {}), dead=dead,
