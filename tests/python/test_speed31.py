@@ -1,0 +1,64 @@
+# SPDX-License-Identifier: MIT
+"""Work not done twice (branch speed31): the paper start's fit apart
+(candidates._apart) begins on the path the halving's first stage from the
+same start already took, and takes those points from it (fit.lm_fit's
+trail). Each shortcut must return what the long way returns, bit for bit."""
+import numpy as np
+
+import cases
+from pneufrac_fit import candidates, data, fit, model, search
+from test_speed9_memo import _counting, _problem, _same, _start
+
+
+def _no_whole_fits(monkeypatch):
+    """No whole fit answered from an earlier one: each fit below runs."""
+    monkeypatch.setattr(fit, "FITS_KEPT", 0)
+
+
+def test_a_longer_fit_from_the_same_start_follows_the_trail(monkeypatch):
+    pb = _problem()
+    _no_whole_fits(monkeypatch)
+    seen = _counting(monkeypatch)
+    plain = fit.lm_fit(pb, ("lag",), _start(pb), 0, 90, "long")
+    n_plain = len(seen)
+    trail: dict = {}
+    fit.lm_fit(pb, ("lag",), _start(pb), 0, 30, "short", trail=trail)
+    assert trail
+    seen.clear()
+    got = fit.lm_fit(pb, ("lag",), _start(pb), 0, 90, "long", memo=trail)
+    _same(got, plain)
+    # the short fit's points came from its trail, not from a simulation
+    assert len(seen) < n_plain
+
+
+def _long_problem():
+    """A record long enough for an exploration copy (search.explorer)."""
+    ds = cases.make("p", "lag", 2, n=12000)
+    rec = data.make_record(ds.t, ds.e, ds.pc)
+    return fit.Problem.from_record(rec, "p", {"q": 0.0, "beta": 1.0}, 8, 2)
+
+
+def test_the_paper_start_apart_takes_the_halvings_first_stage(monkeypatch):
+    pb = _long_problem()
+    assert search.explorer(pb) is not None        # the premise: a copy is explored
+    _no_whole_fits(monkeypatch)
+    starts = [("warm0", _start(pb)), ("paper", _start(pb, lag=0.05)),
+              ("fresh0", _start(pb, lag=0.002))]
+    corner = (candidates.CORNER + " (lag)", _start(pb, lag=0.02))
+    seen = _counting(monkeypatch)
+    got = candidates._explore_corner(pb, ("lag",), starts, corner)
+    n_got = len(seen)
+    monkeypatch.setattr(candidates, "_trails", lambda apart: {})
+    seen.clear()
+    plain = candidates._explore_corner(pb, ("lag",), starts, corner)
+    _same(got, plain)
+    assert got.start == plain.start
+    assert n_got < len(seen)
+
+
+def test_trails_only_for_starts_the_halving_runs():
+    starts = [("warm0", {}), ("paper", {}), ("fresh0", {})]
+    corner = (candidates.CORNER + " (L)", {})
+    assert candidates._trails(candidates._apart(starts, corner)) == {"paper": {}}
+    assert candidates._trails(candidates._apart(starts, None)) == {}
+
