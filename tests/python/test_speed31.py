@@ -62,3 +62,18 @@ def test_trails_only_for_starts_the_halving_runs():
     assert candidates._trails(candidates._apart(starts, corner)) == {"paper": {}}
     assert candidates._trails(candidates._apart(starts, None)) == {}
 
+
+def test_start_taus_kept_are_the_ones_computed(monkeypatch):
+    """start_taus from its cache is what the computation gives, for the
+    problem, its exploration copy and a window (other splits and burns),
+    and a changed constant is not answered from the cache."""
+    pb = _long_problem()
+    assert pb.open_start                          # the premise: a start basis
+    for q in (pb, search.explorer(pb), pb.window(5000)):
+        want = fit._start_taus.__wrapped__(q.split, q.burn, fit.BURN, fit.START_STEP,
+                                           fit.START_SPAN, fit.START_GONE)
+        assert fit.start_taus(q) == want and want
+        assert fit.start_taus(q) == want          # the second time, from the cache
+    before = fit.start_taus(pb)
+    monkeypatch.setattr(fit, "START_STEP", 2.0)
+    assert fit.start_taus(pb) != before

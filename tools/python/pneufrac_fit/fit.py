@@ -21,6 +21,7 @@ the interpreter lock).
 from __future__ import annotations
 
 import copy
+import functools
 import math
 import os
 import threading
@@ -395,14 +396,24 @@ _CONSTANTS: dict = {}     # a problem's whitened constant regressors (see _remem
 
 def start_taus(pb: Problem) -> tuple:
     """Time constants (samples) of the start's free-response basis; none
-    when the record opens at rest (the state is known: rest)."""
+    when the record opens at rest (the state is known: rest). Every
+    evaluation of the model asks for them twice (model_output, project),
+    and the split's part arithmetic costs about a twentieth of a
+    simulation's Python side: kept per split, burn and the constants, all
+    they depend on (_start_taus)."""
     if not pb.open_start:
         return ()
-    t, out = max(BURN * pb.split.n_fit, 1.0) / START_STEP, []
-    while t <= pb.split.first_end / START_SPAN:
-        if math.exp(-pb.burn / t) >= START_GONE:
+    return _start_taus(pb.split, pb.burn, BURN, START_STEP, START_SPAN, START_GONE)
+
+
+@functools.lru_cache(maxsize=64)
+def _start_taus(split, burn: int, burn_share: float, step: float, span: float,
+                gone: float) -> tuple:
+    t, out = max(burn_share * split.n_fit, 1.0) / step, []
+    while t <= split.first_end / span:
+        if math.exp(-burn / t) >= gone:
             out.append(t)
-        t *= START_STEP
+        t *= step
     return tuple(out)
 
 
