@@ -77,3 +77,28 @@ def test_start_taus_kept_are_the_ones_computed(monkeypatch):
     before = fit.start_taus(pb)
     monkeypatch.setattr(fit, "START_STEP", 2.0)
     assert fit.start_taus(pb) != before
+
+
+def test_arfima_frequency_terms_kept_are_the_ones_computed():
+    """fit_arfima's cosines, frequencies and fractional factor from the
+    cache are the numbers computed for that n (odd and even), and a model
+    fitted with them cached is the one fitted with the cache empty."""
+    from scipy.signal import lfilter
+    from pneufrac_fit import noise
+    rng = np.random.default_rng(31)
+    for n in (4001, 4000):
+        x = lfilter([1.0], [1.0, -0.8], rng.normal(size=n))
+        noise._frequency_terms.cache_clear()
+        cold = noise.fit_arfima(x)
+        warm = noise.fit_arfima(x)                # the terms from the cache
+        assert noise._frequency_terms.cache_info().hits >= 1
+        for f in ("a", "sigma2", "d", "d_sd", "var"):
+            assert np.array_equal(getattr(cold, f), getattr(warm, f))
+        assert len(cold.spread) == len(warm.spread)
+        for p, q in zip(cold.spread, warm.spread):
+            assert all(np.array_equal(u, v) for u, v in zip(p, q))
+        I, lam, L, C = noise._whittle_terms(x, 7)
+        assert I.size == lam.size == n // 2
+        assert np.array_equal(lam, 2.0 * np.pi * np.arange(1, I.size + 1) / n)
+        assert np.array_equal(L, 2.0 * np.log(2.0 * np.sin(lam / 2.0)))
+        assert np.array_equal(C, np.cos(np.outer(np.arange(8), lam)))
