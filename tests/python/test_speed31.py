@@ -6,7 +6,7 @@ trail). Each shortcut must return what the long way returns, bit for bit."""
 import numpy as np
 
 import cases
-from pneufrac_fit import candidates, data, fit, model, search
+from pneufrac_fit import candidates, data, fit, search
 from test_speed9_memo import _counting, _problem, _same, _start
 
 
