@@ -611,12 +611,13 @@ def _explore_corner(pb, effects, starts, corner, dead: int = 0, stage: int = sea
     copy. Adding them never makes the halving's own winner worse: they only
     compete at the end."""
     apart = _apart(starts, corner)
-    e = search.explore(pb, effects, starts, dead, stage)
+    w = search.explorer(pb)
+    trails = _trails(apart)
+    e = search.explore(pb, effects, starts, dead, stage, w=w, trails=trails)
     if e is None or not apart:
         return e
-    w = search.explorer(pb)
-    return search.best([e] + [_corner_fit(w, effects, st, search.dead_to(pb, w, dead))
-                              for st in apart])
+    d = search.dead_to(pb, w, dead)
+    return search.best([e] + [_corner_fit(w, effects, st, d, trails.get(st[0])) for st in apart])
 
 
 def explore_refine_corner(pb, effects, starts, corner, dead: int = 0, **kw):
@@ -632,8 +633,10 @@ def explore_refine_corner(pb, effects, starts, corner, dead: int = 0, **kw):
     e = _explore_corner(pb, effects, starts, corner, dead, stage)
     if e is None:            # no exploration copy: the halving and the corner on pb itself
         apart = _apart(starts, corner)
-        h = search._halving(pb, effects, starts, dead, stage)
-        b = search.best([h] + [_corner_fit(pb, effects, st, dead) for st in apart])
+        trails = _trails(apart)
+        h = search._halving(pb, effects, starts, dead, stage, trails)
+        b = search.best([h] + [_corner_fit(pb, effects, st, dead, trails.get(st[0]))
+                               for st in apart])
         if b is not h:       # an exploring fit: refined, as the halving's stages were
             return search.refine(pb, effects, [(b.start, b.values)], dead=dead)
         fit.evaluate(pb, b)
@@ -667,7 +670,16 @@ def _apart(starts, corner) -> list:
     return [s for s in starts if s[0] == baseline.PAPER] + [corner]
 
 
-def _corner_fit(w, effects, start, dead: int):
+def _trails(apart) -> dict:
+    """{label: {}} for the starts in apart that the halving also runs (the
+    paper's values; the corner-freed start is not among its starts): the
+    halving's first stage from such a start is the beginning of its fit
+    apart (_corner_fit), the same path (fit.lm_fit's trail), so its points
+    are kept for that fit instead of simulated twice."""
+    return {lab: {} for lab, _ in apart if not lab.startswith(CORNER)}
+
+
+def _corner_fit(w, effects, start, dead: int, memo: dict | None = None):
     """The corner-freed start (corner_freed) explored on its own, as one
     exploring fit (search.EXPLORE_ITER Jacobians, about what the halving's
     winner gets), to compete with the halving's winner: inside the halving
@@ -676,7 +688,8 @@ def _corner_fit(w, effects, start, dead: int):
     backlash: after 40 Jacobians the corner-freed start's cost is 10.20,
     the warm start's 10.99, yet the halving kept the warm start)."""
     lab, st = start
-    return fit.lm_fit(w, effects, st, dead, search._budget(w, effects, search.EXPLORE_ITER), lab)
+    return fit.lm_fit(w, effects, st, dead, search._budget(w, effects, search.EXPLORE_ITER), lab,
+                      memo=memo)
 
 
 def _not_worse(pb, effects, new: str, base, b):

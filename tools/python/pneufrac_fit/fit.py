@@ -21,6 +21,7 @@ the interpreter lock).
 from __future__ import annotations
 
 import copy
+import functools
 import math
 import os
 import threading
@@ -395,14 +396,24 @@ _CONSTANTS: dict = {}     # a problem's whitened constant regressors (see _remem
 
 def start_taus(pb: Problem) -> tuple:
     """Time constants (samples) of the start's free-response basis; none
-    when the record opens at rest (the state is known: rest)."""
+    when the record opens at rest (the state is known: rest). Every
+    evaluation of the model asks for them twice (model_output, project),
+    and the split's part arithmetic costs about a twentieth of a
+    simulation's Python side: kept per split, burn and the constants, all
+    they depend on (_start_taus)."""
     if not pb.open_start:
         return ()
-    t, out = max(BURN * pb.split.n_fit, 1.0) / START_STEP, []
-    while t <= pb.split.first_end / START_SPAN:
-        if math.exp(-pb.burn / t) >= START_GONE:
+    return _start_taus(pb.split, pb.burn, BURN, START_STEP, START_SPAN, START_GONE)
+
+
+@functools.lru_cache(maxsize=64)
+def _start_taus(split, burn: int, burn_share: float, step: float, span: float,
+                gone: float) -> tuple:
+    t, out = max(burn_share * split.n_fit, 1.0) / step, []
+    while t <= split.first_end / span:
+        if math.exp(-burn / t) >= gone:
             out.append(t)
-        t *= START_STEP
+        t *= step
     return tuple(out)
 
 
@@ -567,7 +578,7 @@ class _Objective:
     """Residual over the counted fit samples, scaled by sd(y); keeps the
     best point seen and counts simulations against a budget."""
 
-    def __init__(self, pb, sp, effects, dead, budget, memo=None):
+    def __init__(self, pb, sp, effects, dead, budget, memo=None, trail=None):
         self.pb, self.sp, self.effects, self.dead = pb, sp, effects, dead
         self.budget, self.calls = budget, 0
         yw = pb.fit_white(pb.y)
@@ -583,6 +594,9 @@ class _Objective:
         # of theta but not of the values.
         self.memo = memo if memo is not None else {}
         self.last = {}
+        # Every point this fit evaluates, when asked (lm_fit's trail): for
+        # another fit that starts where this one did (candidates._apart)
+        self.trail = trail
 
     def __call__(self, th):
         self.calls += 1
@@ -598,6 +612,8 @@ class _Objective:
         point if it is."""
         key, r, mo = self._point(th)
         self._note(th, r, mo)
+        if self.trail is not None:
+            self.trail[key] = r
         return key, r
 
     def _point(self, th):
@@ -663,6 +679,8 @@ class _Objective:
         for (t, _), (_, r, mo) in zip(cols, made):
             self._note(t, r, mo)
         kr = [(key, r) for key, r, _ in made]
+        if self.trail is not None:
+            self.trail.update(kr)
         self.last = {tuple(from_theta(self.sp, th, self.pb).values()): f0}
         self.last.update(kr)
         res = [(r - f0) / h for (_, r), (_, h) in zip(kr, cols)]
@@ -670,7 +688,8 @@ class _Objective:
 
 
 def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
-           label: str = "", ftol: float = 1e-5, memo: dict | None = None) -> FitResult:
+           label: str = "", ftol: float = 1e-5, memo: dict | None = None,
+           trail: dict | None = None) -> FitResult:
     """Least squares from one start; returns the best point visited. The
     default ftol (relative cost change per step) of 1e-5 is far below what
     the guards resolve (a BIC change of 10 is 10/n of the cost: 1.4e-4 at
@@ -680,7 +699,13 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
     evaluated; read, and this fit's last Jacobian's points added. A fit continued from where another
     stopped (search._halving's stages) starts with the Jacobian the other
     ended with, at the same point: its p + 1 simulations are not made
-    again (the budget counts them as before, so the search is the same)."""
+    again (the budget counts them as before, so the search is the same).
+    trail: a dict to which every point this fit evaluates is added (keyed
+    as memo): given as memo to a fit of the same problem, effects and dead
+    time from the same start with a larger budget, that fit follows this
+    one's path evaluation for evaluation (least_squares is deterministic,
+    and the budget and max_nfev only stop it: _answers), so the points this
+    one made are not simulated again; only the memo's numbers, the same."""
     effects = model.canonical(effects)
     sp = specs(pb, effects)
     th0 = to_theta(sp, start, pb)
@@ -696,7 +721,7 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
     if hit is not None:        # (its last Jacobian is not in memo: a little speed only)
         hit.start = label
         return hit
-    obj = _Objective(pb, sp, effects, dead, budget, memo)
+    obj = _Objective(pb, sp, effects, dead, budget, memo, trail)
     state = {}
 
     def fun(th):

@@ -100,17 +100,21 @@ def rank_fresh(pb, effects, starts: list, n_keep: int, dead: int = 0) -> list:
     return [starts[i] for c, i in scored[:n_keep] if math.isfinite(c)]
 
 
-def _halving(w, effects, starts, dead, label_iters=None):
+def _halving(w, effects, starts, dead, label_iters=None, trails=None):
     """Successive halving: every start gets STAGE_ITER iterations, the
     better half continues for another STAGE_ITER, and so on down to one,
     which runs a last stage. Most of the effort goes to the starts that
-    lead somewhere."""
+    lead somewhere. trails: {label: dict} for starts also fitted on their
+    own from the same place (candidates._apart): every point of their
+    first stage is added to their dict (fit.lm_fit's trail)."""
     label_iters = label_iters or STAGE_ITER
     # Each stage goes on from where the last stopped: the points of every
     # run's last Jacobian are kept for it (fit.lm_fit's memo; the copy is
     # small, a few MB for a whole halving).
     memo: dict = {}
-    runs = [fit.lm_fit(w, effects, st, dead, _budget(w, effects, label_iters), lab, memo=memo)
+    trails = trails or {}
+    runs = [fit.lm_fit(w, effects, st, dead, _budget(w, effects, label_iters), lab, memo=memo,
+                       trail=trails.get(lab))
             for lab, st in starts]
     while True:
         runs.sort(key=lambda r: r.cost)
@@ -121,13 +125,16 @@ def _halving(w, effects, starts, dead, label_iters=None):
             return runs[0]
 
 
-def explore(pb, effects, starts: list, dead: int = 0, stage_iter: int = STAGE_ITER):
+def explore(pb, effects, starts: list, dead: int = 0, stage_iter: int = STAGE_ITER,
+            w=None, trails=None):
     """The exploration of explore_refine: the best of the starts after
-    successive halving on the exploration copy; None when pb has none."""
-    w = explorer(pb)
+    successive halving on the exploration copy (w: pb's, when already
+    made; trails: _halving's); None when pb has none."""
+    w = w or explorer(pb)
     if w is None:
         return None
-    return _halving(w, model.canonical(effects), starts, dead_to(pb, w, dead), stage_iter)
+    return _halving(w, model.canonical(effects), starts, dead_to(pb, w, dead), stage_iter,
+                    trails)
 
 
 def explore_refine(pb, effects, starts: list, dead: int = 0,
