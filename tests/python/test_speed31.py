@@ -88,10 +88,10 @@ def test_arfima_frequency_terms_kept_are_the_ones_computed():
     rng = np.random.default_rng(31)
     for n in (4001, 4000):
         x = lfilter([1.0], [1.0, -0.8], rng.normal(size=n))
-        noise._frequency_terms.cache_clear()
+        noise._kept_frequency_terms.cache_clear()
         cold = noise.fit_arfima(x)
         warm = noise.fit_arfima(x)                # the terms from the cache
-        assert noise._frequency_terms.cache_info().hits >= 1
+        assert noise._kept_frequency_terms.cache_info().hits >= 1
         for f in ("a", "sigma2", "d", "d_sd", "var"):
             assert np.array_equal(getattr(cold, f), getattr(warm, f))
         assert len(cold.spread) == len(warm.spread)
@@ -102,3 +102,18 @@ def test_arfima_frequency_terms_kept_are_the_ones_computed():
         assert np.array_equal(lam, 2.0 * np.pi * np.arange(1, I.size + 1) / n)
         assert np.array_equal(L, 2.0 * np.log(2.0 * np.sin(lam / 2.0)))
         assert np.array_equal(C, np.cos(np.outer(np.arange(8), lam)))
+
+
+def test_arfima_frequency_terms_past_the_cache_bound_are_made_not_kept(monkeypatch):
+    """Above TERMS_CACHE_BYTES the terms are made per call (a 10^6-sample
+    record's cosines are not kept after its diagnosis), read only, and
+    equal to the kept ones."""
+    from pneufrac_fit import noise
+    noise._kept_frequency_terms.cache_clear()
+    kept = noise._frequency_terms(4000, 7)
+    monkeypatch.setattr(noise, "TERMS_CACHE_BYTES", 8 * 8 * 2000 - 1)
+    made = noise._frequency_terms(4000, 7)
+    assert noise._kept_frequency_terms.cache_info().currsize == 1
+    assert made[2] is not kept[2]
+    for u, v in zip(kept, made):
+        assert np.array_equal(u, v) and not v.flags.writeable

@@ -191,18 +191,33 @@ def _whittle_terms(x: np.ndarray, p_max: int):
     return (I, *_frequency_terms(n, p_max))
 
 
-@functools.lru_cache(maxsize=4)
+# The cosines take (p_max + 1) x n/2 doubles: a few MB at 10^5 samples, but
+# hundreds of MB at 10^6, which a cache would keep after the diagnosis (the
+# review of speed31). Above this size they are made per call, as before.
+TERMS_CACHE_BYTES = 64 * 2**20
+
+
 def _frequency_terms(n: int, p_max: int):
     """lam, L and the cosines of _whittle_terms: they depend on n and p_max
     alone, and a diagnosis fits every candidate's residual on the same fit
     part (the same n), where the (p_max + 1) x n/2 cosines cost about a
-    third of a fit (branch speed31): made once per n, read only."""
+    third of a fit (branch speed31): kept per n up to TERMS_CACHE_BYTES,
+    read only."""
+    if 8 * (p_max + 1) * (n // 2) > TERMS_CACHE_BYTES:
+        return _make_frequency_terms(n, p_max)
+    return _kept_frequency_terms(n, p_max)
+
+
+def _make_frequency_terms(n: int, p_max: int):
     lam = 2.0 * np.pi * np.arange(1, n // 2 + 1) / n
     L = 2.0 * np.log(2.0 * np.sin(lam / 2.0))
     C = np.cos(np.outer(np.arange(p_max + 1), lam))
     for a in (lam, L, C):
         a.flags.writeable = False
     return lam, L, C
+
+
+_kept_frequency_terms = functools.lru_cache(maxsize=2)(_make_frequency_terms)
 
 
 def fit_arfima(r, p_max: int = P_MAX) -> NoiseModel:

@@ -130,7 +130,8 @@ def explore(pb, effects, starts: list, dead: int = 0, stage_iter: int = STAGE_IT
     """The exploration of explore_refine: the best of the starts after
     successive halving on the exploration copy (w: pb's, when already
     made; trails: _halving's); None when pb has none."""
-    w = w or explorer(pb)
+    if w is None:
+        w = explorer(pb)
     if w is None:
         return None
     return _halving(w, model.canonical(effects), starts, dead_to(pb, w, dead), stage_iter,
