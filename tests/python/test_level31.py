@@ -151,7 +151,7 @@ def test_slow_output_noise_on_covered_levels_is_not_a_new_level():
 
 
 @pytest.mark.xfail(strict=True, reason="known limit (review of level31, B1): a window "
-                   "rests when the input's range there is under REST_SHARE of its span, "
+                   "rests when the input's range there is under WINDOW_REST_SHARE of its span, "
                    "so a motion under 5 % of the span is read as noise")
 def test_a_small_sine_after_a_step_doubling_in_the_tail_is_uncovered():
     """One step 0 -> 1, then a sine of amplitude 0.02 (2 % of the span)
