@@ -5,6 +5,7 @@ values explored on its own beside a corner: candidates._apart), and the
 coverage margin from the noise's level sd, not its sample-to-sample sd
 (data.level_sd)."""
 import numpy as np
+import pytest
 from scipy.signal import lfilter
 
 import cases
@@ -68,6 +69,23 @@ def test_slow_noise_on_covered_levels_is_not_a_new_level():
     assert holdout.outside_share(rec.e, tail, white) > data.MAX_OUTSIDE   # the premise
     assert data.uncovered(rec, tail) is None
     assert data.split_for(rec) == (tail, None)
+
+
+@pytest.mark.xfail(strict=True, reason="known limit (review of level31, R4): no window "
+                   "of an input whose noise is large next to 5 % of its span rests, so the "
+                   "margin falls back to the sample-to-sample sd's")
+def test_slow_noise_on_covered_levels_of_a_small_span_is_not_a_new_level():
+    """The record above with its levels scaled by 0.1 (span 0.2): the
+    noise's wander over a window is then about 20 % of the span, no window
+    passes the 5 %-of-span rest test, the level sd falls back to the
+    sample-to-sample sd and 18 % of the tail reads as outside: this test
+    fails until the rest test is scaled to the noise."""
+    levels = [0, 1, -1, 0.5, -0.5, 1, 0, -1, 0.5, -0.5]
+    e = 0.1 * np.repeat(np.asarray(levels, float), N // len(levels)) + _ar1(0.995, N, 15)
+    rng = np.random.default_rng(8)
+    pc = 0.1 + 0.02 * np.convolve(e, np.full(30, 1 / 30))[:N] + 1e-3 * rng.normal(size=N)
+    rec = data.make_record(np.arange(N) / FS, e, pc, "slow-noise-small")
+    assert data.uncovered(rec, holdout.layout(N, "tail")) is None
 
 
 def test_paper_start_apart_only_beside_a_corner():

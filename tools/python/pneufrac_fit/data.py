@@ -653,8 +653,9 @@ def _rests(rec: Record, split) -> str | None:
 # (split_for). An error towards "covered" comes from the range being
 # max/min (one glitch in a fit part widens it) and from a level sd
 # inflated by what moves within a resting window (a response not yet
-# settled, an input's small dither under REST_SHARE): both only keep the
-# split asked for. A sample beyond the margin is at a level the fit never
+# settled, an input's motion under WINDOW_REST_SHARE of its span, which
+# counts as resting): both only keep the split asked for and drop its
+# extrapolation note. A sample beyond the margin is at a level the fit never
 # saw: an effect acting only there (a limit reached only in the tail, a
 # nozzle's curve beyond the fitted range) is invisible to every fit and
 # decides the held-out comparison alone. A split is uncovered when more
@@ -665,20 +666,40 @@ def _rests(rec: Record, split) -> str | None:
 # a bound; it is computed from the data alone before any fit, so no verdict
 # can tune it.
 MAX_OUTSIDE = 0.05
-# The input rests over a stretch (a split's part, a window of level_sd)
-# when its range there is under this share of its span over the record:
-# the record's own test of a part that does not move (check_parts).
+# A split's part excites the model (check_parts) when the input's range
+# there reaches this share of its span over the record: an excitation
+# floor, a part moving less tests too little to identify anything.
 REST_SHARE = 0.05
+# A window of level_sd rests when the input's range there is under this
+# share of its span. The fact it stands for is another one: the input's
+# motion in the window is what its own noise explains (as
+# signals.rest_length decides rest, within REST_SIGMAS noise sd). That
+# test on the sample-to-sample sd rejects every window of slow noise on the
+# input (its wander over a window is several of its process sd), and
+# cover30's slow-noise protection with it; no rule on the input alone tells
+# slow noise from a slow excitation of the same size. So this share is not
+# derived: it is check_parts's value, borrowed, and its cost is bounded,
+# not nil. An input moving under 5 % of its span within windows between its
+# changes (a small sine or PRBS after a set-point step) counts as resting;
+# its own motion then sets the level sd, up to about 2 % of the span (a
+# sine just under 5 % peak to peak: 2.2 %), so a tail may swing up to
+# about 11 % of the input's span (REST_SIGMAS of that) beyond the fit
+# parts' range and read as covered (review of level31, B1). And an input
+# whose noise wanders by 5 % of its span within a window has no resting
+# window: its margin is the sample-to-sample sd's, an error towards
+# "uncovered" on slow noise (R4).
+WINDOW_REST_SHARE = 0.05
 
 
 def rest_windows(e: np.ndarray, cuts: np.ndarray) -> list:
     """Starts of the windows of holdout.MIN_HELD samples (a held-out block's
-    shortest length) in which the input rests (its range under REST_SHARE
-    of its span): laid from the end of each stretch between input changes
-    (cuts: signals.change_points of e) backwards, so that none crosses a
-    change and the last of each sits where the response has settled."""
+    shortest length) in which the input rests (its range under
+    WINDOW_REST_SHARE of its span): laid from the end of each stretch
+    between input changes (cuts: signals.change_points of e) backwards, so
+    that none crosses a change and the last of each sits where the
+    response has settled."""
     w = holdout.MIN_HELD
-    tol = REST_SHARE * float(np.ptp(e))
+    tol = WINDOW_REST_SHARE * float(np.ptp(e))
     edges = np.r_[0, np.asarray(cuts, int), e.size]
     return [s for a, b in zip(edges[:-1], edges[1:]) for s in range(b - w, a - 1, -w)
             if float(np.ptp(e[s:s + w])) < tol]
