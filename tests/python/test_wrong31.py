@@ -63,3 +63,52 @@ def test_nothing_is_tried_when_the_winner_leaves_an_adequate_model(monkeypatch):
 def test_the_winner_stays_when_no_pair_passes_in_its_place(monkeypatch):
     got, calls, notes, _, _, _, _ = _case(monkeypatch, pair_found=False)
     assert got is None and len(calls) == 1 and notes == []
+
+
+def _forward(monkeypatch, pair_scale):
+    """selection.forward over scripted rounds: round 1 on the baseline adds
+    the nozzle (alone in passing), nothing passes on top of it, and the
+    pairs step finds saturation+backlash only on the baseline, its residual
+    pair_scale times the nozzle's (independent noise of the same size
+    scaled). Every model is inadequate."""
+    import numpy as np
+    from test_ambiguity import _test, N_FIT, N_VAL
+    rng = np.random.default_rng(31)
+    ra = rng.normal(0.0, 1.0, N_FIT + N_VAL)
+    rp = pair_scale * rng.normal(0.0, 1.0, N_FIT + N_VAL)
+    first = [_test("nozzle", ra, nrmse=0.39), _test("saturation", ra * 1.5, passes=False),
+             _test("backlash", ra * 1.2, passes=False)]
+    on_nozzle = [_test("lag", ra, passes=False)]
+    rounds = {"none": first, "nozzle": on_nozzle, "saturation+backlash": []}
+    monkeypatch.setattr(selection, "run_round",
+                        lambda pb, cur, eff, seed, jobs, say, prev: rounds[cur.effect])
+    monkeypatch.setattr(selection, "backward", lambda pb, fr, say: (fr, pb, []))
+    monkeypatch.setattr(selection, "refit_rivals", lambda pb, cur, tests, seed, say, jobs=1: tests)
+    monkeypatch.setattr(selection, "refine_winner", lambda pb, cur, tests, seed, say: tests)
+    monkeypatch.setattr(selection, "from_better", lambda pb, cur, tests, seed, say: tests)
+    monkeypatch.setattr(guards, "inadequate", lambda pb, fr: (True, 9.0))
+    pair = _test("saturation", rp, nrmse=0.03)
+    pair.model.effects, pair.model.effect = ("saturation", "backlash"), "saturation+backlash"
+    other = _test("backlash", rp, nrmse=0.03)
+    other.model = pair.model
+
+    def pairs(pb, current, tests, say, notes=None, sets=None, seed=0):
+        return (pair.model, pair.pb, [pair, other]) if current.effect == "none" else None
+    monkeypatch.setattr(selection, "pairs", pairs)
+    base = SimpleNamespace(effects=(), effect="none", nrmse_val=1.0)
+    notes = []
+    final, _, _, _ = selection.forward(SimpleNamespace(burn=0), base, 0, 1, lambda s: None,
+                                       notes)
+    return final, notes
+
+
+def test_forward_names_the_pair_the_record_prefers_to_the_winner(monkeypatch):
+    """Without pairs_instead the nozzle is named: pairs are tried only on
+    top of it, where none passes."""
+    final, notes = _forward(monkeypatch, 0.3)
+    assert final.effect == "saturation+backlash" and notes == []
+
+
+def test_forward_names_neither_when_the_record_cannot_tell(monkeypatch):
+    final, notes = _forward(monkeypatch, 1.0)
+    assert final.effect == "none" and "cannot tell" in notes[0]
