@@ -10,17 +10,16 @@ from pneufrac_fit import guards, selection
 
 
 def _case(monkeypatch, inadequate=True, pair_found=True, pair_over_win=False,
-          win_over_pair=False):
+          win_over_pair=False, pair_effects=("saturation", "backlash")):
     """pairs_instead over stubs: the model before the winner, the winner's
     test, and what the pairs step and the record's comparisons answer."""
     prev = SimpleNamespace(effects=(), effect="none")
     prev_pb = SimpleNamespace(name="prev_pb")
     win_model = SimpleNamespace(effects=("nozzle",), effect="nozzle", nrmse_val=0.39)
     win = SimpleNamespace(effect="nozzle", model=win_model)
-    pair_model = SimpleNamespace(effects=("saturation", "backlash"),
-                                 effect="saturation+backlash", nrmse_val=0.028)
-    members = [SimpleNamespace(effect="saturation", model=pair_model),
-               SimpleNamespace(effect="backlash", model=pair_model)]
+    pair_model = SimpleNamespace(effects=pair_effects, effect="+".join(pair_effects),
+                                 nrmse_val=0.028)
+    members = [SimpleNamespace(effect=e, model=pair_model) for e in pair_effects]
     calls = []
 
     def pairs(pb, current, tests, say, notes=None, sets=None, seed=0):
@@ -53,6 +52,13 @@ def test_neither_is_named_when_the_record_cannot_tell(monkeypatch):
     got, _, notes, sets, prev, prev_pb, _ = _case(monkeypatch)
     assert got == (prev, prev_pb, [])
     assert sets == [["nozzle", "saturation+backlash"]] and "cannot tell" in notes[0]
+
+
+def test_a_pair_that_keeps_the_winner_is_taken_though_the_record_cannot_tell(monkeypatch):
+    """Its other member passed every guard against the winner's model: the
+    winner is in both explanations, so naming neither would lose it."""
+    got, _, notes, sets, _, _, pair = _case(monkeypatch, pair_effects=("lag", "nozzle"))
+    assert got[0] is pair and notes == [] and sets == []
 
 
 def test_nothing_is_tried_when_the_winner_leaves_an_adequate_model(monkeypatch):
