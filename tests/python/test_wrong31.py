@@ -10,7 +10,8 @@ from pneufrac_fit import guards, selection
 
 
 def _case(monkeypatch, inadequate=True, pair_found=True, pair_over_win=False,
-          win_over_pair=False, pair_effects=("saturation", "backlash")):
+          win_over_pair=False, pair_effects=("saturation", "backlash"),
+          tests=("nozzle", "saturation", "backlash")):
     """pairs_instead over stubs: the model before the winner, the winner's
     test, and what the pairs step and the record's comparisons answer."""
     prev = SimpleNamespace(effects=(), effect="none")
@@ -31,7 +32,8 @@ def _case(monkeypatch, inadequate=True, pair_found=True, pair_over_win=False,
     monkeypatch.setattr(guards, "distinguishable",
                         lambda a, b: pair_over_win if a is members[0] else win_over_pair)
     notes, sets = [], []
-    got = selection.pairs_instead((win, (prev, prev_pb)), ["round 1's tests"], win_model,
+    round1 = [SimpleNamespace(effect=e, excludes=True) for e in tests]
+    got = selection.pairs_instead((win, (prev, prev_pb)), round1, win_model,
                                   "cur_pb", lambda s: None, notes, sets)
     return got, calls, notes, sets, prev, prev_pb, pair_model
 
@@ -39,7 +41,7 @@ def _case(monkeypatch, inadequate=True, pair_found=True, pair_over_win=False,
 def test_the_pair_replaces_the_winner_when_the_record_tells_it_apart(monkeypatch):
     got, calls, notes, _, prev, prev_pb, pair = _case(monkeypatch, pair_over_win=True)
     # the pairs were tried on the model before the winner, with its round's tests
-    assert calls == [(prev_pb, prev, ["round 1's tests"])]
+    assert [(pb, cur) for pb, cur, _ in calls] == [(prev_pb, prev)]
     assert got[0] is pair and notes == []
 
 
@@ -54,11 +56,19 @@ def test_neither_is_named_when_the_record_cannot_tell(monkeypatch):
     assert sets == [["nozzle", "saturation+backlash"]] and "cannot tell" in notes[0]
 
 
-def test_a_pair_that_keeps_the_winner_is_taken_though_the_record_cannot_tell(monkeypatch):
-    """Its other member passed every guard against the winner's model: the
-    winner is in both explanations, so naming neither would lose it."""
-    got, _, notes, sets, _, _, pair = _case(monkeypatch, pair_effects=("lag", "nozzle"))
-    assert got[0] is pair and notes == [] and sets == []
+def test_pairs_in_place_leave_the_winner_out(monkeypatch):
+    """A pair with the winner in it is the winner's model with one more
+    effect, which the round on top of the winner tested: only the other
+    effects are paired."""
+    got, calls, _, _, _, _, _ = _case(monkeypatch, pair_over_win=True,
+                                      tests=["nozzle", "saturation", "backlash"])
+    assert [t.effect for t in calls[0][2]] == ["saturation", "backlash"]
+
+
+def test_no_pairs_in_place_with_fewer_than_two_other_members(monkeypatch):
+    got, calls, _, _, _, _, _ = _case(monkeypatch, pair_over_win=True,
+                                      tests=["nozzle", "saturation"])
+    assert got is None and calls == []
 
 
 def test_nothing_is_tried_when_the_winner_leaves_an_adequate_model(monkeypatch):

@@ -948,26 +948,22 @@ def pairs_instead(last, tests, current, cur_pb, say, notes=None, sets=None, seed
     record (guards.distinguishable, each way): the pair is named when the
     record tells it from the winner, the winner kept when the record tells
     the winner from the pair, and neither when it cannot tell: naming the
-    wrong one would send someone to the wrong part. A pair that keeps the
-    winner adds its other member, which passed every guard against the
-    winner's model refitted, as a round adds an effect: it is taken.
-    Returns (model, problem, tests to add as a round) or None (the winner
+    wrong one would send someone to the wrong part. Pairs with the winner
+    in them are not tried here (the round on top of the winner tested each
+    such model). Returns (model, problem, tests to add as a round) or None (the winner
     stands)."""
     win, (prev, prev_pb) = last
-    if not tests or not guards.inadequate(cur_pb, current)[0]:
+    # a pair with the winner in it is the winner's model with one more
+    # effect: the round on top of the winner tested that already
+    others = [t for t in tests or () if t.effect != win.effect]
+    if sum(half_story(t) for t in others) < 2 or not guards.inadequate(cur_pb, current)[0]:
         return None
     say(f"pairs in place of {win.effect}: {current.effect} is inadequate")
-    got = pairs(prev_pb, prev, tests, say, notes, sets, seed)
+    got = pairs(prev_pb, prev, others, say, notes, sets, seed)
     if got is None:
         return None
     pair = got[2][0]
     name = "+".join(t.effect for t in got[2])
-    if win.effect in pair.model.effects:
-        # the winner is one of the pair: its other member passed every guard
-        # against the pair without it (the winner's model refitted), so the
-        # pair adds an effect as a round does; the winner is in both
-        say(f"pairs: {name} in place of {win.effect} (it keeps {win.effect})")
-        return got
     if guards.distinguishable(pair, win):
         say(f"pairs: {name} in place of {win.effect} (the record tells them apart)")
         return got
