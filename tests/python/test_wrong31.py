@@ -128,3 +128,26 @@ def test_forward_names_the_pair_the_record_prefers_to_the_winner(monkeypatch):
 def test_forward_names_neither_when_the_record_cannot_tell(monkeypatch):
     final, notes = _forward(monkeypatch, 1.0)
     assert final.effect == "none" and "cannot tell" in notes[0]
+
+
+def test_forward_tries_no_pairs_in_place_of_a_second_effect(monkeypatch):
+    """A verdict that names two effects is not one effect standing in for
+    two: no pairs are tried in place of its last member."""
+    import numpy as np
+    from test_ambiguity import _test, N_FIT, N_VAL
+    ra = np.random.default_rng(3).normal(0.0, 1.0, N_FIT + N_VAL)
+    both = _test("lag", ra, nrmse=0.02)
+    both.model.effects, both.model.effect = ("lag", "nozzle"), "lag+nozzle"
+    rounds = {"none": [_test("nozzle", ra, nrmse=0.39)], "nozzle": [both], "lag+nozzle": []}
+    monkeypatch.setattr(selection, "run_round",
+                        lambda pb, cur, eff, seed, jobs, say, prev: rounds[cur.effect])
+    monkeypatch.setattr(selection, "backward", lambda pb, fr, say: (fr, pb, []))
+    monkeypatch.setattr(selection, "refit_rivals", lambda pb, cur, tests, seed, say, jobs=1: tests)
+    monkeypatch.setattr(selection, "refine_winner", lambda pb, cur, tests, seed, say: tests)
+    monkeypatch.setattr(selection, "from_better", lambda pb, cur, tests, seed, say: tests)
+    monkeypatch.setattr(selection, "pairs", lambda *a, **k: None)
+    called = []
+    monkeypatch.setattr(selection, "pairs_instead", lambda *a, **k: called.append(a))
+    base = SimpleNamespace(effects=(), effect="none", nrmse_val=1.0)
+    final, _, _, _ = selection.forward(SimpleNamespace(burn=0), base, 0, 1, lambda s: None)
+    assert final.effect == "lag+nozzle" and called == []

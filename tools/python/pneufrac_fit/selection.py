@@ -421,7 +421,11 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None, _tried=None):
         if got is not None:
             current, cur_pb, tests = got
             rounds.append(tests)
-    if got is None and last is not None and last[0].model is current:
+    # one effect standing in for two: a verdict of a single effect (added on
+    # the baseline) whose model is still inadequate; a model that names two
+    # already is not what the imitation leaves, and pairs cost about three
+    # refinements each, so they are not tried in place of its last member
+    if got is None and last is not None and last[0].model is current and not last[1][0].effects:
         got = pairs_instead(last, tested_on.get(id(last[1][0])), current, cur_pb, say, notes,
                             sets, seed + 7 * len(rounds) + 13)
         if got is not None:
@@ -941,8 +945,8 @@ def pairs_instead(last, tests, current, cur_pb, say, notes=None, sets=None, seed
     of a dead band, both acting near the flapper's working point; a round
     then adds the one effect, and pairs tried on top of it find nothing
     (the two effects have nothing left to explain there). When the model
-    chosen is still inadequate (its whitened residual depends on the input:
-    it misses something), the pairs are tried where the winner was added,
+    chosen names that one effect and is still inadequate (its whitened
+    residual depends on the input: it misses something), the pairs are tried where the winner was added,
     on the model before it with that round's tests (`pairs`, every guard on
     each member). A pair found there is weighed against the winner by the
     record (guards.distinguishable, each way): the pair is named when the
