@@ -946,16 +946,16 @@ def pairs_instead(last, tests, current, cur_pb, say, notes=None, sets=None, seed
     then adds the one effect, and pairs tried on top of it find nothing
     (the two effects have nothing left to explain there). When the model
     chosen names that one effect and is still inadequate (its whitened
-    residual depends on the input: it misses something), the pairs are tried where the winner was added,
-    on the model before it with that round's tests (`pairs`, every guard on
-    each member). A pair found there is weighed against the winner by the
-    record (guards.distinguishable, each way): the pair is named when the
-    record tells it from the winner, the winner kept when the record tells
-    the winner from the pair, and neither when it cannot tell: naming the
-    wrong one would send someone to the wrong part. Pairs with the winner
-    in them are not tried here (the round on top of the winner tested each
-    such model). Returns (model, problem, tests to add as a round) or None (the winner
-    stands)."""
+    residual depends on the input: it misses something), the pairs are
+    tried where the winner was added, on the model before it with that
+    round's tests (`pairs`, every guard on each member). A pair found there
+    is weighed against the winner by the record (guards.distinguishable,
+    each way): the pair is named when the record tells it from the winner,
+    the winner kept when the record tells the winner from the pair, and
+    neither when it cannot tell: naming the wrong one would send someone
+    to the wrong part. Pairs with the winner in them are not tried here
+    (the round on top of the winner tested each such model). Returns
+    (model, problem, tests to add as a round) or None (the winner stands)."""
     win, (prev, prev_pb) = last
     # a pair with the winner in it is the winner's model with one more
     # effect: the round on top of the winner tested that already
