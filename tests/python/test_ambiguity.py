@@ -221,6 +221,7 @@ def _forward_with(scale_b, on_top, monkeypatch, ref_lag=1.0):
                         lambda pb, cur, eff, seed, jobs, say, prev: rounds[cur.effect])
     monkeypatch.setattr(selection, "backward", lambda pb, fr, say: (fr, pb, []))
     monkeypatch.setattr(selection, "pairs", lambda *a: None)
+    monkeypatch.setattr(selection, "pairs_instead", lambda *a: None)
     # the scripted fits are the rounds' last word: no refit from a rival's optimum
     monkeypatch.setattr(selection, "refit_rivals", lambda pb, cur, tests, seed, say, jobs=1: tests)
     monkeypatch.setattr(selection, "refine_winner", lambda pb, cur, tests, seed, say: tests)

@@ -171,6 +171,7 @@ def _forward(pb, base, rounds):
         mp.setattr(selection, "refine_winner", lambda pb, cur, tests, seed, say: tests)
         mp.setattr(selection, "from_better", lambda pb, cur, tests, seed, say: tests)
         mp.setattr(selection, "pairs", lambda *a, **k: None)
+        mp.setattr(selection, "pairs_instead", lambda *a, **k: None)
         return selection.forward(pb, base, 0, 1, lambda m: None)[0]
     finally:
         mp.undo()

@@ -50,6 +50,7 @@ def _run(monkeypatch, dead_band_on_saturation: bool):
     monkeypatch.setattr(selection, "run_round", run_round)
     monkeypatch.setattr(selection, "backward", backward)
     monkeypatch.setattr(selection, "pairs", lambda *a, **k: None)
+    monkeypatch.setattr(selection, "pairs_instead", lambda *a, **k: None)
     monkeypatch.setattr(selection, "best_same_fit", lambda tests, cur, pb: (cur, pb, ""))
     # the scripted fits are the rounds' last word: none refined or refitted
     monkeypatch.setattr(selection, "refine_winner", lambda pb, cur, tests, seed, say: tests)

@@ -40,6 +40,7 @@ def test_a_winner_promoted_by_refit_rivals_is_refined(monkeypatch):
     monkeypatch.setattr(selection, "_passing", lambda tests, cur, pb, n, say:
                         [t for t in tests if t.passes])
     monkeypatch.setattr(selection, "pairs", lambda *a: None)
+    monkeypatch.setattr(selection, "pairs_instead", lambda *a: None)
     final, _, _, _ = selection.forward(SimpleNamespace(burn=0), base, 0, 1, lambda s: None)
     assert final is lag2.model
     assert winners == ["nozzle", "lag"]

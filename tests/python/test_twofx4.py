@@ -189,6 +189,7 @@ def _forward(monkeypatch, first, promoted, fails_after_refinement):
     monkeypatch.setattr(selection, "_passing", lambda tests, cur, pb, n, say:
                         [t for t in tests if t.passes])
     monkeypatch.setattr(selection, "pairs", lambda *a: None)
+    monkeypatch.setattr(selection, "pairs_instead", lambda *a: None)
     final, _, _, _ = selection.forward(SimpleNamespace(burn=0), base, 0, 1, lambda s: None)
     return refined, final
 

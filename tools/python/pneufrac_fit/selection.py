@@ -380,6 +380,7 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None, _tried=None):
     current, cur_pb = base, pb
     rounds = []
     rivals, before = [], None
+    last = None             # (the last round's winner, the model it was added on)
     tested_on = {}          # id(model) -> the round of tests on top of it
     tried = set() if _tried is None else _tried
     while True:
@@ -419,13 +420,26 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None, _tried=None):
         say(f"round {len(rounds)}: {win.effect} added"
             + (f" (not significantly better than {', '.join(rivals)}: each is tested on "
                "top of it next)" if rivals else ""))
+        last = (win, before)
         current, cur_pb = win.model, win.pb
     on_top = tested_on.get(id(current))
+    got = None
     if on_top:
         got = pairs(cur_pb, current, on_top, say, notes, sets, seed + 7 * len(rounds))
         if got is not None:
             current, cur_pb, tests = got
             rounds.append(tests)
+    # one effect standing in for two: a verdict of a single effect (added on
+    # the baseline) whose model is still inadequate; a model that names two
+    # already is not what the imitation leaves, and pairs cost about three
+    # refinements each, so they are not tried in place of its last member
+    if got is None and last is not None and last[0].model is current and not last[1][0].effects:
+        got = pairs_instead(last, tested_on.get(id(last[1][0])), current, cur_pb, say, notes,
+                            sets, seed + 7 * len(rounds) + 13)
+        if got is not None:
+            current, cur_pb, tests = got
+            if tests:
+                rounds.append(tests)
     if len(current.effects) >= 2:
         current, cur_pb, checks = backward(cur_pb, current, say)
         if model.canonical(current.effects) not in tried:
@@ -930,6 +944,47 @@ def pairs(pb, current, tests, say, notes=None, sets=None, seed=0):
         return None
     say(f"pairs: {'+'.join(t.effect for t in win)} added")
     return win[0].model, win[0].pb, list(win)
+
+
+def pairs_instead(last, tests, current, cur_pb, say, notes=None, sets=None, seed=0):
+    """Pairs in place of the last round's winner, not only on top of it.
+    One effect can stand in for two: the nozzle's curve clamps on one side
+    and bends the gain, so it follows a one-sided clip (saturation) and part
+    of a dead band, both acting near the flapper's working point; a round
+    then adds the one effect, and pairs tried on top of it find nothing
+    (the two effects have nothing left to explain there). When the model
+    chosen names that one effect and is still inadequate (its whitened
+    residual depends on the input: it misses something), the pairs are
+    tried where the winner was added, on the model before it with that
+    round's tests (`pairs`, every guard on each member). A pair found there
+    is weighed against the winner by the record (guards.distinguishable,
+    each way): the pair is named when the record tells it from the winner,
+    the winner kept when the record tells the winner from the pair, and
+    neither when it cannot tell: naming the wrong one would send someone
+    to the wrong part. Pairs with the winner in them are not tried here
+    (the round on top of the winner tested each such model). Returns
+    (model, problem, tests to add as a round) or None (the winner stands)."""
+    win, (prev, prev_pb) = last
+    # a pair with the winner in it is the winner's model with one more
+    # effect: the round on top of the winner tested that already
+    others = [t for t in tests or () if t.effect != win.effect]
+    if sum(half_story(t) for t in others) < 2 or not guards.inadequate(cur_pb, current)[0]:
+        return None
+    say(f"pairs in place of {win.effect}: {current.effect} is inadequate")
+    got = pairs(prev_pb, prev, others, say, notes, sets, seed)
+    if got is None:
+        return None
+    pair = got[2][0]
+    name = "+".join(t.effect for t in got[2])
+    if guards.distinguishable(pair, win):
+        say(f"pairs: {name} in place of {win.effect} (the record tells them apart)")
+        return got
+    if guards.distinguishable(win, pair):
+        say(f"pairs: {win.effect} kept; the record tells it from {name}")
+        return None
+    _cannot_tell([win.effect, name], [win, pair], f"{name} passes in place of {win.effect}",
+                 say, notes, sets)
+    return prev, prev_pb, []
 
 
 def rivals_of(win, tests) -> list[str]:

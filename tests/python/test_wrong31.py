@@ -1,0 +1,153 @@
+# SPDX-License-Identifier: MIT
+"""Pairs in place of the last round's winner (branch wrong31): one
+effect (the nozzle's curve) can stand in for two (a one-sided clip and a
+dead band); when the model it leaves is still inadequate, the pairs are
+tried where it was added, and the record decides between the pair and the
+winner (selection.pairs_instead), or neither is named."""
+from types import SimpleNamespace
+
+from pneufrac_fit import guards, selection
+
+
+def _case(monkeypatch, inadequate=True, pair_found=True, pair_over_win=False,
+          win_over_pair=False, pair_effects=("saturation", "backlash"),
+          tests=("nozzle", "saturation", "backlash")):
+    """pairs_instead over stubs: the model before the winner, the winner's
+    test, and what the pairs step and the record's comparisons answer."""
+    prev = SimpleNamespace(effects=(), effect="none")
+    prev_pb = SimpleNamespace(name="prev_pb")
+    win_model = SimpleNamespace(effects=("nozzle",), effect="nozzle", nrmse_val=0.39)
+    win = SimpleNamespace(effect="nozzle", model=win_model)
+    pair_model = SimpleNamespace(effects=pair_effects, effect="+".join(pair_effects),
+                                 nrmse_val=0.028)
+    members = [SimpleNamespace(effect=e, model=pair_model) for e in pair_effects]
+    calls = []
+
+    def pairs(pb, current, tests, say, notes=None, sets=None, seed=0):
+        calls.append((pb, current, tests))
+        return (pair_model, "pair_pb", members) if pair_found else None
+
+    monkeypatch.setattr(selection, "pairs", pairs)
+    monkeypatch.setattr(guards, "inadequate", lambda pb, fr: (inadequate, 9.0))
+    monkeypatch.setattr(guards, "distinguishable",
+                        lambda a, b: pair_over_win if a is members[0] else win_over_pair)
+    notes, sets = [], []
+    round1 = [SimpleNamespace(effect=e, excludes=True) for e in tests]
+    got = selection.pairs_instead((win, (prev, prev_pb)), round1, win_model,
+                                  "cur_pb", lambda s: None, notes, sets)
+    return got, calls, notes, sets, prev, prev_pb, pair_model
+
+
+def test_the_pair_replaces_the_winner_when_the_record_tells_it_apart(monkeypatch):
+    got, calls, notes, _, prev, prev_pb, pair = _case(monkeypatch, pair_over_win=True)
+    # the pairs were tried on the model before the winner, with its round's tests
+    assert [(pb, cur) for pb, cur, _ in calls] == [(prev_pb, prev)]
+    assert got[0] is pair and notes == []
+
+
+def test_the_winner_stays_when_the_record_tells_it_from_the_pair(monkeypatch):
+    got, _, notes, _, _, _, _ = _case(monkeypatch, win_over_pair=True)
+    assert got is None and notes == []
+
+
+def test_neither_is_named_when_the_record_cannot_tell(monkeypatch):
+    got, _, notes, sets, prev, prev_pb, _ = _case(monkeypatch)
+    assert got == (prev, prev_pb, [])
+    assert sets == [["nozzle", "saturation+backlash"]] and "cannot tell" in notes[0]
+
+
+def test_pairs_in_place_leave_the_winner_out(monkeypatch):
+    """A pair with the winner in it is the winner's model with one more
+    effect, which the round on top of the winner tested: only the other
+    effects are paired."""
+    got, calls, _, _, _, _, _ = _case(monkeypatch, pair_over_win=True,
+                                      tests=["nozzle", "saturation", "backlash"])
+    assert [t.effect for t in calls[0][2]] == ["saturation", "backlash"]
+
+
+def test_no_pairs_in_place_with_fewer_than_two_other_members(monkeypatch):
+    got, calls, _, _, _, _, _ = _case(monkeypatch, pair_over_win=True,
+                                      tests=["nozzle", "saturation"])
+    assert got is None and calls == []
+
+
+def test_nothing_is_tried_when_the_winner_leaves_an_adequate_model(monkeypatch):
+    got, calls, _, _, _, _, _ = _case(monkeypatch, inadequate=False, pair_over_win=True)
+    assert got is None and calls == []
+
+
+def test_the_winner_stays_when_no_pair_passes_in_its_place(monkeypatch):
+    got, calls, notes, _, _, _, _ = _case(monkeypatch, pair_found=False)
+    assert got is None and len(calls) == 1 and notes == []
+
+
+def _forward(monkeypatch, pair_scale):
+    """selection.forward over scripted rounds: round 1 on the baseline adds
+    the nozzle (alone in passing), nothing passes on top of it, and the
+    pairs step finds saturation+backlash only on the baseline, its residual
+    pair_scale times the nozzle's (independent noise of the same size
+    scaled). Every model is inadequate."""
+    import numpy as np
+    from test_ambiguity import _test, N_FIT, N_VAL
+    rng = np.random.default_rng(31)
+    ra = rng.normal(0.0, 1.0, N_FIT + N_VAL)
+    rp = pair_scale * rng.normal(0.0, 1.0, N_FIT + N_VAL)
+    first = [_test("nozzle", ra, nrmse=0.39), _test("saturation", ra * 1.5, passes=False),
+             _test("backlash", ra * 1.2, passes=False)]
+    on_nozzle = [_test("lag", ra, passes=False)]
+    rounds = {"none": first, "nozzle": on_nozzle, "saturation+backlash": []}
+    monkeypatch.setattr(selection, "run_round",
+                        lambda pb, cur, eff, seed, jobs, say, prev: rounds[cur.effect])
+    monkeypatch.setattr(selection, "backward", lambda pb, fr, say: (fr, pb, []))
+    monkeypatch.setattr(selection, "refit_rivals", lambda pb, cur, tests, seed, say, jobs=1: tests)
+    monkeypatch.setattr(selection, "refine_winner", lambda pb, cur, tests, seed, say: tests)
+    monkeypatch.setattr(selection, "from_better", lambda pb, cur, tests, seed, say: tests)
+    monkeypatch.setattr(guards, "inadequate", lambda pb, fr: (True, 9.0))
+    pair = _test("saturation", rp, nrmse=0.03)
+    pair.model.effects, pair.model.effect = ("saturation", "backlash"), "saturation+backlash"
+    other = _test("backlash", rp, nrmse=0.03)
+    other.model = pair.model
+
+    def pairs(pb, current, tests, say, notes=None, sets=None, seed=0):
+        return (pair.model, pair.pb, [pair, other]) if current.effect == "none" else None
+    monkeypatch.setattr(selection, "pairs", pairs)
+    base = SimpleNamespace(effects=(), effect="none", nrmse_val=1.0)
+    notes = []
+    final, _, _, _ = selection.forward(SimpleNamespace(burn=0), base, 0, 1, lambda s: None,
+                                       notes)
+    return final, notes
+
+
+def test_forward_names_the_pair_the_record_prefers_to_the_winner(monkeypatch):
+    """Without pairs_instead the nozzle is named: pairs are tried only on
+    top of it, where none passes."""
+    final, notes = _forward(monkeypatch, 0.3)
+    assert final.effect == "saturation+backlash" and notes == []
+
+
+def test_forward_names_neither_when_the_record_cannot_tell(monkeypatch):
+    final, notes = _forward(monkeypatch, 1.0)
+    assert final.effect == "none" and "cannot tell" in notes[0]
+
+
+def test_forward_tries_no_pairs_in_place_of_a_second_effect(monkeypatch):
+    """A verdict that names two effects is not one effect standing in for
+    two: no pairs are tried in place of its last member."""
+    import numpy as np
+    from test_ambiguity import _test, N_FIT, N_VAL
+    ra = np.random.default_rng(3).normal(0.0, 1.0, N_FIT + N_VAL)
+    both = _test("lag", ra, nrmse=0.02)
+    both.model.effects, both.model.effect = ("lag", "nozzle"), "lag+nozzle"
+    rounds = {"none": [_test("nozzle", ra, nrmse=0.39)], "nozzle": [both], "lag+nozzle": []}
+    monkeypatch.setattr(selection, "run_round",
+                        lambda pb, cur, eff, seed, jobs, say, prev: rounds[cur.effect])
+    monkeypatch.setattr(selection, "backward", lambda pb, fr, say: (fr, pb, []))
+    monkeypatch.setattr(selection, "refit_rivals", lambda pb, cur, tests, seed, say, jobs=1: tests)
+    monkeypatch.setattr(selection, "refine_winner", lambda pb, cur, tests, seed, say: tests)
+    monkeypatch.setattr(selection, "from_better", lambda pb, cur, tests, seed, say: tests)
+    monkeypatch.setattr(selection, "pairs", lambda *a, **k: None)
+    called = []
+    monkeypatch.setattr(selection, "pairs_instead", lambda *a, **k: called.append(a))
+    base = SimpleNamespace(effects=(), effect="none", nrmse_val=1.0)
+    final, _, _, _ = selection.forward(SimpleNamespace(burn=0), base, 0, 1, lambda s: None)
+    assert final.effect == "lag+nozzle" and called == []
