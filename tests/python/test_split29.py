@@ -74,18 +74,23 @@ def test_tail_within_the_fit_levels_is_kept_without_a_note():
 
 def test_no_split_covers_a_ramp_so_the_asked_one_stays_with_a_note():
     """A ramp rises through the whole record: every split's held-out part
-    is above its fit part's levels, so none is better; the split asked
-    for stays and the note says the held-out error includes an
-    extrapolation."""
+    goes above its fit parts' levels; the split asked for stays and the
+    note says the held-out error includes an extrapolation. Under
+    --holdout cover the blocks are taken (extrap31): only their last block
+    lies above their fit parts' levels (a third of their held-out samples,
+    against all of the tail's), and their note still says they
+    extrapolate."""
     rng = np.random.default_rng(3)
     e = np.linspace(0, 1, N) + 1e-3 * rng.normal(size=N)
     pc = 0.1 + 0.02 * e + 1e-3 * rng.normal(size=N)
     rec = data.make_record(np.arange(N) / FS, e, pc, "ramp")
-    for mode in ("tail", "cover"):
-        split, why = data.split_for(rec, mode)
-        assert split == holdout.layout(N, "tail")
-        assert "does not keep them within its fit parts' levels either" in why
-        assert "held-out blocks" in why and "extrapolation" in why
+    split, why = data.split_for(rec, "tail")
+    assert split == holdout.layout(N, "tail")
+    assert "does not keep them within its fit parts' levels either" in why
+    assert "held-out blocks" in why and "extrapolation" in why
+    split, why = data.split_for(rec, "cover")
+    assert split == holdout.layout(N, "blocks")
+    assert why.startswith("the held-out tail refused") and "extrapolation" in why
 
 
 def _static(e, name, sd_e=1e-3, sd_pc=1e-3, seed=0):

@@ -60,8 +60,9 @@ MIN_HELD = 500           # samples of one held-out block: CORR_TIMES x 24.5 (see
 LAYOUTS = ("blocks", "tail")
 # "cover" (--holdout cover, the default) is the tail, or the blocks when more than
 # data.MAX_OUTSIDE (5 %) of the tail's held-out samples go to levels its fit
-# part never reached, the blocks' do not, and both the blocks' parts move
-# (data.split_for, data.uncovered).
+# part never reached, the blocks' do not, and both the blocks' parts move,
+# or when the blocks' go there too but by a share smaller by more than
+# MAX_OUTSIDE (data.split_for, data.uncovered, data._extrapolates_less).
 MODES = LAYOUTS + ("cover",)
 # The default is "cover": the tail, the split every earlier figure was
 # measured with, unless its held-out samples go to levels its fit part
