@@ -23,14 +23,20 @@ def _case(monkeypatch, inadequate=True, pair_found=True, pair_over_win=False,
     members = [SimpleNamespace(effect=e, model=pair_model) for e in pair_effects]
     calls = []
 
-    def pairs(pb, current, tests, say, notes=None, sets=None, seed=0):
+    def pairs(pb, current, tests, say, notes=None, sets=None, seed=0, tied=None):
         calls.append((pb, current, tests))
+        if pair_found == "tied":          # two pairs pass that the record cannot tell apart
+            other = SimpleNamespace(effect="lag", model=SimpleNamespace(
+                effects=("lag", "saturation"), effect="lag+saturation", nrmse_val=0.029))
+            tied.extend([members, [other, SimpleNamespace(effect="saturation",
+                                                          model=other.model)]])
+            return None
         return (pair_model, "pair_pb", members) if pair_found else None
 
     monkeypatch.setattr(selection, "pairs", pairs)
     monkeypatch.setattr(guards, "inadequate", lambda pb, fr: (inadequate, 9.0))
     monkeypatch.setattr(guards, "distinguishable",
-                        lambda a, b: pair_over_win if a is members[0] else win_over_pair)
+                        lambda a, b: win_over_pair if a is win else pair_over_win)
     notes, sets = [], []
     round1 = [SimpleNamespace(effect=e, excludes=True) for e in tests]
     got = selection.pairs_instead((win, (prev, prev_pb)), round1, win_model,
@@ -54,6 +60,27 @@ def test_neither_is_named_when_the_record_cannot_tell(monkeypatch):
     got, _, notes, sets, prev, prev_pb, _ = _case(monkeypatch)
     assert got == (prev, prev_pb, [])
     assert sets == [["nozzle", "saturation+backlash"]] and "cannot tell" in notes[0]
+
+
+def test_evidence_both_ways_names_neither(monkeypatch):
+    """The record tells each from the other (each comparison under its own
+    noise model): evidence for neither, so neither is named, whichever is
+    checked first (review of wrong31, R2)."""
+    got, _, notes, sets, prev, prev_pb, _ = _case(monkeypatch, pair_over_win=True,
+                                                  win_over_pair=True)
+    assert got == (prev, prev_pb, [])
+    assert sets == [["nozzle", "saturation+backlash"]] and "cannot tell" in notes[0]
+
+
+def test_pairs_tied_in_place_of_the_winner_name_none_unless_it_is_told_from_each(monkeypatch):
+    """Two pairs pass in place of the winner and the record cannot tell them
+    apart: the winner is named only if the record tells it from each of
+    them; else none (review of wrong31, B1: the winner was kept unweighed)."""
+    got, _, notes, sets, prev, prev_pb, _ = _case(monkeypatch, pair_found="tied")
+    assert got == (prev, prev_pb, [])
+    assert sets[-1] == ["nozzle", "saturation+backlash", "lag+saturation"]
+    got, _, _, _, _, _, _ = _case(monkeypatch, pair_found="tied", win_over_pair=True)
+    assert got is None
 
 
 def test_pairs_in_place_leave_the_winner_out(monkeypatch):
@@ -108,7 +135,7 @@ def _forward(monkeypatch, pair_scale):
     other = _test("backlash", rp, nrmse=0.03)
     other.model = pair.model
 
-    def pairs(pb, current, tests, say, notes=None, sets=None, seed=0):
+    def pairs(pb, current, tests, say, notes=None, sets=None, seed=0, tied=None):
         return (pair.model, pair.pb, [pair, other]) if current.effect == "none" else None
     monkeypatch.setattr(selection, "pairs", pairs)
     base = SimpleNamespace(effects=(), effect="none", nrmse_val=1.0)

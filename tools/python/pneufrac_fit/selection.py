@@ -880,7 +880,7 @@ def half_story(t) -> bool:
     return bool(t.excludes)
 
 
-def pairs(pb, current, tests, say, notes=None, sets=None, seed=0):
+def pairs(pb, current, tests, say, notes=None, sets=None, seed=0, tied=None):
     """Two effects at once, when forward selection added nothing more but
     the model is inadequate (guards.inadequate: its whitened residual still
     depends on the input). One at a time cannot find two effects neither of
@@ -893,8 +893,9 @@ def pairs(pb, current, tests, say, notes=None, sets=None, seed=0):
     member's model refitted with the same freedoms). The pair whose members
     both pass and that predicts the held-out part best is added, if the
     record tells it from every other such pair (guards.distinguishable);
-    otherwise none is. Returns (model, problem, the members' tests) or
-    None."""
+    otherwise none is, and the pairs the record cannot tell apart are
+    appended to `tied` (a list, when given: each pair's members' tests).
+    Returns (model, problem, the members' tests) or None."""
     expl = [t for t in tests if half_story(t)]
     if len(expl) < 2:
         return None
@@ -941,6 +942,8 @@ def pairs(pb, current, tests, say, notes=None, sets=None, seed=0):
         both = [win] + rivals
         _cannot_tell(["+".join(t.effect for t in m) for m in both], [m[0] for m in both],
                      "each pair explains part of the residual", say, notes, sets)
+        if tied is not None:
+            tied.extend(both)
         return None
     say(f"pairs: {'+'.join(t.effect for t in win)} added")
     return win[0].model, win[0].pb, list(win)
@@ -971,20 +974,32 @@ def pairs_instead(last, tests, current, cur_pb, say, notes=None, sets=None, seed
     if sum(half_story(t) for t in others) < 2 or not guards.inadequate(cur_pb, current)[0]:
         return None
     say(f"pairs in place of {win.effect}: {current.effect} is inadequate")
-    got = pairs(prev_pb, prev, others, say, notes, sets, seed)
-    if got is None:
+    tied = []
+    got = pairs(prev_pb, prev, others, say, notes, sets, seed, tied=tied)
+    found = [got[2]] if got is not None else tied
+    if not found:
         return None
-    pair = got[2][0]
-    name = "+".join(t.effect for t in got[2])
-    if guards.distinguishable(pair, win):
-        say(f"pairs: {name} in place of {win.effect} (the record tells them apart)")
+    names = ["+".join(t.effect for t in m) for m in found]
+    # one decision over the winner and every pair that passes in its place:
+    # the record must tell the one named from each other one way only (a
+    # comparison that points both ways, each under its own noise model, is
+    # evidence for neither: the guards' rule); else none is named
+    if got is not None and _one_way(found[0][0], win):
+        say(f"pairs: {names[0]} in place of {win.effect} (the record tells them apart)")
         return got
-    if guards.distinguishable(win, pair):
-        say(f"pairs: {win.effect} kept; the record tells it from {name}")
+    if all(_one_way(win, m[0]) for m in found):
+        say(f"pairs: {win.effect} kept; the record tells it from {' and '.join(names)}")
         return None
-    _cannot_tell([win.effect, name], [win, pair], f"{name} passes in place of {win.effect}",
-                 say, notes, sets)
+    _cannot_tell([win.effect] + names, [win] + [m[0] for m in found],
+                 f"{' and '.join(names)} pass{'es' if len(names) == 1 else ''} in place of "
+                 f"{win.effect}", say, notes, sets)
     return prev, prev_pb, []
+
+
+def _one_way(a, b) -> bool:
+    """The record tells a's model from b's in a's favour, and not b's from
+    a's."""
+    return guards.distinguishable(a, b) and not guards.distinguishable(b, a)
 
 
 def rivals_of(win, tests) -> list[str]:
