@@ -213,7 +213,10 @@ def noise_for(pb, r1):
 # the residual whitened by it, and the likelihood ratio whitens both by it
 # too. Without one (none measured, or dropped by baseline.weigh_or_not
 # because the model's own error, not the noise, fills the residual) every
-# fit minimises the output error as measured. Judging those fits by their
+# fit minimises the output error as measured. (A rest model that noise_for
+# finds is not the noise is treated as none, as there: the evidence is then
+# the plain cost's, not the criterion of fits weighted by a model judged
+# wrong.) Judging those fits by their
 # residuals whitened by another filter compares two models neither of which
 # minimises that criterion: a model nested in another can then lose by
 # thousands of BIC (a dead band on a saturating pid record, blind seed 7:
@@ -234,7 +237,7 @@ def noise_for(pb, r1):
 def _lr(pb, nm, r1, r0, w1, w0, dc) -> float:
     """The likelihood ratio of the model with the effect against its
     reference, in the criterion both were fitted by."""
-    if pb.nm is not None:
+    if nm is pb.nm:
         rss1, rss0 = float(w1 @ w1), float(w0 @ w0)
         return w1.size * math.log(max(rss0, 1e-300) / max(rss1, 1e-300))
     p1, p0 = pb.fit_of(r1), pb.fit_of(r0)
@@ -271,7 +274,8 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
     # weighs the fast part of the error (where a coloured noise is weak);
     # an effect that only helps there, and not in the error as measured, is
     # fitting the model's own discretisation at the input's fast changes.
-    # The whitened gain counts only when the fits were whitened (pb.nm):
+    # The whitened gain counts only when the fits were whitened by the
+    # comparison's noise model (nm is pb.nm):
     # with plain fits the filter is the AR model of a residual that the
     # fits did not minimise whitened and that may still be model error (an
     # AR(23) of a residual 1.9x the floor weighed the fast part of the
@@ -288,7 +292,7 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
     p1, p0 = pb.held_of(c1), pb.held_of(c0)
     mp1, mp0 = float(p1 @ p1), float(p0 @ p0)
     gp = 1.0 - mp1 / mp0 if mp0 > 0 else 0.0
-    usew = pb.nm is not None
+    usew = nm is pb.nm
     t.val_gain = min(gw, gp) if usew else gp
     if so_far is not None and so_far is not ref:
         cs = pb.split.centre_held(so_far.residual(pb_ref))
