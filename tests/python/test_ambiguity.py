@@ -217,21 +217,28 @@ def _forward_with(scale_b, on_top, monkeypatch, ref_lag=1.0):
     first = [_test("lag", rb, nrmse=0.0184 * scale_b), _test("nozzle", ra, nrmse=0.0183)]
     first[0].ref.nrmse_val = ref_lag
     rounds = {"none": first, **{k: f(ra) for k, f in on_top.items()}}
-    monkeypatch.setattr(selection, "run_round",
-                        lambda pb, cur, eff, seed, jobs, say, prev: rounds[cur.effect])
-    monkeypatch.setattr(selection, "backward", lambda pb, fr, say: (fr, pb, []))
+    script_rounds(monkeypatch, rounds)
     monkeypatch.setattr(selection, "pairs", lambda *a: None)
     monkeypatch.setattr(selection, "pairs_instead", lambda *a: None)
-    # the scripted fits are the rounds' last word: no refit from a rival's optimum
-    monkeypatch.setattr(selection, "refit_rivals", lambda pb, cur, tests, seed, say, jobs=1: tests)
-    monkeypatch.setattr(selection, "refine_winner", lambda pb, cur, tests, seed, say: tests)
-    monkeypatch.setattr(selection, "from_better", lambda pb, cur, tests, seed, say: tests)
     base = SimpleNamespace(effects=(), effect="none", nrmse_val=1.0)
     notes = []
     # every scripted test counts the same samples as the model so far
     final, _, _, _ = selection.forward(SimpleNamespace(burn=0), base, 0, 1, lambda s: None,
                                        notes)
     return final, notes
+
+
+def script_rounds(monkeypatch, rounds):
+    """selection.forward over scripted rounds: rounds maps the model so
+    far's effect name to its round's tests; the scripted fits are the
+    rounds' last word (no backward step, no refit from a rival's optimum,
+    no refinement of the winner)."""
+    monkeypatch.setattr(selection, "run_round",
+                        lambda pb, cur, eff, seed, jobs, say, prev: rounds[cur.effect])
+    monkeypatch.setattr(selection, "backward", lambda pb, fr, say: (fr, pb, []))
+    monkeypatch.setattr(selection, "refit_rivals", lambda pb, cur, tests, seed, say, jobs=1: tests)
+    monkeypatch.setattr(selection, "refine_winner", lambda pb, cur, tests, seed, say: tests)
+    monkeypatch.setattr(selection, "from_better", lambda pb, cur, tests, seed, say: tests)
 
 
 def _lag_fails_on_top(ra):

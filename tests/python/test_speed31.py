@@ -7,17 +7,12 @@ import numpy as np
 
 import cases
 from pneufrac_fit import candidates, data, fit, search
-from test_speed9_memo import _counting, _problem, _same, _start
-
-
-def _no_whole_fits(monkeypatch):
-    """No whole fit answered from an earlier one: each fit below runs."""
-    monkeypatch.setattr(fit, "FITS_KEPT", 0)
+from test_speed9_memo import _counting, _fresh, _problem, _same, _start
 
 
 def test_a_longer_fit_from_the_same_start_follows_the_trail(monkeypatch):
     pb = _problem()
-    _no_whole_fits(monkeypatch)
+    _fresh(monkeypatch, keep=False)   # each fit below runs
     seen = _counting(monkeypatch)
     plain = fit.lm_fit(pb, ("lag",), _start(pb), 0, 90, "long")
     n_plain = len(seen)
@@ -41,7 +36,7 @@ def _long_problem():
 def test_the_paper_start_apart_takes_the_halvings_first_stage(monkeypatch):
     pb = _long_problem()
     assert search.explorer(pb) is not None        # the premise: a copy is explored
-    _no_whole_fits(monkeypatch)
+    _fresh(monkeypatch, keep=False)   # each fit below runs
     starts = [("warm0", _start(pb)), ("paper", _start(pb, lag=0.05)),
               ("fresh0", _start(pb, lag=0.002))]
     corner = (candidates.CORNER + " (lag)", _start(pb, lag=0.02))

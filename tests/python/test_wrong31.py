@@ -115,7 +115,7 @@ def _forward(monkeypatch, pair_scale):
     pair_scale times the nozzle's (independent noise of the same size
     scaled). Every model is inadequate."""
     import numpy as np
-    from test_ambiguity import _test, N_FIT, N_VAL
+    from test_ambiguity import _test, N_FIT, N_VAL, script_rounds
     rng = np.random.default_rng(31)
     ra = rng.normal(0.0, 1.0, N_FIT + N_VAL)
     rp = pair_scale * rng.normal(0.0, 1.0, N_FIT + N_VAL)
@@ -123,12 +123,7 @@ def _forward(monkeypatch, pair_scale):
              _test("backlash", ra * 1.2, passes=False)]
     on_nozzle = [_test("lag", ra, passes=False)]
     rounds = {"none": first, "nozzle": on_nozzle, "saturation+backlash": []}
-    monkeypatch.setattr(selection, "run_round",
-                        lambda pb, cur, eff, seed, jobs, say, prev: rounds[cur.effect])
-    monkeypatch.setattr(selection, "backward", lambda pb, fr, say: (fr, pb, []))
-    monkeypatch.setattr(selection, "refit_rivals", lambda pb, cur, tests, seed, say, jobs=1: tests)
-    monkeypatch.setattr(selection, "refine_winner", lambda pb, cur, tests, seed, say: tests)
-    monkeypatch.setattr(selection, "from_better", lambda pb, cur, tests, seed, say: tests)
+    script_rounds(monkeypatch, rounds)
     monkeypatch.setattr(guards, "inadequate", lambda pb, fr: (True, 9.0))
     pair = _test("saturation", rp, nrmse=0.03)
     pair.model.effects, pair.model.effect = ("saturation", "backlash"), "saturation+backlash"
@@ -161,17 +156,12 @@ def test_forward_tries_no_pairs_in_place_of_a_second_effect(monkeypatch):
     """A verdict that names two effects is not one effect standing in for
     two: no pairs are tried in place of its last member."""
     import numpy as np
-    from test_ambiguity import _test, N_FIT, N_VAL
+    from test_ambiguity import _test, N_FIT, N_VAL, script_rounds
     ra = np.random.default_rng(3).normal(0.0, 1.0, N_FIT + N_VAL)
     both = _test("lag", ra, nrmse=0.02)
     both.model.effects, both.model.effect = ("lag", "nozzle"), "lag+nozzle"
     rounds = {"none": [_test("nozzle", ra, nrmse=0.39)], "nozzle": [both], "lag+nozzle": []}
-    monkeypatch.setattr(selection, "run_round",
-                        lambda pb, cur, eff, seed, jobs, say, prev: rounds[cur.effect])
-    monkeypatch.setattr(selection, "backward", lambda pb, fr, say: (fr, pb, []))
-    monkeypatch.setattr(selection, "refit_rivals", lambda pb, cur, tests, seed, say, jobs=1: tests)
-    monkeypatch.setattr(selection, "refine_winner", lambda pb, cur, tests, seed, say: tests)
-    monkeypatch.setattr(selection, "from_better", lambda pb, cur, tests, seed, say: tests)
+    script_rounds(monkeypatch, rounds)
     monkeypatch.setattr(selection, "pairs", lambda *a, **k: None)
     called = []
     monkeypatch.setattr(selection, "pairs_instead", lambda *a, **k: called.append(a))
