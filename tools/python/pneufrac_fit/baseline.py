@@ -289,8 +289,9 @@ def weigh_or_not(pb, best, rng, say, notes: list):
                  "the noise's innovation variance, so the model's own error, not the noise, "
                  "fills the criterion, and weighting by that noise model would trade the slow "
                  "response for the fast edges. The fits are plain output error instead, and "
-                 "each comparison whitens both models with the noise model of the residual "
-                 "of the model with the effect.")
+                 "each effect is judged in that criterion: the drop in the plain cost over "
+                 "the noise variance along the effect's contribution (the noise model of the "
+                 "residual of the model with the effect) and the held-out error as measured.")
     return _multistart(pb, rng, [("weighted fit", dict(best.values))])
 
 

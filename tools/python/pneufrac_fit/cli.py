@@ -115,7 +115,8 @@ def _parser():
     d.add_argument("--holdout", default=holdout.DEFAULT, choices=list(holdout.MODES),
                    help="what is held out for validation: 'cover' (default: the tail, "
                         "or the blocks when the tail goes to levels the first 70 %% never "
-                        "reached and the blocks do not), 'tail' (the last 30 %% of the "
+                        "reached and the blocks do not, or go there by a share at least "
+                        "5 points smaller), 'tail' (the last 30 %% of the "
                         "record) or 'blocks' (the last 30 %% of each third of the record, "
                         "the whole record simulated)")
     d.add_argument("--quiet", action="store_true", help="no progress on stderr")

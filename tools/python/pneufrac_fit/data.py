@@ -622,19 +622,20 @@ def _other_refused(rec: Record, split, other) -> str | None:
 
 # When neither split covers, the other is taken only if its share of
 # held-out samples outside its fit parts' levels (outside, below: the larger
-# of the two signals') is smaller by more than MAX_OUTSIDE. MAX_OUTSIDE is
-# the share at which coverage counts at all (one held-out sample in twenty,
-# the guards' smallest held-out gain counted as evidence); a difference
-# under it is below the resolution the convention itself claims: the
-# margin (5 level sd plus one ADC step) is estimated from the record's own
-# resting windows, and its sampling error moves the held-out samples near
-# a range's edge from one side to the other, so shares that close are not
-# told apart (both splits' held-out parts are 30 % of the same record, so
-# the shares are of equal counts). Two splits within it
-# extrapolate alike and the split asked for stays (the layout every earlier
-# figure was measured with). The argument is the same as for a covered
-# other split: the held-out error judges the fit parts' model, and the less
-# of it an effect can act on unseen, the less an extrapolation decides it.
+# of the two signals') is smaller by more than MAX_OUTSIDE. A convention,
+# not a measured resolution: MAX_OUTSIDE is the share at which coverage
+# counts at all, and the margin behind the shares (5 level sd plus one ADC
+# step) is estimated from the record's own noise, so its sampling error
+# moves samples near a range's edge from one side to the other; shares
+# that close are taken as alike (the shares' own sampling error was not
+# measured: branch extrap31). Two splits within it extrapolate alike and
+# the split asked for stays (the layout every earlier figure was measured
+# with). The larger of the two signals' shares is compared: a split can be
+# picked that goes further outside on one signal than the other split
+# does on that signal, when it goes much less outside on the other. The
+# argument is the same as for a covered other split: the held-out error
+# judges the fit parts' model, and the less of it an effect can act on
+# unseen, the less an extrapolation decides it.
 def _extrapolates_less(rec: Record, other, split) -> bool:
     """split_for's step 4: the other layout, uncovered like the split,
     lies outside its fit parts' levels by a share smaller than the split's
