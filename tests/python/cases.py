@@ -98,7 +98,7 @@ def check(ds, d) -> list[str]:
                 if not abs(p[k] - t[k]) <= SAT_TOL * span:
                     bad.append(f"{k} {p[k]:.4g}, true {t[k]:.4g} (span {span:.4g})")
     if truth:
-        bad += not_halfway(d, ds.noise_floor)
+        bad += not_halfway(d, ds.floor_on(d.split))     # the split the tool validated on
     return bad + bound_faults(d)
 
 

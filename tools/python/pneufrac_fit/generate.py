@@ -44,10 +44,15 @@ class Dataset:
 
     @property
     def noise_floor(self) -> float:
-        """NRMSE on the held-out part (holdout.layout) of a perfect model
-        whose output offset is fitted on the fit part: what every
-        disturbance the sensor added (noise, drift, quantisation) leaves."""
-        split = holdout.layout(self.e.size)
+        """floor_on the tail split (holdout.layout's default)."""
+        return self.floor_on(holdout.layout(self.e.size))
+
+    def floor_on(self, split) -> float:
+        """NRMSE on split's held-out part of a perfect model whose output
+        offset is fitted on its fit part: what every disturbance the sensor
+        added (noise, drift, quantisation) leaves. Judge a diagnosis against
+        the floor of the split it validated on (Diagnosis.split): the
+        default split can hold out blocks instead of the tail."""
         dist = self.pc - self.clean
         fit_d = np.concatenate([dist[s] for s in split.fit_slices()])
         r = np.concatenate([dist[s] for s in split.held_slices()]) - float(np.mean(fit_d))
