@@ -1,16 +1,19 @@
 # SPDX-License-Identifier: MIT
-"""Two effects at once (analysis-bench.md, branch two31): with plain
-output-error fits (no noise model weights them), the guards judge the two
-models in the criterion the fits minimised: the likelihood ratio is the
-drop of the plain cost over the noise variance along the effect's
-contribution, and the held-out gain is the measured error's; a filter the
-fits did not minimise does not count."""
+"""Two effects at once (analysis-bench.md, branch two31).
+
+1. With plain output-error fits (no noise model weights them), the guards
+   judge the two models in the criterion the fits minimised: the
+   likelihood ratio is the drop of the plain cost over the noise variance
+   along the effect's contribution, and the held-out gain is the measured
+   error's; a filter the fits did not minimise does not count.
+2. The dead band's test also starts where the linear groups moved with the
+   width: the groups refitted with the width held (fit.Problem.held)."""
 import copy
 
 import numpy as np
 from scipy.signal import lfilter
 
-from pneufrac_fit import fit, guards, model, noise
+from pneufrac_fit import candidates, fit, guards, model, noise, search
 from test_converge import _problem
 
 
@@ -93,3 +96,43 @@ def test_with_plain_fits_the_held_out_gain_is_the_measured_errors(monkeypatch):
     monkeypatch.setattr(guards, "noise_for", lambda q, r1: q.nm)   # the rest model kept
     tw = guards.test(w, "lag", lag, base)
     assert tw.val_gain <= 1.0 - float(v1 @ v1) / float(v0 @ v0) + 1e-12
+
+
+def test_a_held_effect_parameter_is_simulated_and_not_fitted():
+    """fit.Problem.held: the dead band's width held at its value while the
+    groups are fitted, and simulated at it."""
+    pb = _problem()
+    q = copy.copy(pb)
+    q.held = {"deadband": 0.05 * pb.span_e}
+    names = [s[0] for s in fit.specs(q, ("backlash",))]
+    assert "deadband" not in names and "deadband" in [s[0] for s in fit.specs(pb, ("backlash",))]
+    st = {**model.nominal_groups("p"), "e0": pb.e0_default()}
+    a = fit.simulate_raw(q, ("backlash",), st)
+    b = fit.simulate_raw(pb, ("backlash",), {**st, **q.held})
+    np.testing.assert_array_equal(a, b)
+    r = fit.lm_fit(q, ("backlash",), {**st, **q.held}, 0, 60, "held")
+    assert "deadband" not in r.values
+
+
+def test_the_dead_band_test_takes_the_groups_moved_start(monkeypatch):
+    """The dead band's extended fit is the better of the search and the
+    joint fit from the groups refitted at its first size held, on the
+    whole fit part (candidates._groups_moved)."""
+    pb = _problem()
+    base = _fit(pb, ())
+    seen = []
+    orig = fit.lm_fit
+
+    def spy(q, effects, start, dead=0, budget=400, label="", **kw):
+        if q.held:
+            seen.append((q.nsim, dict(q.held)))
+        return orig(q, effects, start, dead, budget, label, **kw)
+
+    monkeypatch.setattr(fit, "lm_fit", spy)
+    b = candidates.fit_extended(pb, base, "backlash", np.random.default_rng(0))
+    first = candidates._sizes(pb, "backlash", base, None)[0]
+    assert seen and all(n == pb.nsim and h == first for n, h in seen)
+    assert "deadband" in b.values
+    seen.clear()
+    candidates.fit_extended(pb, base, "lag", np.random.default_rng(0))
+    assert not seen

@@ -86,6 +86,7 @@ class Problem:
     user_fixed: dict = field(default_factory=dict)
     at_bound: dict = field(default_factory=dict)   # group -> bound it is held at
     nm: object = None            # noise model: the criterion is whitened by it
+    held: dict = field(default_factory=dict)      # effect parameters held, not fitted (a profile)
     open_start: bool = False     # the state at the first sample is unknown (no opening rest)
 
     @classmethod
@@ -242,7 +243,7 @@ def _effect_specs(effects, pb: Problem):
             # the bias point: the equilibrium's gap above the curve's
             # inflection, units of x_1/2 (the library's range, to 3)
             out.append(("nozzle_bias", "lin", NOZZLE_BIAS[0], NOZZLE_BIAS[1]))
-    return out
+    return [s for s in out if s[0] not in pb.held]
 
 
 def solves_K(pb: Problem, effects) -> bool:
@@ -354,7 +355,7 @@ def simulate_raw(pb: Problem, effects, vals: dict, dead: int = 0, n: int | None 
     samples, for input e_abs - e0."""
     g = _groups(pb, vals)
     e = pb.e_abs if n is None else pb.e_abs[:n]
-    ev = dict(vals)
+    ev = {**pb.held, **vals}
     ev["dead"] = dead
     return pb.setup.simulate(g, e - g["e0"], effects, ev, oversample)
 
