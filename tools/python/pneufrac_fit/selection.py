@@ -959,11 +959,12 @@ def pairs_instead(last, tests, current, cur_pb, say, notes=None, sets=None, seed
     chosen names that one effect and is still inadequate (its whitened
     residual depends on the input: it misses something), the pairs are
     tried where the winner was added, on the model before it with that
-    round's tests (`pairs`, every guard on each member). A pair found there
-    is weighed against the winner by the record (guards.distinguishable,
-    each way): the pair is named when the record tells it from the winner,
-    the winner kept when the record tells the winner from the pair, and
-    neither when it cannot tell: naming the wrong one would send someone
+    round's tests (`pairs`, every guard on each member). The pairs that
+    pass there (one, or several the record cannot tell apart) are weighed
+    against the winner by the record (guards.distinguishable, each way):
+    a pair is named when the record tells it from the winner one way only,
+    the winner kept when the record tells it one way only from every such
+    pair, and neither otherwise: naming the wrong one would send someone
     to the wrong part. Pairs with the winner in them are not tried here
     (the round on top of the winner tested each such model). Returns
     (model, problem, tests to add as a round) or None (the winner stands)."""
