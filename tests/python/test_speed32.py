@@ -71,3 +71,15 @@ def test_the_final_model_of_a_diagnosis_has_its_intervals():
         lo, hi = d.extended.ci["lag"]
         assert lo is not None and lo < d.extended.values["lag"] < hi
     assert d.extended.ci and d.extended.noise is not None
+
+
+def test_param_used_kept_is_the_librarys_answer():
+    """model._param_used (kept per configuration and name) answers what the
+    library's table answers, for every configuration and parameter the
+    model asks about, asked twice (the second from the cache)."""
+    from pneufrac_fit import lib
+    for _ in range(2):
+        for config in model.CONFIG_GROUPS:
+            for name in ("RC", "nu", "w", "RCd", "RCi", "tau", "beta", "q"):
+                assert model._param_used(config, name) == lib.param_used(config, name)
+    assert model._param_used.cache_info().hits > 0
