@@ -201,6 +201,7 @@ class FitResult:
     noise: object = None     # the noise model of the intervals (uncertainty)
     start_coef: np.ndarray | None = None     # the start's free response (open_start) ...
     start_taus: tuple = ()                   # ... its time constants (samples)
+    owed: object = None      # the problem whose intervals are owed (uncertainty_later)
 
     @property
     def effect(self) -> str:
@@ -978,6 +979,28 @@ def uncertainty(pb: Problem, fr: FitResult, noise_model=noise.fit_arfima) -> Non
             fr.ci[name] = (math.exp(t - 1.96 * s), math.exp(t + 1.96 * s))
         else:
             fr.ci[name] = (t - 1.96 * s, t + 1.96 * s)
+
+
+def uncertainty_later(pb: Problem, fr: FitResult) -> None:
+    """uncertainty(pb, fr) when fr's intervals are first needed (settle),
+    not now. A round fits every candidate, and the intervals of a
+    candidate's fit decide nothing (the guards take the profile
+    likelihood's test, guards.test: the Wald interval there is not read):
+    they are reported only for the model the selection ends with
+    (diagnose: the extended model's ci95). Made once at the end, on the
+    problem and fit this call was given (neither is changed in between:
+    a fit is not edited once found), they are the same numbers; made for
+    every candidate of every round they cost about a tenth of a diagnosis
+    (docs/analysis-bench.md, branch speed32)."""
+    fr.owed = pb
+
+
+def settle(fr: FitResult) -> None:
+    """The intervals uncertainty_later owes fr, made now; nothing if none
+    are owed (made already, or never asked for)."""
+    if fr is not None and fr.owed is not None:
+        pb, fr.owed = fr.owed, None
+        uncertainty(pb, fr)
 
 
 def transform_of(name: str) -> str:

@@ -22,6 +22,7 @@ displacement x = ce (e - (cy/ce) y); the fit states them in input units
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -142,6 +143,13 @@ def nominal_groups(config: str) -> dict:
     return groups_from_physical(config, lib.default_params(config))
 
 
+# Whether a configuration uses a parameter: the library's fixed table, asked
+# three times for every simulation (physical_from_groups) at a few
+# microseconds each through ctypes (about 1 % of a diagnosis, branch
+# speed32); kept per (configuration, name), the answer the table gives.
+_param_used = functools.lru_cache(maxsize=None)(lib.param_used)
+
+
 def physical_from_groups(config: str, g: dict) -> dict:
     k1 = 1.0
     k2 = g["K"] / (CE * k1)
@@ -150,7 +158,7 @@ def physical_from_groups(config: str, g: dict) -> dict:
          "tau": g["tau"], "pmin": 1.0, "pmax": g["rho"], "beta": g["beta"],
          "q": g["q"]}
     for name in ("RC", "nu", "w"):
-        if lib.param_used(config, name):
+        if _param_used(config, name):
             p[name] = g[name]
     if config == "pid":
         p["RCd"] = g["RCd"]

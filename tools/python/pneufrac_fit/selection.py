@@ -154,7 +154,7 @@ def _try_effect(pb, current, effect, seed, hint, fitted, t0, better=None):
         ref = reference(pbx, current.effects, fr, current, better)
     else:       # no better than the model without it: no reference needed
         ref = current
-    fit.uncertainty(pbx, fr)
+    fit.uncertainty_later(pbx, fr)     # made for the final model alone (diagnose)
     t = guards.test(pbx, effect, fr, ref, pb if ref is current else pbx, current)
     if t.passes:
         t = confirm(pbx, effect, fr, t, current, rng, better)
