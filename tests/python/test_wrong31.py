@@ -9,6 +9,13 @@ from types import SimpleNamespace
 from pneufrac_fit import guards, selection
 
 
+def _no_refits(monkeypatch):
+    """Each side's refit from the other's optimum (branch pairs32) finds
+    nothing lower: these stubs have no fits (test_pairs32 tests the refits)."""
+    monkeypatch.setattr(selection, "_pair_from", lambda m, win, prev: m)
+    monkeypatch.setattr(selection, "_winner_from", lambda win, fits, prev, pb, say: win)
+
+
 def _case(monkeypatch, inadequate=True, pair_found=True, pair_over_win=False,
           win_over_pair=False, pair_effects=("saturation", "backlash"),
           tests=("nozzle", "saturation", "backlash")):
@@ -34,6 +41,7 @@ def _case(monkeypatch, inadequate=True, pair_found=True, pair_over_win=False,
         return (pair_model, "pair_pb", members) if pair_found else None
 
     monkeypatch.setattr(selection, "pairs", pairs)
+    _no_refits(monkeypatch)
     monkeypatch.setattr(guards, "inadequate", lambda pb, fr: (inadequate, 9.0))
     monkeypatch.setattr(guards, "distinguishable",
                         lambda a, b: win_over_pair if a is win else pair_over_win)
@@ -132,6 +140,7 @@ def _forward(monkeypatch, pair_scale):
 
     def pairs(pb, current, tests, say, notes=None, sets=None, seed=0, tied=None):
         return (pair.model, pair.pb, [pair, other]) if current.effect == "none" else None
+    _no_refits(monkeypatch)
     monkeypatch.setattr(selection, "pairs", pairs)
     base = SimpleNamespace(effects=(), effect="none", nrmse_val=1.0)
     notes = []

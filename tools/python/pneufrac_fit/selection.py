@@ -910,7 +910,6 @@ def pairs(pb, current, tests, say, notes=None, sets=None, seed=0, tied=None):
         t0 = time.monotonic()
         placed = next((t.model for t in (a, b) if t.effect == "saturation"), current)
         pbx = problem_for(candidates.for_model(pb, placed), (a.effect, b.effect))
-        effects = model.canonical(current.effects + (a.effect, b.effect))
         # each member's model extended by the other, as a round extends the
         # model so far (warm and fresh starts, the other's own fitted size,
         # a dead time profiled): a local refinement from the two members'
@@ -919,13 +918,7 @@ def pairs(pb, current, tests, say, notes=None, sets=None, seed=0, tied=None):
         # imitation put it
         fr = search.best([candidates.fit_extended(pbx, x.model, y.effect, rng, _hint(y))
                           for x, y in ((a, b), (b, a))])
-        fit.uncertainty(pbx, fr)
-        members = []
-        for x, y in ((a, b), (b, a)):
-            ref = reference(pbx, tuple(e for e in effects if e != x.effect), fr, y.model)
-            t = guards.test(pbx, x.effect, fr, ref, so_far=current)
-            t.pb = pbx
-            members.append(t)
+        members = _members(pbx, fr, current, ((a, b.model), (b, a.model)))
         ok = all(t.passes for t in members)
         say(f"  + {a.effect}+{b.effect}: val NRMSE {fr.nrmse_val:.4f} -> "
             + ("both pass" if ok else "; ".join(f"{t.effect} fails: {t.reasons[0]}"
@@ -947,6 +940,22 @@ def pairs(pb, current, tests, say, notes=None, sets=None, seed=0, tied=None):
         return None
     say(f"pairs: {'+'.join(t.effect for t in win)} added")
     return win[0].model, win[0].pb, list(win)
+
+
+def _members(pbx, fr, current, priors) -> list:
+    """Each member of the pair fitted as fr tested with every guard against
+    the pair without it (the other member's model refitted with the same
+    freedoms, from its prior fit): priors, (the member's test, the prior
+    fit of the pair without it) for each member."""
+    fit.uncertainty(pbx, fr)
+    out = []
+    for x, prior in priors:
+        ref = reference(pbx, tuple(e for e in model.canonical(fr.effects) if e != x.effect), fr,
+                        prior)
+        t = guards.test(pbx, x.effect, fr, ref, so_far=current)
+        t.pb = pbx
+        out.append(t)
+    return out
 
 
 def pairs_instead(last, tests, current, cur_pb, say, notes=None, sets=None, seed=0):
@@ -980,6 +989,21 @@ def pairs_instead(last, tests, current, cur_pb, say, notes=None, sets=None, seed
     found = [got[2]] if got is not None else tied
     if not found:
         return None
+    # each side refitted from the other's optimum, the lower kept (_pair_from,
+    # _winner_from): the winner's fit comes from its round, each pair's from
+    # its members' round fits, and either may sit in a basin the other's
+    # optimum leads out of; weighing one side's best fit against the other's
+    # first would let the search, not the record, decide which is named
+    refit = [_pair_from(m, win, prev) for m in found]
+    found = [m for m in refit if m is not None]
+    if len(found) < len(refit):
+        say(f"pairs: refitted from {win.effect}'s optimum, "
+            f"{len(refit) - len(found)} pair(s) in its place no longer pass")
+    if not found:
+        return None
+    if got is not None and found[0] is not got[2]:    # the one pair pairs() named, refitted
+        got = found[0][0].model, found[0][0].pb, found[0]
+    win = _winner_from(win, [m[0].model for m in found], prev, prev_pb, say)
     names = ["+".join(t.effect for t in m) for m in found]
     # one decision over the winner and every pair that passes in its place:
     # the record must tell the one named from each other one way only (a
@@ -995,6 +1019,50 @@ def pairs_instead(last, tests, current, cur_pb, say, notes=None, sets=None, seed
                  f"{' and '.join(names)} pass{'es' if len(names) == 1 else ''} in place of "
                  f"{win.effect}", say, notes, sets)
     return prev, prev_pb, []
+
+
+def _pair_from(members, win, prev) -> list:
+    """The pair's members (their tests) with the pair refitted from the
+    winner's optimum (the winner's groups and the parameters the two share,
+    the pair's own effects' sizes as fitted), retested when that fit is
+    lower (search.lower), None when a member then fails; else as they
+    were."""
+    pair, pbx = members[0].model, members[0].pb
+    effects = model.canonical(pair.effects)
+    st = {**pair.groups, **pair.values}
+    st.update({k: v for k, v in {**win.model.groups, **win.model.values}.items()
+               if k not in OWN[win.effect] and k in st})
+    r = search.refine(pbx, effects, [("from " + win.effect, st)], dead=pair.dead)
+    if "dead_time" in effects:
+        r = candidates.profile_dead(pbx, effects, r)
+    if not search.lower(r.cost, pair.cost):
+        return members
+    # each member against the pair without it, from the reference it had
+    out = _members(pbx, r, prev, [(t, t.ref) for t in members])
+    return out if all(t.passes for t in out) else None
+
+
+def _winner_from(win, pair_fits, prev, prev_pb, say):
+    """The winner's test with its model refitted from each pair's optimum
+    (from_model: the pair's groups, the winner's own size as fitted), the
+    lowest kept and tested against the winner's own reference; the winner's
+    test itself when no refit is lower (search.lower). The refit serves the
+    comparison with the pairs; the model named stays the round's fit."""
+    best = win.model
+    for pm in pair_fits:
+        own = {k for e in pm.effects for k in OWN.get(e, ())}
+        r = from_model(win.pb, prev, win.effect, win.model, pm, own, "from " + pm.effect)
+        if search.lower(r.cost, best.cost):
+            best = r
+    if best is win.model:
+        return win
+    say(f"pairs: {win.effect} refitted from the pair's optimum: cost {win.model.cost:.4g} -> "
+        f"{best.cost:.4g}")
+    fit.uncertainty(win.pb, best)
+    pb_ref = candidates.for_model(prev_pb, prev) if win.ref is prev else win.pb
+    t = guards.test(win.pb, win.effect, best, win.ref, pb_ref, prev)
+    t.pb = win.pb
+    return t
 
 
 def _one_way(a, b) -> bool:
