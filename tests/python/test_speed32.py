@@ -51,13 +51,31 @@ def test_a_candidates_intervals_are_owed_then_made_as_before():
     at_once = copy.deepcopy(fr)
     at_once.owed = None
     fit.uncertainty(t.pb, at_once)
-    fit.settle(fr)
+    fit.settle(fr, pb)
     assert fr.owed is None
     _same_intervals(fr, at_once)
     made = fr.se
-    fit.settle(fr)
+    fit.settle(fr, pb)
     assert fr.se is made             # nothing owed: nothing made again
-    fit.settle(None)                 # a model that is not there: nothing to do
+    fit.settle(None, pb)             # a model that is not there: nothing to do
+
+
+def test_a_model_never_asked_for_intervals_gets_them_when_settled():
+    """A model refitted after the rounds (backward's drop reports a
+    reference(); _best_baseline a round-1 reference) owes nothing and has
+    no intervals: settle makes them on the problem given, as uncertainty
+    there would (review of speed32: the report showed none)."""
+    pb = _problem()
+    base = _fit(pb, (), _start(pb))
+    pbx = selection.problem_for(pb, ("lag",))
+    lag = _fit(pbx, ("lag",), _start(pb, lag=0.01))
+    ref = selection.reference(pbx, (), lag, base)
+    assert ref.owed is None and not ref.ci
+    at_once = copy.deepcopy(ref)
+    fit.uncertainty(pbx, at_once)
+    fit.settle(ref, pbx)
+    _same_intervals(ref, at_once)
+    assert ref.ci and ref.noise is not None
 
 
 def test_the_final_model_of_a_diagnosis_has_its_intervals():

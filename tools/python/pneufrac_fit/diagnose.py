@@ -146,8 +146,9 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
     ambiguous, sets = [], []
     final, pbf, rounds, checks = selection.forward(pb, base, seed * 1000 + 17, jobs, say,
                                                    ambiguous, sets)
-    fit.settle(final)           # the intervals of the model reported (fit.uncertainty_later)
+    fit.settle(final, pbf)      # the intervals of the model reported (fit.uncertainty_later)
     base = _best_baseline(pb, base, rounds, fit_notes)
+    fit.settle(base, pb, noise.fit)     # the baseline's, as baseline.prune makes them
     identified, corners = base_mod.report_corners(pb, base, identified)
     causes = _ordered(final, checks)
     sd = noise_estimate(pb.y, pb.e_abs)

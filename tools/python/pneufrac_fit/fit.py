@@ -995,12 +995,19 @@ def uncertainty_later(pb: Problem, fr: FitResult) -> None:
     fr.owed = pb
 
 
-def settle(fr: FitResult) -> None:
-    """The intervals uncertainty_later owes fr, made now; nothing if none
-    are owed (made already, or never asked for)."""
-    if fr is not None and fr.owed is not None:
-        pb, fr.owed = fr.owed, None
-        uncertainty(pb, fr)
+def settle(fr: FitResult, pb: Problem, noise_model=noise.fit_arfima) -> None:
+    """fr's intervals, as a report needs them: those uncertainty_later owes
+    fr, made now on the problem it was given; made on pb (by noise_model)
+    if fr has none at all (a model refitted after the rounds, as backward's
+    drop or a baseline found in round 1, was never asked for them); else
+    nothing (made already)."""
+    if fr is None:
+        return
+    if fr.owed is not None:
+        owed, fr.owed = fr.owed, None
+        uncertainty(owed, fr)
+    elif not fr.ci:
+        uncertainty(pb, fr, noise_model)
 
 
 def transform_of(name: str) -> str:
