@@ -184,16 +184,25 @@ def from_rival(pb, current, effect, fr, rival):
 
 
 def from_model(pb, current, effect, fr, src, own, label):
-    """current + effect refitted from another fit's optimum (src): its
+    """current + effect refitted from another fit's optimum (src): refit_from
+    on current's effects and this one."""
+    return refit_from(pb, model.canonical(tuple(current.effects) + (effect,)), fr, src, own,
+                      label)
+
+
+def refit_from(pb, effects, fr, src, own, label):
+    """fr (a fit of `effects`) refitted from another fit's optimum (src): its
     groups and the parameters it shares with fr, except `own` (src's own
-    effect's parameters), with this effect's own size as fr has it; a dead
-    time placed where the data put it on src's shape (candidates.scan_dead,
-    then profiled)."""
-    effects = model.canonical(tuple(current.effects) + (effect,))
+    effects' parameters), with fr's own effects' sizes as fr has them; a
+    dead time that src does not have placed where the data put it on src's
+    shape (candidates.scan_dead, then profiled): a local refinement does
+    not move a fitted delay, so started at fr's delay it would stay in the
+    basin the refit is meant to leave."""
+    effects = model.canonical(effects)
     st = {**fr.groups, **fr.values}
     st.update({k: v for k, v in {**src.groups, **src.values}.items()
                if k not in own and k in st})
-    if effect == "dead_time":
+    if "dead_time" in effects and "dead_time" not in src.effects:
         scan = candidates.scan_dead(pb, effects, st, candidates.dead_max(pb))
         d = next((dd for _, dd in scan if dd >= 1), fr.dead)
         r = search.refine(pb, effects, [(label, st)], dead=d)
