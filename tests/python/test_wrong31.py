@@ -12,19 +12,19 @@ from pneufrac_fit import guards, selection
 def _no_refits(monkeypatch):
     """Each side's refit from the other's optimum (branch pairs32) finds
     nothing lower: these stubs have no fits (test_pairs32 tests the refits)."""
-    monkeypatch.setattr(selection, "_pair_from", lambda m, win, prev: m)
-    monkeypatch.setattr(selection, "_winner_from", lambda win, fits, prev, pb, say: win)
+    monkeypatch.setattr(selection, "_pair_from", lambda m, win, prev, named=True: m)
+    monkeypatch.setattr(selection, "_winner_from", lambda win, fits, prev, pb, say, seed=0: win)
 
 
 def _case(monkeypatch, inadequate=True, pair_found=True, pair_over_win=False,
           win_over_pair=False, pair_effects=("saturation", "backlash"),
-          tests=("nozzle", "saturation", "backlash")):
+          tests=("nozzle", "saturation", "backlash"), refit=None):
     """pairs_instead over stubs: the model before the winner, the winner's
     test, and what the pairs step and the record's comparisons answer."""
     prev = SimpleNamespace(effects=(), effect="none")
     prev_pb = SimpleNamespace(name="prev_pb")
     win_model = SimpleNamespace(effects=("nozzle",), effect="nozzle", nrmse_val=0.39)
-    win = SimpleNamespace(effect="nozzle", model=win_model)
+    win = SimpleNamespace(effect="nozzle", model=win_model, passes=True)
     pair_model = SimpleNamespace(effects=pair_effects, effect="+".join(pair_effects),
                                  nrmse_val=0.028)
     members = [SimpleNamespace(effect=e, model=pair_model) for e in pair_effects]
@@ -43,8 +43,12 @@ def _case(monkeypatch, inadequate=True, pair_found=True, pair_over_win=False,
     monkeypatch.setattr(selection, "pairs", pairs)
     _no_refits(monkeypatch)
     monkeypatch.setattr(guards, "inadequate", lambda pb, fr: (inadequate, 9.0))
+    if refit is not None:
+        monkeypatch.setattr(selection, "_winner_from", refit)
+    # keyed on the winner's fit (a refit stub may return a new test object
+    # on the same fit)
     monkeypatch.setattr(guards, "distinguishable",
-                        lambda a, b: win_over_pair if a is win else pair_over_win)
+                        lambda a, b: win_over_pair if a.model is win_model else pair_over_win)
     notes, sets = [], []
     round1 = [SimpleNamespace(effect=e, excludes=True) for e in tests]
     got = selection.pairs_instead((win, (prev, prev_pb)), round1, win_model,
@@ -78,6 +82,20 @@ def test_evidence_both_ways_names_neither(monkeypatch):
                                                   win_over_pair=True)
     assert got == (prev, prev_pb, [])
     assert sets == [["nozzle", "saturation+backlash"]] and "cannot tell" in notes[0]
+
+
+def test_a_winner_whose_refit_fails_is_not_kept(monkeypatch):
+    """The winner refitted from the pair's optimum fails a guard when tested
+    again: it is not kept even where the record tells it from the pair, and
+    a failing refit is no evidence for the pair either: neither is named
+    (review of pairs32, item 2)."""
+    def failing(win, fits, prev, pb, say, seed=0):
+        return SimpleNamespace(effect=win.effect, model=win.model, passes=False,
+                               reasons=["the held-out error falls by 1 % (need > 5 %)"])
+    got, _, notes, sets, prev, prev_pb, _ = _case(monkeypatch, win_over_pair=True,
+                                                  refit=failing)
+    assert got == (prev, prev_pb, [])
+    assert sets == [["nozzle", "saturation+backlash"]] and "held-out" in notes[0]
 
 
 def test_pairs_tied_in_place_of_the_winner_name_none_unless_it_is_told_from_each(monkeypatch):

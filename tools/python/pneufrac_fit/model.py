@@ -130,7 +130,7 @@ def groups_from_physical(config: str, p: dict) -> dict:
         "q": p["q"],
     }
     for name in ("nu", "w", "RC"):
-        if lib.param_used(config, name):
+        if _param_used(config, name):
             g[name] = p[name]
     if config == "pid":
         g["RCd"] = p["RCd"]

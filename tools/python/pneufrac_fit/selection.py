@@ -184,16 +184,25 @@ def from_rival(pb, current, effect, fr, rival):
 
 
 def from_model(pb, current, effect, fr, src, own, label):
-    """current + effect refitted from another fit's optimum (src): its
+    """current + effect refitted from another fit's optimum (src): refit_from
+    on current's effects and this one."""
+    return refit_from(pb, model.canonical(tuple(current.effects) + (effect,)), fr, src, own,
+                      label)
+
+
+def refit_from(pb, effects, fr, src, own, label):
+    """fr (a fit of `effects`) refitted from another fit's optimum (src): its
     groups and the parameters it shares with fr, except `own` (src's own
-    effect's parameters), with this effect's own size as fr has it; a dead
-    time placed where the data put it on src's shape (candidates.scan_dead,
-    then profiled)."""
-    effects = model.canonical(tuple(current.effects) + (effect,))
+    effects' parameters), with fr's own effects' sizes as fr has them; a
+    dead time that src does not have placed where the data put it on src's
+    shape (candidates.scan_dead, then profiled): a local refinement does
+    not move a fitted delay, so started at fr's delay it would stay in the
+    basin the refit is meant to leave."""
+    effects = model.canonical(effects)
     st = {**fr.groups, **fr.values}
     st.update({k: v for k, v in {**src.groups, **src.values}.items()
                if k not in own and k in st})
-    if effect == "dead_time":
+    if "dead_time" in effects and "dead_time" not in src.effects:
         scan = candidates.scan_dead(pb, effects, st, candidates.dead_max(pb))
         d = next((dd for _, dd in scan if dd >= 1), fr.dead)
         r = search.refine(pb, effects, [(label, st)], dead=d)
@@ -919,7 +928,7 @@ def pairs(pb, current, tests, say, notes=None, sets=None, seed=0, tied=None):
         fr = search.best([candidates.fit_extended(pbx, x.model, y.effect, rng, _hint(y))
                           for x, y in ((a, b), (b, a))])
         members = _members(pbx, fr, current, ((a, b.model), (b, a.model)))
-        ok = all(t.passes for t in members)
+        ok = _admitted(members, named=True)
         say(f"  + {a.effect}+{b.effect}: val NRMSE {fr.nrmse_val:.4f} -> "
             + ("both pass" if ok else "; ".join(f"{t.effect} fails: {t.reasons[0]}"
                                                  for t in members if not t.passes))
@@ -929,7 +938,7 @@ def pairs(pb, current, tests, say, notes=None, sets=None, seed=0, tied=None):
     if not good:
         return None
     win = min(good, key=lambda m: m[0].model.nrmse_val)
-    rivals = [m for m, _ in found if m is not win and all(explains(t) for t in m)
+    rivals = [m for m, _ in found if m is not win and _admitted(m, named=False)
               and not guards.distinguishable(win[0], m[0])]
     if rivals:
         both = [win] + rivals
@@ -940,6 +949,15 @@ def pairs(pb, current, tests, say, notes=None, sets=None, seed=0, tied=None):
         return None
     say(f"pairs: {'+'.join(t.effect for t in win)} added")
     return win[0].model, win[0].pb, list(win)
+
+
+def _admitted(members, named: bool) -> bool:
+    """The rule a pair is admitted on (its members' tests): every member
+    passes for the pair named; every member explains part of the residual
+    (`explains`) for a rival the record cannot tell from it, which counts
+    against naming it whether or not it would pass itself (rivals_of's
+    rule for single effects)."""
+    return all(t.passes if named else explains(t) for t in members)
 
 
 def _members(pbx, fr, current, priors) -> list:
@@ -970,13 +988,15 @@ def pairs_instead(last, tests, current, cur_pb, say, notes=None, sets=None, seed
     tried where the winner was added, on the model before it with that
     round's tests (`pairs`, every guard on each member). The pairs that
     pass there (one, or several the record cannot tell apart) are weighed
-    against the winner by the record (guards.distinguishable, each way):
+    against the winner by the record (guards.distinguishable, each way),
+    each side first refitted from the other's optimum and tested again:
     a pair is named when the record tells it from the winner one way only,
-    the winner kept when the record tells it one way only from every such
-    pair, and neither otherwise: naming the wrong one would send someone
-    to the wrong part. Pairs with the winner in them are not tried here
-    (the round on top of the winner tested each such model). Returns
-    (model, problem, tests to add as a round) or None (the winner stands)."""
+    the winner kept when it still passes and the record tells it one way
+    only from every such pair, and neither otherwise: naming the wrong one
+    would send someone to the wrong part. Pairs with the winner in them are
+    not tried here (the round on top of the winner tested each such model).
+    Returns (model, problem, tests to add as a round) or None (the winner
+    stands as its round fitted it)."""
     win, (prev, prev_pb) = last
     # a pair with the winner in it is the winner's model with one more
     # effect: the round on top of the winner tested that already
@@ -994,74 +1014,77 @@ def pairs_instead(last, tests, current, cur_pb, say, notes=None, sets=None, seed
     # its members' round fits, and either may sit in a basin the other's
     # optimum leads out of; weighing one side's best fit against the other's
     # first would let the search, not the record, decide which is named
-    refit = [_pair_from(m, win, prev) for m in found]
+    named = got is not None
+    refit = [_pair_from(m, win, prev, named) for m in found]
     found = [m for m in refit if m is not None]
     if len(found) < len(refit):
         say(f"pairs: refitted from {win.effect}'s optimum, "
-            f"{len(refit) - len(found)} pair(s) in its place no longer pass")
+            f"{len(refit) - len(found)} pair(s) in its place no longer "
+            + ("pass" if named else "explain part of the residual"))
     if not found:
         return None
-    if got is not None and found[0] is not got[2]:    # the one pair pairs() named, refitted
+    if named and found[0] is not got[2]:    # the one pair pairs() named, refitted
         got = found[0][0].model, found[0][0].pb, found[0]
-    win = _winner_from(win, [m[0].model for m in found], prev, prev_pb, say)
-    names = ["+".join(t.effect for t in m) for m in found]
+    t = _winner_from(win, [m[0].model for m in found], prev, prev_pb, say, seed)
+    names = ["+".join(x.effect for x in m) for m in found]
     # one decision over the winner and every pair that passes in its place:
     # the record must tell the one named from each other one way only (a
     # comparison that points both ways, each under its own noise model, is
     # evidence for neither: the guards' rule); else none is named
-    if got is not None and _one_way(found[0][0], win):
+    if named and _one_way(found[0][0], t):
         say(f"pairs: {names[0]} in place of {win.effect} (the record tells them apart)")
         return got
-    if all(_one_way(win, m[0]) for m in found):
+    # the winner is kept only on a fit that passes every guard (its refit
+    # from a pair's optimum is tested again as a pair's refit is); a refit
+    # that fails is no evidence for a pair either, so neither is named
+    if t.passes and all(_one_way(t, m[0]) for m in found):
         say(f"pairs: {win.effect} kept; the record tells it from {' and '.join(names)}")
-        return None
-    _cannot_tell([win.effect] + names, [win] + [m[0] for m in found],
-                 f"{' and '.join(names)} pass{'es' if len(names) == 1 else ''} in place of "
-                 f"{win.effect}", say, notes, sets)
+        # the fit weighed is the one reported: the refit, with its test
+        return None if t is win else (t.model, t.pb, [t])
+    why = (f"{' and '.join(names)} pass{'es' if len(names) == 1 else ''} in place of "
+           f"{win.effect}")
+    if not t.passes:
+        why += (f", and {win.effect} refitted from the pair's optimum fails: "
+                + "; ".join(t.reasons[:1]))
+    _cannot_tell([win.effect] + names, [t] + [m[0] for m in found], why, say, notes, sets)
     return prev, prev_pb, []
 
 
-def _pair_from(members, win, prev) -> list:
+def _pair_from(members, win, prev, named=True) -> list:
     """The pair's members (their tests) with the pair refitted from the
-    winner's optimum (the winner's groups and the parameters the two share,
-    the pair's own effects' sizes as fitted), retested when that fit is
-    lower (search.lower), None when a member then fails; else as they
-    were."""
+    winner's optimum (refit_from: the winner's groups and the parameters the
+    two share, the pair's own effects' sizes as fitted, a dead time placed
+    on the winner's shape), retested when that fit is lower (search.lower);
+    None when the retested pair no longer meets the rule it was admitted on
+    (_admitted: `named`, the pair pairs() named, or a tied rival); else the
+    members as they were."""
     pair, pbx = members[0].model, members[0].pb
-    effects = model.canonical(pair.effects)
-    st = {**pair.groups, **pair.values}
-    st.update({k: v for k, v in {**win.model.groups, **win.model.values}.items()
-               if k not in OWN[win.effect] and k in st})
-    r = search.refine(pbx, effects, [("from " + win.effect, st)], dead=pair.dead)
-    if "dead_time" in effects:
-        r = candidates.profile_dead(pbx, effects, r)
+    r = refit_from(pbx, pair.effects, pair, win.model, set(OWN[win.effect]),
+                   "from " + win.effect)
     if not search.lower(r.cost, pair.cost):
         return members
     # each member against the pair without it, from the reference it had
     out = _members(pbx, r, prev, [(t, t.ref) for t in members])
-    return out if all(t.passes for t in out) else None
+    return out if _admitted(out, named) else None
 
 
-def _winner_from(win, pair_fits, prev, prev_pb, say):
+def _winner_from(win, pair_fits, prev, prev_pb, say, seed=0):
     """The winner's test with its model refitted from each pair's optimum
     (from_model: the pair's groups, the winner's own size as fitted), the
-    lowest kept and tested against the winner's own reference; the winner's
-    test itself when no refit is lower (search.lower). The refit serves the
-    comparison with the pairs; the model named stays the round's fit."""
+    lowest tested again (_test_again: its reference searched again from the
+    refit, every guard, as a round's test; the pair's refit gets the same
+    in _pair_from); the winner's test itself when no refit is lower
+    (search.lower)."""
     best = win.model
     for pm in pair_fits:
         own = {k for e in pm.effects for k in OWN.get(e, ())}
         r = from_model(win.pb, prev, win.effect, win.model, pm, own, "from " + pm.effect)
         if search.lower(r.cost, best.cost):
             best = r
-    if best is win.model:
+    t = _test_again(prev_pb, prev, win, best, seed) if best is not win.model else None
+    if t is None:
         return win
-    say(f"pairs: {win.effect} refitted from the pair's optimum: cost {win.model.cost:.4g} -> "
-        f"{best.cost:.4g}")
-    fit.uncertainty(win.pb, best)
-    pb_ref = candidates.for_model(prev_pb, prev) if win.ref is prev else win.pb
-    t = guards.test(win.pb, win.effect, best, win.ref, pb_ref, prev)
-    t.pb = win.pb
+    _say_again(say, win, t, "refitted from the pair's optimum")
     return t
 
 
