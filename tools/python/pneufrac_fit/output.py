@@ -117,6 +117,7 @@ def _test(d, t) -> dict:
         "contribution_energy": _num(t.snr),
         "contribution_over_discretisation": _num(t.approx),
         "val_gain": _num(t.val_gain),
+        "val_z": _num(t.val_z),
         "passes_guards": bool(t.passes),
         "why_not": list(t.reasons),
         "params": _effect_params(d, t.model),
