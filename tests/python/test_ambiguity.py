@@ -25,7 +25,7 @@ def _test(effect, resid, passes=True, nrmse=0.1, k=9, explains=True):
                          residual=lambda pb, r=resid: r)
     ref = SimpleNamespace(effects=(), nrmse_val=1.0)      # the linear model, far worse
     return SimpleNamespace(effect=effect, model=fr, ref=ref, passes=passes, excludes=explains,
-                           val_gain=0.1 if explains else -0.1,
+                           val_gain=0.1 if explains else -0.1, val_z=3.0 if explains else -3.0,
                            nm=noise.fit(np.zeros(0)), pb=SimpleNamespace(split=TAIL, burn=0))
 
 

@@ -67,7 +67,7 @@ def test_an_effect_is_refitted_from_a_better_fit_of_the_model_so_far():
     t = selection.try_effect(pb, poor_lin, "lag", 1, fitted=poor_lag)
     assert selection.explains(t)
     other = SimpleNamespace(effect="nozzle", ref=good_lin, pb=pb, passes=False,
-                            excludes=False, val_gain=0.0)
+                            excludes=False, val_gain=0.0, val_z=0.0)
     lines = []
     out = selection.from_better(pb, poor_lin, [t, other], 1, _say(lines))
     assert out[1] is other
@@ -82,7 +82,7 @@ def test_no_better_fit_of_the_model_so_far_changes_nothing():
     good_lin = _fit(pb, (), _start(pb))
     t = selection.try_effect(pb, good_lin, "lag", 1)
     other = SimpleNamespace(effect="nozzle", ref=good_lin, pb=pb, passes=False,
-                            excludes=False, val_gain=0.0)
+                            excludes=False, val_gain=0.0, val_z=0.0)
     assert selection.from_better(pb, good_lin, [t, other], 1, _say([])) == [t, other]
 
 

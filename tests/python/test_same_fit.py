@@ -123,11 +123,11 @@ def test_an_effect_is_compared_with_a_fit_on_fewer_samples_on_those_samples():
     # the whole selection: round 1 finds the two tests, round 2 nothing
     rounds = {"none": [found, play],
               "lag": [SimpleNamespace(effect="nozzle", passes=False, ref=lag, pb=pb,
-                                      excludes=False, val_gain=-1.0, reasons=["stub"],
+                                      excludes=False, val_gain=-1.0, val_z=-3.0, reasons=["stub"],
                                       model=SimpleNamespace(effects=("lag", "nozzle"),
                                                             nrmse_val=1.0))]}
-    found.excludes, found.val_gain = True, 0.5
-    play.excludes, play.val_gain = False, -1.0
+    found.excludes, found.val_gain, found.val_z = True, 0.5, 3.0
+    play.excludes, play.val_gain, play.val_z = False, -1.0, -3.0
     final = _forward(pb, whole, rounds)
     assert final.effects == ("lag",)
 

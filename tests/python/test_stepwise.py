@@ -23,7 +23,7 @@ PB = SimpleNamespace(burn=0)
 
 def _test(effect, fr, passes):
     return SimpleNamespace(effect=effect, model=fr, ref=_model((), 1.0), passes=passes,
-                           excludes=passes, val_gain=0.1 if passes else -0.1,
+                           excludes=passes, val_gain=0.1 if passes else -0.1, val_z=3.0 if passes else -3.0,
                            reasons=[] if passes else ["stub: fails"], pb=PB)
 
 

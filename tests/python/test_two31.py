@@ -79,8 +79,9 @@ def test_a_nested_fit_whose_plain_cost_fell_is_never_judged_worse():
 
 def test_with_plain_fits_the_held_out_gain_is_the_measured_errors(monkeypatch):
     """With plain fits the held-out gain is the measured error's alone;
-    with fits weighted by the comparison's noise model the smaller of the
-    measured and the whitened, as before."""
+    with fits weighted by the comparison's noise model too (branch
+    satnoise32: the whitened criterion now gives the held-out improvement's
+    significance, guards._held_z, not a share)."""
     pb = _plain(_problem())
     base, lag = _fit(pb, ()), _fit(pb, ("lag",), lag=0.01)
     t = guards.test(pb, "lag", lag, base)
@@ -95,7 +96,10 @@ def test_with_plain_fits_the_held_out_gain_is_the_measured_errors(monkeypatch):
     w.nm = t.nm
     monkeypatch.setattr(guards, "noise_for", lambda q, r1: q.nm)   # the rest model kept
     tw = guards.test(w, "lag", lag, base)
-    assert tw.val_gain <= 1.0 - float(v1 @ v1) / float(v0 @ v0) + 1e-12
+    assert tw.val_gain == t.val_gain
+    assert tw.val_z == guards._held_z(w, tw.nm, c0, c1, True)      # whitened
+    assert t.val_z == guards._held_z(pb, t.nm, c0, c1, False)      # as measured
+    assert tw.val_z != t.val_z
 
 
 def test_a_held_effect_parameter_is_simulated_and_not_fitted():

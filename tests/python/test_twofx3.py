@@ -13,7 +13,7 @@ from test_converge import _fit, _problem, _say, _start
 def _fake(effect, nrmse, passes=True):
     m = SimpleNamespace(effects=(effect,), effect=effect, nrmse_val=nrmse)
     return SimpleNamespace(effect=effect, model=m, passes=passes, excludes=False,
-                           val_gain=0.0, pb=SimpleNamespace(burn=0), ref=None)
+                           val_gain=0.0, val_z=0.0, pb=SimpleNamespace(burn=0), ref=None)
 
 
 def test_a_winner_promoted_by_refit_rivals_is_refined(monkeypatch):
@@ -78,7 +78,7 @@ def test_a_refit_from_a_better_model_so_far_is_referred_to_it(monkeypatch):
                     budget=12)
     t = selection.try_effect(pb, poor_lin, "lag", 1, fitted=poor_lag)
     other = SimpleNamespace(effect="nozzle", ref=good_lin, pb=pb, passes=False,
-                            excludes=False, val_gain=0.0)
+                            excludes=False, val_gain=0.0, val_z=0.0)
     seen = []
     real = selection.reference
 

@@ -44,7 +44,7 @@ def test_a_reference_short_of_the_better_model_so_far_is_searched_from_it(monkey
     t.pb = pb
     assert t.passes                     # the premise: from_better considers it
     other = SimpleNamespace(effect="nozzle", ref=good_lin, pb=pb, passes=False,
-                            excludes=False, val_gain=0.0)
+                            excludes=False, val_gain=0.0, val_z=0.0)
     # the lag's own fit is already at its optimum: the refit returns it
     monkeypatch.setattr(selection, "from_model", lambda pb_, cur, e, fr, src, own, lab: fr)
     refined, retests = [], []

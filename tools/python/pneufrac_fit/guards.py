@@ -24,9 +24,9 @@ It is named only when all of these hold:
    the fits were weighted by, or, with plain fits, the drop in the plain
    cost over the noise variance along the effect's contribution: _lr)
    lower by more than MIN_DBIC, and the held-out mean-square error, as
-   measured and (when the fits were whitened) whitened, each held-out
-   block less its own level (holdout.py, Levels), lower by more than
-   MIN_VAL_GAIN.
+   measured lower by more than MIN_VAL_GAIN, and lower significantly in
+   the fits' own criterion (_held_z > Z95, its sd from the noise model),
+   each held-out block less its own level (holdout.py, Levels).
 """
 from __future__ import annotations
 
@@ -40,7 +40,7 @@ from . import fit, longrun, model, noise
 
 Z95 = 1.959963984540054
 MIN_DBIC = 10.0              # "very strong" on Kass & Raftery's scale
-MIN_VAL_GAIN = 0.05
+MIN_VAL_GAIN = 0.05          # held-out MSE's drop as measured: materiality (significance: _held_z)
 MATERIAL_SIGMAS = 1.0        # peak contribution, noise sd
 MATERIAL_SNR = 100.0         # whitened energy of the contribution, noise variances
 MIN_TIMING = 0.5             # samples
@@ -56,7 +56,8 @@ class Test:
     ref: object                  # FitResult without it, same freedoms
     dbic: float = math.nan
     lr: float = math.nan          # likelihood ratio against the reference, in the fits' criterion (_lr)
-    val_gain: float = math.nan
+    val_gain: float = math.nan    # held-out error's relative drop, as measured (materiality)
+    val_z: float = math.nan       # held-out improvement over its noise sd (_held_z; significance)
     interval: tuple = (None, None)
     excludes: bool = False
     peak: float = 0.0            # peak |contribution| / noise sd
@@ -273,36 +274,33 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
     d_mean = float(np.mean(pb.fit_of(d)))
     t.lr = _lr(pb, nm, r1, r0, w1, w0, d - d_mean)
     t.dbic = -t.lr + (fr.k - ref.k) * math.log(m)
-    # Held-out gain, as measured and whitened: the smaller counts. Whitening
-    # weighs the fast part of the error (where a coloured noise is weak);
-    # an effect that only helps there, and not in the error as measured, is
-    # fitting the model's own discretisation at the input's fast changes.
-    # The whitened gain counts only when the fits were whitened by the
-    # comparison's noise model (nm is pb.nm):
-    # with plain fits the filter is the AR model of a residual that the
-    # fits did not minimise whitened and that may still be model error (an
-    # AR(23) of a residual 1.9x the floor weighed the fast part of the
-    # error, where a saturation that predicts the held-out part 36 % better
-    # as measured lost 30 %: blind seed 7, branch blind7); the measured
-    # error is then the criterion, and the discretisation is guarded by
-    # APPROX_RATIO and TIMING_RATIO.
-    # Each held-out block less its own level first (holdout.py, Levels:
-    # with the tail split, the held-out part's mean, as always).
+    # Held-out: the model with the effect must predict the held-out part
+    # better than the reference and than the model so far, materially (the
+    # error as measured lower by more than MIN_VAL_GAIN) and, when the fits
+    # were whitened by the comparison's noise model (nm is pb.nm: the noise
+    # measured at rest), significantly in that criterion (_held_z > Z95).
+    # With any other noise model (plain fits: the AR model of the residual
+    # of the model with the effect) the z is reported but not asked: a
+    # misfit left in that residual enlarges the model's slow power, and
+    # with it the sd along a slow u, so the z loses its level the other
+    # way (an own-generator lag under white noise, held-out error 30 %
+    # lower as measured, came out at z 1.94: tests/python/test_converge.py,
+    # branch satnoise32); those fits keep the measured share alone, as
+    # since two31. Each held-out block less its own level first
+    # (holdout.py, Levels: with the tail split, the held-out part's mean,
+    # as always).
+    usew = nm is pb.nm
     c1, c0 = pb.split.centre_held(r1), pb.split.centre_held(r0)
-    v1, v0 = pb.held_white(c1, nm), pb.held_white(c0, nm)
-    mse1, mse0 = float(v1 @ v1), float(v0 @ v0)
-    gw = 1.0 - mse1 / mse0 if mse0 > 0 else 0.0
     p1, p0 = pb.held_of(c1), pb.held_of(c0)
     mp1, mp0 = float(p1 @ p1), float(p0 @ p0)
-    gp = 1.0 - mp1 / mp0 if mp0 > 0 else 0.0
-    usew = nm is pb.nm
-    t.val_gain = min(gw, gp) if usew else gp
+    t.val_gain = 1.0 - mp1 / mp0 if mp0 > 0 else 0.0
+    t.val_z = _held_z(pb, nm, c0, c1, usew)
     if so_far is not None and so_far is not ref:
         cs = pb.split.centre_held(so_far.residual(pb_ref))
-        vs, ps = pb.held_white(cs, nm), pb.held_of(cs)
-        ms, mps = float(vs @ vs), float(ps @ ps)
-        t.val_gain = min(t.val_gain, 1.0 - mse1 / ms if (ms > 0 and usew) else 1.0,
-                         1.0 - mp1 / mps if mps > 0 else 0.0)
+        ps = pb.held_of(cs)
+        mps = float(ps @ ps)
+        t.val_gain = min(t.val_gain, 1.0 - mp1 / mps if mps > 0 else 0.0)
+        t.val_z = min(t.val_z, _held_z(pb, nm, cs, c1, usew))
     off = _switched_off(pb, fr, effect)
     sd = math.sqrt(max(nm.var, 1e-300))
     t.peak = float(np.max(np.abs(d))) / sd
@@ -349,9 +347,62 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
     if not t.val_gain > MIN_VAL_GAIN:
         t.reasons.append(f"the held-out error falls by {100 * t.val_gain:.1f} % "
                          f"(need > {100 * MIN_VAL_GAIN:g} %)")
+    if usew and not t.val_z > Z95:
+        t.reasons.append(f"its held-out improvement is {t.val_z:.3g} sd of what the noise "
+                         f"gives it (need > {Z95:.3g})")
     t.passes = not t.reasons
     return t
 
+
+
+# The held-out improvement's significance (Diebold and Mariano's
+# comparison of predictive accuracy, with the variance the noise model
+# gives, not a borrowed share). On the held-out part neither model was
+# fitted to the noise, so with c0 = n + m0 and c1 = n + m1 (noise n, each
+# model's prediction error m, every block less its own mean) and a the
+# criterion the fits minimised (W c: whitened by the noise model they were
+# weighted by, nm = pb.nm, or W = I for plain fits), the improvement is
+#     |a0|^2 - |a1|^2 = |W m0|^2 - |W m1|^2 + 2 u'W n,   u = a0 - a1,
+# and u, the two models' outputs' difference, is known exactly. Under "the
+# effect predicts no better" the first terms' difference is at most 0 and
+# 2 u'W n has variance 4 (W'u)' S (W'u), S the comparison's noise model nm
+# (noise_for); so z = improvement / (2 sd) is at most a standard normal,
+# and z > Z95 is a one-sided 2.5 % test. A fitted extra parameter with no
+# effect behind it moves the prediction along u by chance and loses |W u|^2
+# on average: z below 0. Why not the whitened gain's 5 % share, as before:
+# under slow noise (1/f, drift) the whitened held-out error is mostly
+# innovations no model predicts, so the share that even a perfect model
+# could win is capped (saturation-id-multisine-pink-8: at most 6.3 % for a
+# model without error; the saturation's 4.8 % refused an effect that
+# removes 85 % of the baseline's whitened error, branch blind8). A share of
+# an error that is mostly noise measures the record's length and the
+# noise's colour, not the effect; the significance does not. Materiality
+# stays with the share of the error as measured (MIN_VAL_GAIN): an effect
+# that helps only in the whitened error, the fast part, is fitting the
+# model's own discretisation at the input's fast changes. (W'u)' S (W'u) =
+# sigma2 |H' W' u|^2, H the impulse response of 1/A_nm: the filter A_pb /
+# A_nm run backwards over each block's u, zeros where W dropped samples
+# (noise.sandwich's form).
+def _held_z(pb, nm, c0, c1, white: bool) -> float:
+    """The held-out improvement of the residual c1 over c0 (each held-out
+    block less its own mean), whitened by nm (white: the fits were weighted
+    by it) or as measured, over the sd the noise model nm gives it; 0 when
+    it has no variance (the two predictions agree, or a degenerate noise
+    model)."""
+    gain = var = 0.0
+    for s in pb.held_parts:
+        if not white:
+            a0, a1, back = c0[s], c1[s], np.array([1.0])
+        else:
+            a0, a1, back = nm.whiten(c0[s]), nm.whiten(c1[s]), nm.a
+        gain += float(a0 @ a0) - float(a1 @ a1)
+        u = a0 - a1
+        full = np.r_[np.zeros(s.stop - s.start - u.size), u]
+        h = lfilter(back, nm.a, full[::-1])
+        var += nm.sigma2 * float(h @ h)
+    if not (var > 0 and math.isfinite(var) and math.isfinite(gain)):
+        return 0.0
+    return gain / (2.0 * math.sqrt(var))
 
 # Telling two explanations apart. The record says that a, not b, is the
 # explanation when it rejects "b is the explanation" and does not reject

@@ -117,6 +117,7 @@ def _test(d, t) -> dict:
         "contribution_energy": _num(t.snr),
         "contribution_over_discretisation": _num(t.approx),
         "val_gain": _num(t.val_gain),
+        "val_z": _num(t.val_z),
         "passes_guards": bool(t.passes),
         "why_not": list(t.reasons),
         "params": _effect_params(d, t.model),
@@ -283,9 +284,10 @@ def write_report(d, out: Path) -> Path:
       "same model without it, refitted with the same freedoms. It is named only if "
       f"its likelihood ratio (whitened, or with plain output-error fits the plain cost's "
       f"drop over the noise along the effect) excludes the no-effect value at 95 %, BIC "
-      f"falls by more than {guards.MIN_DBIC:g}, the held-out error (measured, and whitened "
-      f"when the fits were) falls "
-      f"by more than {100 * guards.MIN_VAL_GAIN:g} %, and its contribution to the output is "
+      f"falls by more than {guards.MIN_DBIC:g}, the held-out error falls as measured by "
+      f"more than {100 * guards.MIN_VAL_GAIN:g} % and, when the fits were whitened by the "
+      f"noise measured at rest, whitened by more than {guards.Z95:.3g} sd of what the noise "
+      f"gives it, and its contribution to the output is "
       f"material: at least {guards.MATERIAL_SIGMAS:g} noise sd somewhere, an energy of "
       f"{guards.MATERIAL_SNR:g} noise variances, {guards.APPROX_RATIO:g}x the energy of "
       f"the model's own discretisation error, {guards.TIMING_RATIO:g}x the energy the "

@@ -874,8 +874,10 @@ def models_without(tests, current, cur_pb) -> list:
 def explains(t) -> bool:
     """Whether a tested effect explains part of the residual: significant
     against its reference on the fit part, and predicting the held-out part
-    better than its reference (one that predicts worse explains nothing)."""
-    return bool(t.excludes and t.val_gain > 0)
+    better than its reference (one that predicts worse explains nothing),
+    as measured and in the fits' own criterion (guards._held_z; nan: not
+    measured)."""
+    return bool(t.excludes and t.val_gain > 0 and not t.val_z <= 0)
 
 
 def half_story(t) -> bool:
