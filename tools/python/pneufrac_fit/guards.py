@@ -21,9 +21,8 @@ It is named only when all of these hold:
    discretisation.
 3. Earns its place. Against the same-freedom reference: BIC (in the
    criterion the fits minimised: the drop in their cost, whitened by the
-   noise model they were weighted by or plain, over the variance the
-   comparison's noise model gives that drop along the effect's
-   contribution: _lr)
+   noise model they were weighted by or plain, over the variance the noise
+   gives that drop along the effect's contribution: _lr)
    lower by more than MIN_DBIC, and the held-out mean-square error, as
    measured and (when the fits were whitened) whitened, each held-out
    block less its own level (holdout.py, Levels), lower by more than
