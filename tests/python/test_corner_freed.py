@@ -123,8 +123,14 @@ def test_a_dead_band_behind_a_corner_is_found(tmp_path):
     assert "rho" in d.corners, "premise: the baseline ends with rho at its bound"
     assert d.causes[:1] == ["backlash"], d.why
     assert set(d.causes) <= {"backlash", "lag"}, d.causes
-    assert any(n.startswith("backlash (round 1) was fitted best from a start with the model "
-                            "so far's groups at a bound") for n in d.fit_notes), d.fit_notes
+    # found, not only named: the held-out error at least halfway from the
+    # baseline's to the noise floor. (Which start wins, the corner-freed one
+    # or the ordinary one, is not asserted: both reach this optimum, and the
+    # last bits of the arithmetic decide between them; on a fresh venv,
+    # numpy 2.4.6 and scipy 1.17.1, the ordinary start won at every commit
+    # back to b4cb4e6, where the corner-freed one had won before.)
+    before, after = d.baseline.nrmse_val, d.extended.nrmse_val
+    assert before - after >= 0.5 * (before - d.noise_floor_val), (before, after, d.noise_floor_val)
 
 
 def test_the_corner_key_is_the_same_in_a_worker(clean_corner):
