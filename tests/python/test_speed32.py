@@ -10,24 +10,7 @@ import numpy as np
 
 import cases
 from pneufrac_fit import data, diagnose, fit, model, selection
-
-
-def _problem():
-    ds = cases.make("p", "lag", 3, n=3000)
-    rec = data.make_record(ds.t, ds.e, ds.pc)
-    pb = fit.Problem.from_record(rec, "p", {"q": 0.0, "beta": 1.0}, 8, 2)
-    pb.burn = 30
-    return pb
-
-
-def _fit(pb, effects, start, budget=400):
-    r = fit.lm_fit(pb, model.canonical(effects), start, 0, budget, "test")
-    fit.evaluate(pb, r)
-    return r
-
-
-def _start(pb, **kw):
-    return {**model.nominal_groups("p"), "e0": pb.e0_default(), **kw}
+from test_converge import _fit, _problem, _start     # the same small lag record and fits
 
 
 def _same_intervals(a, b):
