@@ -156,6 +156,8 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
     nmf = noise.fit(pbf.fit_pieces(final.residual(pbf)))
     fit_notes += _held_blocks_note(split, nmf)
     fit_notes += candidates.corner_notes(rounds, causes)
+    if "saturation" in causes:
+        fit_notes += candidates.limit_notes(pbf, final)
     evb = ev_mod.analyse(pb, base, sd)
     eva = ev_mod.analyse(pbf, final, sd)
     evidence = ev_mod.describe(evb, pb, sd, floor, base)
