@@ -69,17 +69,19 @@ def _record(side: str, mode: str, seed: int = 3, both: bool = False):
 def _parked(pk, base, bind, lim_dev, inside: float):
     """(the saturation fit with the binding limit fitted from its truth and
     the other at no effect; the same with the other limit parked `inside`
-    record units inside the fit part's extreme output, where a search
-    leaves a limit that no fit sample binds: the cost is flat beyond the
-    outputs the fit part reaches; the parked limit's name)."""
+    record units inside the model's extreme output on the fit part, where
+    a search leaves a limit that no fit sample binds by more than that:
+    the cost is flat beyond the outputs the fit part reaches; the parked
+    limit's name)."""
     other = "sat_hi" if bind == "sat_lo" else "sat_lo"
     no = candidates.no_effect(pk, "saturation")[other]
     st = {**base.groups, **base.values, **candidates.on_sim(pk, base, {bind: lim_dev, other: no})}
     good = search.refine(pk, ("saturation",), [("other out", st)], dead=base.dead)
-    c = candidates._sat_shift(pk, good)
-    edge = pk.y_hi - inside if other == "sat_hi" else pk.y_lo + inside
+    # the simulated deviation (before the offset), where good's limits act
+    y = pk.fit_of(good.sim) - good.values["pc0"]
+    edge = float(np.max(y)) - inside if other == "sat_hi" else float(np.min(y)) + inside
     parked = copy.copy(good)
-    parked.values = {**good.values, other: edge - c}
+    parked.values = {**good.values, other: edge}
     fit.evaluate(pk, parked)
     return good, parked, other
 
@@ -87,9 +89,10 @@ def _parked(pk, base, bind, lim_dev, inside: float):
 @pytest.mark.parametrize("side,mode,inside", [("hi", "tail", 0.0), ("lo", "blocks", 0.0),
                                                ("hi", "tail", 0.5), ("lo", "blocks", 0.5)])
 def test_a_limit_the_fit_part_never_reaches_is_put_out(side, mode, inside):
-    """inside: the parked limit's distance inside the fit part's extreme
-    output, noise sd (0.5: it clips the model's highest outputs on the fit
-    part by less than the noise, and the rest is refitted)."""
+    """inside: the parked limit's distance inside the model's extreme
+    output on the fit part, noise sd (0: it clips no fit sample and is
+    moved alone; 0.5: it clips the model's highest outputs there by less
+    than the noise, and the rest is refitted)."""
     pk, base, bind, ds = _record(side, mode)
     c0 = float(np.mean(ds.pc[:10]))          # the reference of on_sim (_sat_shift)
     sd = 0.005 * float(np.ptp(ds.clean))     # generate's noise: a share of the clean span
@@ -101,6 +104,10 @@ def test_a_limit_the_fit_part_never_reaches_is_put_out(side, mode, inside):
     assert (np.max(held_y) > pk.y_hi + 0.2 * span) if other == "sat_hi" else \
         (np.min(held_y) < pk.y_lo - 0.2 * span)
     assert parked.nrmse_val > 2 * good.nrmse_val, (parked.nrmse_val, good.nrmse_val)
+    # and it clips the fit part's model output (by under the noise) or not at all
+    d = candidates._limit_contribution(pk, ("saturation",), parked, other)
+    clip = float(np.max(np.abs(pk.fit_of(d)))) / sd
+    assert (0.1 < clip < 0.6) if inside > 0 else clip < 0.01, clip
     out = candidates._unseen_limits_out(pk, ("saturation",), parked)
     assert out is not parked
     co = candidates._sat_shift(pk, out)

@@ -347,7 +347,7 @@ def limit_notes(pb, fr) -> list[str]:
                        f"within {pb.y_lo:.4g} to {pb.y_hi:.4g} of the operating point and no "
                        f"{side} limit acts on it by more than the noise, so the model has none "
                        f"there: the {name} reported lies beyond that range, clips nothing "
-                       "the record shows and has no interval; where, or whether, the output "
+                       "the fit part shows and has no interval; where, or whether, the output "
                        "is limited on that side the record does not say.")
     return out
 
