@@ -244,6 +244,7 @@ def test_saturation_without_an_exploration_copy_explores_the_corner_and_paper_ap
     monkeypatch.setattr(candidates, "with_kind", lambda p, kind, told=0.0: p)
     monkeypatch.setattr(search, "explore", lambda *a, **k: None)     # no copy
     monkeypatch.setattr(candidates, "_limits_back_in_range", lambda p, e, b, f: f)
+    monkeypatch.setattr(candidates, "_unseen_limits_out", lambda p, e, f: f)
     monkeypatch.setattr(candidates, "_not_worse", lambda p, e, n, b, f: f)
     monkeypatch.setattr(candidates, "_from_best_placement", lambda fits, e, b: fits)
     monkeypatch.setattr(candidates, "_kind_told", lambda *a: True)
