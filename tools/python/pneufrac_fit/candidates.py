@@ -158,10 +158,17 @@ def _fit_saturation(pb, base, rng, hint):
                 b = search.explore_refine(pk, effects, starts, dead=base.dead,
                                           explored=explored)
             b = _limits_back_in_range(pk, effects, base, b)
-            b = _unseen_limits_out(pk, effects, b)
             fits.append((_not_worse(pk, effects, "saturation", base, b), pk, kind))
         fits = _from_best_placement(fits, effects, base)
-    win, pw, _ = fits[0]
+    win, pw, kw = fits[0]
+    # the search done, before any test: a limit parked at the edge of the
+    # fit part's output is still a start from which a placement's or a
+    # refinement's path can make it bind (the kink it puts in the cost), so
+    # it is put out only now (on each placement, blind seed 6's
+    # two-backlash-saturation-pid lost the lower limit its search reached
+    # from there, and with it the dead band named on top)
+    win = _unseen_limits_out(pw, effects, win)
+    fits[0] = (win, pw, kw)
     told = all(_kind_told(pw, win, pl, lose) for lose, pl, _ in fits[1:])
     win.values["sat_kind_told"] = 1.0 if told else 0.0
     return win
@@ -685,7 +692,7 @@ def fit_extended(pb, base, new: str, rng, hint: dict | None = None):
     reference held at the short delay. Saturation's limits, the model so
     far's or new, that the fit part does not show are put at no effect
     (_unseen_limits_out): any effect's search can park one (a new
-    saturation's at each placement already, _fit_saturation)."""
+    saturation's on the placement kept already, _fit_saturation)."""
     b = _fit_extended(pb, base, new, rng, hint)
     profiled = new != "dead_time" and "dead_time" in base.effects
     if profiled:
