@@ -339,23 +339,21 @@ def _unseen_limits_out(pb, effects, b):
 
 def limit_notes(pb, fr) -> list[str]:
     """Plain words for each saturation limit of fr (the model reported)
-    that lies beyond the fit part's output range: it clips nothing the fit
-    part holds, so the record does not say where, or whether, the output
-    is limited on that side (_unseen_limits_out), and no interval is
-    given for it."""
+    that the fit part does not show (limit_seen, the rule of
+    _unseen_limits_out): the record does not say where, or whether, the
+    output is limited on that side."""
     if "saturation" not in fr.effects:
         return []
-    c = _sat_shift(pb, fr)        # fr's limits are on fr's simulated deviation
     out = []
-    for name, side, beyond in (("sat_lo", "lower", fr.values["sat_lo"] + c < pb.y_lo),
-                               ("sat_hi", "upper", fr.values["sat_hi"] + c > pb.y_hi)):
-        if beyond:
-            out.append(f"saturation: no {side} limit is seen. The fit part's output stays "
-                       f"within {pb.y_lo:.4g} to {pb.y_hi:.4g} of the operating point and no "
-                       f"{side} limit acts on it by more than the noise, so the model has none "
-                       f"there: the {name} reported lies beyond that range, clips nothing "
-                       "the fit part shows and has no interval; where, or whether, the output "
-                       "is limited on that side the record does not say.")
+    for name, side in (("sat_lo", "lower"), ("sat_hi", "upper")):
+        if limit_seen(*limit_evidence(pb, fr, _limit_contribution(pb, fr.effects, fr, name))):
+            continue
+        out.append(f"saturation: no {side} limit is seen. The fit part's output stays "
+                   f"within {pb.y_lo:.4g} to {pb.y_hi:.4g} of the operating point and no "
+                   f"{side} limit acts on the model's output there by more than the noise "
+                   f"(or significantly), so the model has none: the {name} reported is not "
+                   "the record's, and where, or whether, the output is limited on that "
+                   "side the record does not say.")
     return out
 
 
