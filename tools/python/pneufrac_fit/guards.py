@@ -264,11 +264,22 @@ def _backwards(b, a, u, n: int) -> np.ndarray:
     return lfilter(b, a, full[::-1])[::-1]
 
 
-def _lr(pb, nm, r1, r0, dc) -> float:
+def _raw_noise(pb, r1):
+    """The raw noise's model along an effect's direction: ARFIMA(p, d, 0)
+    of the plain residual of the model with the effect over the fit parts
+    (noise.fit_arfima, the intervals' model). Its misfit, if any, only
+    enlarges it: conservative. _lr uses it where it has no exact ratio;
+    _held_z asks for significance under it as well as under the rest
+    model, which a short rest stretch of slow noise understates."""
+    return noise.fit_arfima(pb.fit_of(r1))
+
+
+def _lr(pb, nm, r1, r0, dc, raw=None) -> float:
     """The likelihood ratio of the model with the effect (residual r1)
     against its reference (r0), in the criterion both were fitted by; nm:
     the comparison's noise model (noise_for); dc: the effect's contribution
-    less its mean over the fit parts (the plain fits' direction)."""
+    less its mean over the fit parts (the plain fits' direction); raw: the
+    raw noise's ARFIMA model (_raw_noise of r1 when not given)."""
     if pb.nm is not None and nm is pb.nm:
         w1, w0 = pb.fit_white(r1), pb.fit_white(r0)
         rss1, rss0 = float(w1 @ w1), float(w0 @ w0)
@@ -285,15 +296,24 @@ def _lr(pb, nm, r1, r0, dc) -> float:
             v[s] = _backwards(pb.nm.a, [1.0], u, s.stop - s.start)     # W' u
         drop += float(w0 @ w0) - float(w1 @ w1)
         uu += float(u @ u)
-    v = v[pb.fit_parts[0].start:] if pb.fit_parts else v[:0]
-    vv = float(v @ v)
-    if not (vv > 0 and uu > 0 and math.isfinite(drop)):
-        return 0.0
-    # v'S v by the intervals' own sandwich (one column: (v'v)^-2 v'S v)
-    sdd = float(noise.sandwich(v[:, None], noise.fit_arfima(pb.fit_of(r1)))[0, 0]) * vv * vv
-    if not (sdd > 0 and math.isfinite(sdd)):
+    sdd = _noise_along(v[pb.fit_parts[0].start:] if pb.fit_parts else v[:0],
+                       _raw_noise(pb, r1) if raw is None else raw)
+    if not (sdd > 0 and uu > 0 and math.isfinite(drop)):
         return 0.0
     return drop * uu / sdd
+
+
+def _noise_along(v, raw) -> float:
+    """v'S v, S the covariance of the noise model raw (ARFIMA: long memory
+    holds across the parts), v a direction at its samples' own times
+    (zeros between parts): the intervals' own sandwich with v as its one
+    column, (v'v)^-2 v'S v. 0 when undefined (no direction, a degenerate
+    model): no evidence."""
+    vv = float(v @ v)
+    if not vv > 0:
+        return 0.0
+    sdd = float(noise.sandwich(v[:, None], raw)[0, 0]) * vv * vv
+    return sdd if (sdd > 0 and math.isfinite(sdd)) else 0.0
 
 
 def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
@@ -313,7 +333,8 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
     m = pb.fit_white(r1, nm).size
     d = fr.sim - ref.sim
     d_mean = float(np.mean(pb.fit_of(d)))
-    t.lr = _lr(pb, nm, r1, r0, d - d_mean)
+    raw = _raw_noise(pb, r1)
+    t.lr = _lr(pb, nm, r1, r0, d - d_mean, raw)
     t.dbic = -t.lr + (fr.k - ref.k) * math.log(m)
     # Held-out: the model with the effect must predict the held-out part
     # better than the reference and than the model so far, materially (the
@@ -335,13 +356,13 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
     p1, p0 = pb.held_of(c1), pb.held_of(c0)
     mp1, mp0 = float(p1 @ p1), float(p0 @ p0)
     t.val_gain = 1.0 - mp1 / mp0 if mp0 > 0 else 0.0
-    t.val_z = _held_z(pb, nm, c0, c1, usew)
+    t.val_z = _held_z(pb, nm, c0, c1, usew, raw)
     if so_far is not None and so_far is not ref:
         cs = pb.split.centre_held(so_far.residual(pb_ref))
         ps = pb.held_of(cs)
         mps = float(ps @ ps)
         t.val_gain = min(t.val_gain, 1.0 - mp1 / mps if mps > 0 else 0.0)
-        t.val_z = min(t.val_z, _held_z(pb, nm, cs, c1, usew))
+        t.val_z = min(t.val_z, _held_z(pb, nm, cs, c1, usew, raw))
     off = _switched_off(pb, fr, effect)
     sd = math.sqrt(max(nm.var, 1e-300))
     t.peak = float(np.max(np.abs(d))) / sd
@@ -424,21 +445,41 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
 # sigma2 |H' W' u|^2, H the impulse response of 1/A_nm: the filter A_pb /
 # A_nm run backwards over each block's u, zeros where W dropped samples
 # (noise.sandwich's form).
-def _held_z(pb, nm, c0, c1, white: bool) -> float:
+#
+# Two noise models, the larger variance. The rest model nm is measured on
+# the opening rest stretch, and noise_for keeps it unless it claims more
+# slow power than the residual shows; a short stretch of slow (1/f) noise
+# shows little of its wander slower than the stretch, so the AR model of it
+# claims too little, and nothing rejects that. The held-out blocks meet
+# that wander: on the independent simulator's clean-p-real seed 2 (357
+# rest samples, AR(1)) a dead band with no dead band behind it came out at
+# z 2.90 under the rest model (tests/python/test_holdout.py; it had passed
+# under the 5 % share this z replaced). The raw noise's ARFIMA model
+# (_raw_noise) holds that slow power, and any misfit as well, so it errs
+# the other way; the improvement must be significant under both, which
+# keeps the level whichever of the two is right. The likelihood ratio
+# keeps its exact form: on the fit part the fits absorb the slow wander
+# they can, and the raw model there cost a real dead band (lrvar32).
+def _held_z(pb, nm, c0, c1, white: bool, raw=None) -> float:
     """The held-out improvement of the residual c1 over c0 (each held-out
     block less its own mean), whitened by nm (white: the fits were weighted
-    by it) or as measured, over the sd the noise model nm gives it; 0 when
-    it has no variance (the two predictions agree, or a degenerate noise
-    model)."""
+    by it) or as measured, over its sd: the larger of what the noise model
+    nm and the raw noise's model raw (if given) give it; 0 when it has no
+    variance (the two predictions agree, or a degenerate noise model)."""
     gain = var = 0.0
-    for s in pb.held_parts:
+    held = pb.held_parts
+    v = np.zeros(max((s.stop for s in held), default=0))     # W'u at its own times
+    for s in held:
         if not white:
             a0, a1, back = c0[s], c1[s], np.array([1.0])
         else:
             a0, a1, back = nm.whiten(c0[s]), nm.whiten(c1[s]), nm.a
         gain += float(a0 @ a0) - float(a1 @ a1)
-        h = _backwards(back, nm.a, a0 - a1, s.stop - s.start)
+        v[s] = _backwards(back, [1.0], a0 - a1, s.stop - s.start)
+        h = lfilter([1.0], nm.a, v[s][::-1])
         var += nm.sigma2 * float(h @ h)
+    if raw is not None and held:
+        var = max(var, _noise_along(v[held[0].start:], raw))
     if not (var > 0 and math.isfinite(var) and math.isfinite(gain)):
         return 0.0
     return gain / (2.0 * math.sqrt(var))

@@ -207,11 +207,11 @@ def _fmt(name, x):
 
 def _round_table(w, d, tests):
     w("| effect | held-out NRMSE without -> with | ΔBIC | peak / noise sd | energy / noise | "
-      "energy / discretisation | held-out gain | named? |")
-    w("|---|---|---|---|---|---|---|---|")
+      "energy / discretisation | held-out gain | held-out z | named? |")
+    w("|---|---|---|---|---|---|---|---|---|")
     for t in sorted(tests, key=lambda t: t.model.nrmse_val):
         w(f"| {t.effect} | {t.ref.nrmse_val:.4f} -> {t.model.nrmse_val:.4f} | {t.dbic:+.1f} | "
-          f"{t.peak:.3g} | {t.snr:.3g} | {t.approx:.3g} | {100 * t.val_gain:.1f} % | "
+          f"{t.peak:.3g} | {t.snr:.3g} | {t.approx:.3g} | {100 * t.val_gain:.1f} % | {t.val_z:.3g} | "
           + ("passes" if t.passes else "no: " + "; ".join(t.reasons)) + " |")
     w("")
 
