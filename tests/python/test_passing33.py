@@ -109,8 +109,7 @@ def test_a_rival_that_predicts_significantly_better_drops_the_winner(monkeypatch
     """The winner refitted on the rival's samples carries a slow error of 3
     noise sd at its peak that the rival does not: the rival predicts the
     held-out part significantly better in every draw (its z about 7, sd
-    1), and no effect is added (a blind
-    record's wrong nozzle, 0.3164 against 0.0435, stays refused)."""
+    1), and no effect is added."""
     pb = _problem()
     truth = pb.y.copy()
     err = _slow(pb, 3.0)

@@ -580,9 +580,12 @@ def _passing(tests, current, cur_pb, n_round: int, say) -> list:
 # tie is no evidence against the effect, and the evidence for it stands:
 # the rival ties only by leaving a stretch of the fit part unexplained,
 # which the effect's model explains (its likelihood ratio, on every
-# sample). A rival that predicts significantly better is evidence: fitting
-# the effect costs prediction (a blind record's wrong nozzle, 0.3164
-# against 0.0435, stays refused).
+# sample). A rival that predicts significantly better is evidence that
+# the effect's fit, on the samples the rival kept, costs prediction, and
+# the effect is refused (two-backlash-saturation seed 1: saturation 0.0783
+# against the linear model's 0.0682 on the same samples, 4.09 sd; a true
+# saturation whose advantage lies before the input's first reversal,
+# lost as before: docs/analysis.md, Known limits).
 def _rival_z(t, r, w) -> float:
     """How many sd (guards._held_z) model r, without t's effect, predicts the
     held-out part better than w (t's model on the samples r was fitted to),
