@@ -577,10 +577,14 @@ def _passing(tests, current, cur_pb, n_round: int, say) -> list:
 # on a coin flip (the independent simulator's two-nozzle-lag seed 5: the
 # lag model fitted without the opening stretch predicts at 0.0131, the lag
 # + nozzle on the same samples at 0.0134, 1.58 sd; branch passing33). A
-# tie is no evidence against the effect, and the evidence for it stands:
-# the rival ties only by leaving a stretch of the fit part unexplained,
-# which the effect's model explains (its likelihood ratio, on every
-# sample). A rival that predicts significantly better is evidence that
+# tie is no evidence against the effect, and the evidence for it stands: a
+# rival fitted on fewer samples ties only by leaving a stretch of the fit
+# part unexplained, which the effect's model explains (its likelihood
+# ratio, on every sample); one fitted with another test's freedoms on the
+# same samples differs from the effect's own reference in little but its
+# search's optimum (problem_for frees the same held groups for every
+# test), and a better optimum is weighed by the fit criterion
+# (from_better), not by the held-out part. A rival that predicts significantly better is evidence that
 # the effect's fit, on the samples the rival kept, costs prediction, and
 # the effect is refused (two-backlash-saturation seed 1: saturation 0.0783
 # against the linear model's 0.0682 on the same samples, 4.09 sd; a true
