@@ -13,9 +13,9 @@ from types import SimpleNamespace
 import numpy as np
 from scipy.signal import lfilter
 
-import cases
 from indepsim.make import make
 from pneufrac_fit import data, diagnose, fit, guards, noise, selection
+from test_converge import _problem    # the small lag record its rivals are built on
 from test_diagnose_indep import check
 
 PHI = 0.9           # the held-out noise's AR(1) coefficient
@@ -28,14 +28,6 @@ class _Model(SimpleNamespace):
 
     def residual(self, pb):
         return pb.y - self.sim
-
-
-def _problem():
-    ds = cases.make("p", "lag", 3, n=3000)
-    rec = data.make_record(ds.t, ds.e, ds.pc)
-    pb = fit.Problem.from_record(rec, "p", {"q": 0.0, "beta": 1.0}, 8, 2)
-    pb.burn = 30
-    return pb
 
 
 def _ar1(n, rng):
