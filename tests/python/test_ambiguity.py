@@ -270,8 +270,10 @@ def test_clearly_better_winner_is_kept(monkeypatch):
 
 def test_no_effect_when_the_model_without_one_predicts_as_well(monkeypatch):
     """A test's reference (no new effect, refitted with that test's
-    freedoms) predicts the held-out part better than the winner: the
-    winner's gain is the freedoms', and nothing is added."""
+    freedoms) predicts the held-out part better than the winner,
+    significantly (selection._rival_z; test_passing33): the winner's gain
+    is the freedoms', and nothing is added."""
+    monkeypatch.setattr(selection, "_rival_z", lambda t, r, w: 3.0)
     final, notes = _forward_with(1.5, {"nozzle": _lag_fails_on_top}, monkeypatch,
                                  ref_lag=0.015)
     assert final.effect == "none"

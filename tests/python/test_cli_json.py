@@ -57,6 +57,10 @@ def test_generate_and_diagnose(tmp_path):
         assert (out / f).stat().st_size > 0
     text = (out / "report.md").read_text()
     assert "![overview](overview.png)" in text and "Verdict: backlash" in text
+    # the round table gives the held-out z the guard asks, beside the gain
+    cand = next(x for x in j["candidates"] if x["name"] == "backlash")
+    row = next(l for l in text.splitlines() if l.startswith("| backlash |"))
+    assert row.split("|")[-3].strip().strip("()") == f"{cand['val_z']:.3g}"
 
 
 def test_operating_point_and_absolute_limits(tmp_path):

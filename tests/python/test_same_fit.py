@@ -155,7 +155,9 @@ def test_a_fit_on_fewer_samples_that_predicts_worse_is_no_rival(monkeypatch):
     assert selection._passing([found, play], current, pb, 1, lambda m: None) == [found]
     assert late.burn not in asked
     # a reference on fewer samples that predicts better is still a rival
+    # (significantly better: _rival_z, tests/python/test_passing33.py)
     play.ref = SimpleNamespace(effects=(), nrmse_val=0.065)
+    monkeypatch.setattr(selection, "_rival_z", lambda t, r, w: 3.0)
     assert selection._passing([found, play], current, pb, 1, lambda m: None) == []
     assert late.burn in asked
 

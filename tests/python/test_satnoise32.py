@@ -84,9 +84,12 @@ def test_a_slow_error_removed_is_significant_where_the_whitened_share_is_capped(
 
 def test_held_z_variance_is_the_noise_models_along_the_difference():
     """Plain criterion: the sd is 2 sqrt(u'S u), S the AR process's
-    covariance (from its autocovariance, not guards' filter)."""
+    covariance (from its autocovariance, not guards' filter). u less its
+    mean: _held_z takes residuals each held-out block less its own level,
+    as guards.test gives them."""
     nm = noise.NoiseModel(np.array([1.0, -0.9]), 1.0, 1.0 / (1 - 0.81), 1000)
     u = np.r_[np.zeros(200), np.ones(300), np.zeros(1000)]
+    u -= np.mean(u)
     c0 = np.zeros(N_HELD) + u
     c1 = np.zeros(N_HELD)
     h = lfilter([1.0], nm.a, np.r_[1.0, np.zeros(4 * N_HELD - 1)])

@@ -102,8 +102,9 @@ def test_with_plain_fits_the_held_out_gain_is_the_measured_errors(monkeypatch):
     monkeypatch.setattr(guards, "noise_for", lambda q, r1: q.nm)   # the rest model kept
     tw = guards.test(w, "lag", lag, base)
     assert tw.val_gain == t.val_gain
-    assert tw.val_z == guards._held_z(w, tw.nm, c0, c1, True)      # whitened
-    assert t.val_z == guards._held_z(pb, t.nm, c0, c1, False)      # as measured
+    raw = guards._raw_noise(pb, lag.residual(pb))
+    assert tw.val_z == guards._held_z(w, tw.nm, c0, c1, True, raw)      # whitened
+    assert t.val_z == guards._held_z(pb, t.nm, c0, c1, False, raw)      # as measured
     assert tw.val_z != t.val_z
 
 

@@ -25,8 +25,10 @@ It is named only when all of these hold:
    gives that drop along the effect's contribution: _lr)
    lower by more than MIN_DBIC, and the held-out mean-square error, as
    measured lower by more than MIN_VAL_GAIN, and lower significantly in
-   the fits' own criterion (_held_z > Z95, its sd from the noise model),
-   each held-out block less its own level (holdout.py, Levels).
+   the fits' own criterion when they were whitened by the rest model
+   (_held_z > Z95, its sd the larger of the rest model's and the raw
+   noise's ARFIMA model's), each held-out block less its own level
+   (holdout.py, Levels).
 """
 from __future__ import annotations
 
@@ -58,6 +60,7 @@ class Test:
     lr: float = math.nan          # likelihood ratio against the reference, in the fits' criterion (_lr)
     val_gain: float = math.nan    # held-out error's relative drop, as measured (materiality)
     val_z: float = math.nan       # held-out improvement over its noise sd (_held_z; significance)
+    z_asked: bool = False         # val_z is a guard (the fits whitened by the rest model), else only reported
     interval: tuple = (None, None)
     excludes: bool = False
     peak: float = 0.0            # peak |contribution| / noise sd
@@ -264,11 +267,23 @@ def _backwards(b, a, u, n: int) -> np.ndarray:
     return lfilter(b, a, full[::-1])[::-1]
 
 
-def _lr(pb, nm, r1, r0, dc) -> float:
+def _raw_noise(pb, r1):
+    """The raw noise's model along an effect's direction: ARFIMA(p, d, 0)
+    of the plain residual of the model with the effect over the fit parts
+    (noise.fit_arfima, the intervals' model). Its misfit, if any, only
+    enlarges it: conservative. _lr uses it where it has no exact ratio;
+    _held_z asks for significance under it as well as under the rest
+    model, which a short rest stretch of slow noise understates. One fit
+    per guards.test."""
+    return noise.fit_arfima(pb.fit_of(r1))
+
+
+def _lr(pb, nm, r1, r0, dc, raw=None) -> float:
     """The likelihood ratio of the model with the effect (residual r1)
     against its reference (r0), in the criterion both were fitted by; nm:
     the comparison's noise model (noise_for); dc: the effect's contribution
-    less its mean over the fit parts (the plain fits' direction)."""
+    less its mean over the fit parts (the plain fits' direction); raw: the
+    raw noise's ARFIMA model (_raw_noise of r1 when not given)."""
     if pb.nm is not None and nm is pb.nm:
         w1, w0 = pb.fit_white(r1), pb.fit_white(r0)
         rss1, rss0 = float(w1 @ w1), float(w0 @ w0)
@@ -285,15 +300,24 @@ def _lr(pb, nm, r1, r0, dc) -> float:
             v[s] = _backwards(pb.nm.a, [1.0], u, s.stop - s.start)     # W' u
         drop += float(w0 @ w0) - float(w1 @ w1)
         uu += float(u @ u)
-    v = v[pb.fit_parts[0].start:] if pb.fit_parts else v[:0]
-    vv = float(v @ v)
-    if not (vv > 0 and uu > 0 and math.isfinite(drop)):
-        return 0.0
-    # v'S v by the intervals' own sandwich (one column: (v'v)^-2 v'S v)
-    sdd = float(noise.sandwich(v[:, None], noise.fit_arfima(pb.fit_of(r1)))[0, 0]) * vv * vv
-    if not (sdd > 0 and math.isfinite(sdd)):
+    sdd = _noise_along(v[pb.fit_parts[0].start:] if pb.fit_parts else v[:0],
+                       _raw_noise(pb, r1) if raw is None else raw)
+    if not (sdd > 0 and uu > 0 and math.isfinite(drop)):
         return 0.0
     return drop * uu / sdd
+
+
+def _noise_along(v, raw) -> float:
+    """v'S v, S the covariance of the noise model raw (ARFIMA: long memory
+    holds across the parts), v a direction at its samples' own times
+    (zeros between parts): the intervals' own sandwich with v as its one
+    column, (v'v)^-2 v'S v. 0 when undefined (no direction, a degenerate
+    model): no evidence."""
+    vv = float(v @ v)
+    if not vv > 0:
+        return 0.0
+    sdd = float(noise.sandwich(v[:, None], raw)[0, 0]) * vv * vv
+    return sdd if (sdd > 0 and math.isfinite(sdd)) else 0.0
 
 
 def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
@@ -313,21 +337,26 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
     m = pb.fit_white(r1, nm).size
     d = fr.sim - ref.sim
     d_mean = float(np.mean(pb.fit_of(d)))
-    t.lr = _lr(pb, nm, r1, r0, d - d_mean)
+    raw = _raw_noise(pb, r1)
+    t.lr = _lr(pb, nm, r1, r0, d - d_mean, raw)
     t.dbic = -t.lr + (fr.k - ref.k) * math.log(m)
     # Held-out: the model with the effect must predict the held-out part
     # better than the reference and than the model so far, materially (the
     # error as measured lower by more than MIN_VAL_GAIN) and, when the fits
     # were whitened by the comparison's noise model (nm is pb.nm: the noise
-    # measured at rest), significantly in that criterion (_held_z > Z95).
+    # measured at rest), significantly in that criterion (_held_z > Z95,
+    # its sd the larger of the rest model's and the raw noise's: the rest
+    # model alone can claim too little slow power, _held_z says why).
     # With any other noise model (plain fits: the AR model of the residual
-    # of the model with the effect) the z is reported but not asked: a
-    # misfit left in that residual enlarges the model's slow power, and
-    # with it the sd along a slow u, so the z loses its level the other
-    # way (an own-generator lag under white noise, held-out error 30 %
-    # lower as measured, came out at z 1.94: tests/python/test_converge.py,
-    # branch satnoise32); those fits keep the measured share alone, as
-    # since two31. Each held-out block less its own level first
+    # of the model with the effect) the z is reported but not asked: there
+    # only residual-based models exist, and a misfit left in the residual
+    # enlarges their slow power, and with it the sd along a slow u, so the
+    # z loses its power (an own-generator lag under white noise, held-out
+    # error 30 % lower as measured, came out at z 1.94:
+    # tests/python/test_converge.py, branch satnoise32); those fits keep
+    # the measured share alone, as since two31. Whitened fits pay that
+    # price only where the raw model exceeds the rest model. Each held-out
+    # block less its own level first
     # (holdout.py, Levels: with the tail split, the held-out part's mean,
     # as always).
     usew = nm is pb.nm
@@ -335,13 +364,14 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
     p1, p0 = pb.held_of(c1), pb.held_of(c0)
     mp1, mp0 = float(p1 @ p1), float(p0 @ p0)
     t.val_gain = 1.0 - mp1 / mp0 if mp0 > 0 else 0.0
-    t.val_z = _held_z(pb, nm, c0, c1, usew)
+    t.z_asked = usew
+    t.val_z = _held_z(pb, nm, c0, c1, usew, raw)
     if so_far is not None and so_far is not ref:
         cs = pb.split.centre_held(so_far.residual(pb_ref))
         ps = pb.held_of(cs)
         mps = float(ps @ ps)
         t.val_gain = min(t.val_gain, 1.0 - mp1 / mps if mps > 0 else 0.0)
-        t.val_z = min(t.val_z, _held_z(pb, nm, cs, c1, usew))
+        t.val_z = min(t.val_z, _held_z(pb, nm, cs, c1, usew, raw))
     off = _switched_off(pb, fr, effect)
     sd = math.sqrt(max(nm.var, 1e-300))
     t.peak = float(np.max(np.abs(d))) / sd
@@ -388,7 +418,7 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
     if not t.val_gain > MIN_VAL_GAIN:
         t.reasons.append(f"the held-out error falls by {100 * t.val_gain:.1f} % "
                          f"(need > {100 * MIN_VAL_GAIN:g} %)")
-    if usew and not t.val_z > Z95:
+    if t.z_asked and not t.val_z > Z95:
         t.reasons.append(f"its held-out improvement is {t.val_z:.3g} sd of what the noise "
                          f"gives it (need > {Z95:.3g})")
     t.passes = not t.reasons
@@ -424,21 +454,50 @@ def test(pb, effect: str, fr, ref, pb_ref=None, so_far=None) -> Test:
 # sigma2 |H' W' u|^2, H the impulse response of 1/A_nm: the filter A_pb /
 # A_nm run backwards over each block's u, zeros where W dropped samples
 # (noise.sandwich's form).
-def _held_z(pb, nm, c0, c1, white: bool) -> float:
+#
+# Two noise models, the larger variance. The rest model nm is measured on
+# the opening rest stretch, and noise_for keeps it unless it claims more
+# slow power than the residual shows; a short stretch of slow (1/f) noise
+# shows little of its wander slower than the stretch, so the AR model of it
+# claims too little, and nothing rejects that. The held-out blocks meet
+# that wander: on the independent simulator's clean-p-real seed 2 (357
+# rest samples, AR(1)) a dead band with no dead band behind it came out at
+# z 2.9-4.8 under the rest model in two runs (tests/python/test_holdout.py;
+# it had passed under the 5 % share this z replaced). The raw noise's
+# ARFIMA model (_raw_noise) holds that slow power, and any misfit as well,
+# so it errs the other way; the improvement must be significant under
+# both (an intersection-union test), which keeps the level whichever of
+# the two is right. The price is power where the residual still holds
+# misfit (a dead band beside a lag on a blind record: z 25.7 under the
+# rest model, 4.2 under both). The rest model does measure the spectrum
+# above about one cycle per rest stretch; taking the larger only below
+# that would cut the price (not made: review of heldz33). The likelihood
+# ratio keeps its exact form: on the fit part the fits absorb the slow
+# wander they can, and the raw model there cost a real dead band
+# (lrvar32).
+def _held_z(pb, nm, c0, c1, white: bool, raw=None) -> float:
     """The held-out improvement of the residual c1 over c0 (each held-out
     block less its own mean), whitened by nm (white: the fits were weighted
-    by it) or as measured, over the sd the noise model nm gives it; 0 when
-    it has no variance (the two predictions agree, or a degenerate noise
-    model)."""
+    by it) or as measured, over its sd: the larger of what the noise model
+    nm and the raw noise's model raw (if given) give it; 0 when it has no
+    variance (the two predictions agree, or a degenerate noise model)."""
     gain = var = 0.0
-    for s in pb.held_parts:
+    held = pb.held_parts
+    v = np.zeros(max((s.stop for s in held), default=0))     # W'u at its own times
+    for s in held:
         if not white:
             a0, a1, back = c0[s], c1[s], np.array([1.0])
         else:
             a0, a1, back = nm.whiten(c0[s]), nm.whiten(c1[s]), nm.a
         gain += float(a0 @ a0) - float(a1 @ a1)
-        h = _backwards(back, nm.a, a0 - a1, s.stop - s.start)
+        # the noise enters as 2 u'W P n, P the block's centring: so the
+        # direction is P W'u (centre_held took each block's own level)
+        w = _backwards(back, [1.0], a0 - a1, s.stop - s.start)
+        v[s] = w - np.mean(w)
+        h = lfilter([1.0], nm.a, v[s][::-1])
         var += nm.sigma2 * float(h @ h)
+    if raw is not None and held:
+        var = max(var, _noise_along(v[held[0].start:], raw))
     if not (var > 0 and math.isfinite(var) and math.isfinite(gain)):
         return 0.0
     return gain / (2.0 * math.sqrt(var))

@@ -205,13 +205,19 @@ def _fmt(name, x):
     return f"{x:.4g}"
 
 
+def _z_cell(t) -> str:
+    """The held-out z; in brackets where the guard does not ask it (plain
+    fits: reported only, guards.test says why)."""
+    return f"{t.val_z:.3g}" if t.z_asked else f"({t.val_z:.3g})"
+
+
 def _round_table(w, d, tests):
     w("| effect | held-out NRMSE without -> with | ΔBIC | peak / noise sd | energy / noise | "
-      "energy / discretisation | held-out gain | named? |")
-    w("|---|---|---|---|---|---|---|---|")
+      "energy / discretisation | held-out gain | held-out z (asked; in brackets: reported only) | named? |")
+    w("|---|---|---|---|---|---|---|---|---|")
     for t in sorted(tests, key=lambda t: t.model.nrmse_val):
         w(f"| {t.effect} | {t.ref.nrmse_val:.4f} -> {t.model.nrmse_val:.4f} | {t.dbic:+.1f} | "
-          f"{t.peak:.3g} | {t.snr:.3g} | {t.approx:.3g} | {100 * t.val_gain:.1f} % | "
+          f"{t.peak:.3g} | {t.snr:.3g} | {t.approx:.3g} | {100 * t.val_gain:.1f} % | {_z_cell(t)} | "
           + ("passes" if t.passes else "no: " + "; ".join(t.reasons)) + " |")
     w("")
 

@@ -524,8 +524,9 @@ def best_same_fit(tests, current, cur_pb):
 
 def _passing(tests, current, cur_pb, n_round: int, say) -> list:
     """The round's tests that pass, or none when a model without a new
-    effect (models_without) predicts the held-out part as well as the best
-    of them fitted on the same samples (winner_on)."""
+    effect (models_without) predicts the held-out part significantly
+    better than the best of them fitted on the same samples (winner_on,
+    _rival_z)."""
     ok = [t for t in tests if t.passes]
     if not ok:
         return []
@@ -538,15 +539,67 @@ def _passing(tests, current, cur_pb, n_round: int, say) -> list:
             # and the model so far (checked too) is the fairer rival.
             continue
         w = winner_on(best, burn)
-        if r.nrmse_val <= w.nrmse_val:
-            fewer = " on the same samples" if w is not best.model else ""
-            who = ("the model so far" if r is current else
-                   "the model without a new effect, refitted with another test's freedoms,")
-            say(f"round {n_round}: {who} predicts the held-out part as well as {best.effect}"
-                f"{fewer} (NRMSE {r.nrmse_val:.4f} against {w.nrmse_val:.4f}): no effect "
-                "added")
-            return []
+        if not r.nrmse_val <= w.nrmse_val:
+            continue
+        fewer = " on the same samples" if w is not best.model else ""
+        who = ("the model so far" if r is current else
+               "the model without a new effect, refitted with another test's freedoms,")
+        z = _rival_z(best, r, w)
+        if not z > guards.Z95:
+            # the NRMSEs keep each held-out block's level, the z (as the
+            # guards) does not: the two can disagree in sign
+            say(f"round {n_round}: {who} predicts the held-out part at NRMSE "
+                f"{r.nrmse_val:.4f} against {best.effect}{fewer} {w.nrmse_val:.4f}, not "
+                f"significantly better (each held-out block less its level: {z:.2f} sd, need "
+                f"> {guards.Z95:.3g}): {best.effect} stands")
+            continue
+        say(f"round {n_round}: {who} predicts the held-out part significantly better than "
+            f"{best.effect}{fewer} (NRMSE {r.nrmse_val:.4f} against {w.nrmse_val:.4f}, "
+            f"{z:.2f} sd): no effect added")
+        return []
     return ok
+
+
+# When a model without the new effect beats the round's winner. The winner
+# passed every guard against its own reference: a material and (where the
+# fits were whitened) significant held-out gain, a likelihood ratio and a
+# contribution well above the noise. A model without the effect found with
+# other freedoms or on fewer samples (models_without) is a fair reason to
+# drop it only when the record says that model predicts the held-out part
+# better than the winner, on the same samples, by the held-out comparison's
+# own test (guards._held_z: the improvement over the sd the winner's noise
+# model gives it, whitened as the fits were), at the guards' level (Z95,
+# one-sided 2.5 %). Why not the raw comparison of the two NRMSEs, as
+# before: when the two models predict the held-out part equally well (the
+# effect cannot be seen on the samples the rival was fitted to), which of
+# the two comes out lower is decided by the held-out part's noise, about
+# half the time each way, so an effect with every guard passed was dropped
+# on a coin flip (the independent simulator's two-nozzle-lag seed 5: the
+# lag model fitted without the opening stretch predicts at 0.0131, the lag
+# + nozzle on the same samples at 0.0134, 1.58 sd; branch passing33). A
+# tie is no evidence against the effect, and the evidence for it stands: a
+# rival fitted on fewer samples ties only by leaving a stretch of the fit
+# part unexplained, which the effect's model explains (its likelihood
+# ratio, on every sample); one fitted with another test's freedoms on the
+# same samples differs from the effect's own reference in little but its
+# search's optimum (problem_for frees the same held groups for every
+# test), and a better optimum is weighed by the fit criterion
+# (from_better), not by the held-out part. A rival that predicts significantly better is evidence that
+# the effect's fit, on the samples the rival kept, costs prediction, and
+# the effect is refused (two-backlash-saturation seed 1: saturation 0.0783
+# against the linear model's 0.0682 on the same samples, 4.09 sd; a true
+# saturation whose advantage lies before the input's first reversal,
+# lost as before: docs/analysis.md, Known limits).
+def _rival_z(t, r, w) -> float:
+    """How many sd (guards._held_z) model r, without t's effect, predicts the
+    held-out part better than w (t's model on the samples r was fitted to),
+    under t's noise model, whitened where t's fits were (its noise model is
+    its problem's: the noise measured at rest), each held-out block less its
+    own mean as the guards take it."""
+    pb = t.pb
+    c_r = pb.split.centre_held(r.residual(pb))
+    c_w = pb.split.centre_held(w.residual(pb))
+    return guards._held_z(pb, t.nm, c_w, c_r, t.nm is pb.nm)
 
 
 def winner_on(t, burn: int):
