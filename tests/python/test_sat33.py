@@ -21,15 +21,17 @@ FS = 1000.0
 N = 6000
 
 
-def _levels(n, split, fit_range, held_range, rng, hold=200, rest=300):
+def _levels(n, split, fit_range, held_range, rng, hold=200, rest=300, top=0.0):
     """Steps held `hold` samples (cut at each part's end), from rest:
     levels drawn from fit_range in the fit parts and from held_range in the
-    held-out blocks."""
+    held-out blocks; a share `top` of the fit part's steps at fit_range's
+    upper end."""
     e = np.zeros(n)
     for s, is_fit in split.parts(rest):
         lo, hi = fit_range if is_fit else held_range
         for i in range(s.start, s.stop, hold):
-            e[i:min(i + hold, s.stop)] = rng.uniform(lo, hi)
+            at_top = is_fit and top > 0 and rng.uniform() < top
+            e[i:min(i + hold, s.stop)] = hi if at_top else rng.uniform(lo, hi)
     return e
 
 
@@ -117,7 +119,7 @@ def test_a_limit_the_fit_part_never_reaches_is_put_out(side, mode, inside):
     # the limit the fit part shows is kept, at the fit's place
     assert abs(out.values[bind] - good.values[bind]) < 0.02 * span, (out.values, good.values)
     d = candidates._limit_contribution(pk, ("saturation",), out, bind)
-    assert candidates.limit_seen(*candidates.limit_evidence(pk, out, d))
+    assert candidates.limit_seen(pk, out, d)
     # the held-out part predicted as without the parked clip
     assert out.nrmse_val < 1.1 * good.nrmse_val, (out.nrmse_val, good.nrmse_val)
     # the report says which limit was not seen, and only that one
@@ -141,3 +143,49 @@ def test_limits_the_fit_part_shows_are_kept():
         assert abs(both.values[k] + c - truth[k]) < 0.05 * span, (k, both.values, truth)
     assert candidates._unseen_limits_out(pk, ("saturation",), both) is both
     assert candidates.limit_notes(pk, both) == []
+
+
+def test_a_true_limit_that_clips_the_fit_part_by_under_the_noise_is_kept():
+    """The mirror of the parked limit: the true upper limit lies a little
+    (0.7 noise sd) below the top of the fit part's linear output, which a
+    third of its steps reach, and the held-out part goes far beyond it,
+    where it clips hard. The fit part shows it (significant on many
+    samples, though by under a noise sd at its peak): it stays, and the
+    held-out part is predicted near the noise floor. A materiality cut
+    (a noise sd somewhere) would put it out and leave the tail unclipped
+    (review of sat33, stop 34)."""
+    rng = np.random.default_rng(3)
+    split = holdout.layout(N, "tail")
+    up = generate.linear_output("p", np.r_[np.zeros(100), np.ones(900)], FS)
+    sign = 1.0 if up[-1] > up[0] else -1.0     # the input's side that raises the output
+    e = sign * _levels(N, split, (-0.6, 0.6), (0.9, 1.5), rng, top=0.35)
+    y = generate.linear_output("p", e, FS)
+    fit_y = np.concatenate([y[s] for s in split.fit_slices()])
+    sat = {"sat_lo": 0.6 * float(np.min(fit_y)), "sat_hi": float(np.max(fit_y))}
+    for _ in range(3):      # generate's noise sd is a share of the clipped output's span
+        ds = generate.generate("p", effects={"saturation": sat}, n=N, fs=FS, noise=0.005,
+                               seed=3, e=e, oversample=10, order=5)
+        sd = 0.005 * float(np.ptp(ds.clean))
+        sat = {**sat, "sat_hi": float(np.max(fit_y)) - 0.7 * sd}
+    rec = data.make_record(ds.t, ds.e, ds.pc, "synthetic")
+    pb = fit.Problem.from_record(rec, "p", None, 8, model.auto_oversample(rec.fs), split)
+    base = baseline.fit_baseline(pb, np.random.default_rng(5), lambda m: None)[0]
+    pk = candidates.with_kind(pb, model.SAT_CLIP)
+    c0 = float(np.mean(ds.pc[:10]))
+    truth = {k: ds.effect_params[k] - c0 for k in ("sat_lo", "sat_hi")}
+    st = {**base.groups, **base.values, **candidates.on_sim(pk, base, truth)}
+    both = search.refine(pk, ("saturation",), [("both clip", st)], dead=base.dead)
+    d = candidates._limit_contribution(pk, ("saturation",), both, "sat_hi")
+    # the premise: under a noise sd at its peak on the fit part, on many
+    # samples, fitted at its truth, and the held-out part clipped hard
+    assert float(np.max(np.abs(pk.fit_of(d)))) < sd
+    assert int(np.sum(np.abs(pk.fit_of(d)) > 0.1 * sd)) > 50
+    c = candidates._sat_shift(pk, both)
+    assert abs(both.values["sat_hi"] + c - truth["sat_hi"]) < 0.5 * sd
+    assert float(np.max(pk.held_of(y))) - ds.effect_params["sat_hi"] > 20 * sd
+    assert candidates.limit_seen(pk, both, d)
+    assert candidates._unseen_limits_out(pk, ("saturation",), both) is both
+    assert candidates.limit_notes(pk, both) == []
+    floor = fit.nrmse(pk.held_of(ds.pc - ds.clean), pk.held_of(pk.y))
+    assert both.nrmse_val < 1.5 * floor, (both.nrmse_val, floor)
+

@@ -265,30 +265,36 @@ def _limits_back_in_range(pb, effects, base, b):
 # guards put to an effect, to each limit alone: the model with the limit
 # against the same model with that limit out at no effect (no_effect),
 # K and pc0 re-solved, the rest as fitted (guards._lr, in the criterion
-# the fits minimised). Its drop in that criterion bounds the profile
-# likelihood's from above (a refit of the rest could only lower the cost
-# without the limit), so a limit whose ratio is below the chi-square(1)
-# 95 % point is not significant on the fit part; and a
-# limit whose removal moves no fit sample by MATERIAL_SIGMAS noise sd is
-# no clip the record shows, however many samples it grazes (the guards'
-# materiality). Such a limit is unidentified: the record says only that
-# the output stays inside it wherever the fit part goes, so it is put at
-# no effect (outside anything the record shows) and the rest refitted
-# there, before any held-out test or report. Either limit, any split: the
-# fit part alone decides. A limit that only the held-out part would show
-# is, by the same token, not the fit part's to predict.
-def limit_evidence(pb, b, d) -> tuple[float, float]:
-    """(likelihood ratio, largest change on the fit part in noise sd) of
-    fit b's saturation limit whose contribution is d (_limit_contribution)
-    against that limit at no effect, the rest as fitted (K and pc0
-    re-solved). d None (not simulated): no evidence against the limit."""
+# the fits minimised): a limit whose ratio is below the chi-square(1)
+# 95 % point is not significant on the fit part. (Held, not profiled: a
+# refit of the rest without the limit could only lower the cost without
+# it, so the held ratio is the larger in the whitened criterion; with a
+# model of the residual its normaliser moves a little with the limit.)
+# Significance alone decides, not the guards' materiality (a noise sd
+# somewhere): that is whether an effect is worth naming, not whether a
+# parameter is identified. A true limit that clips the fit part's top
+# plateaus by under a noise sd, on many samples, is fitted at its place
+# and significant, and put out it would leave the far tail unclipped
+# (a record built so: held-out NRMSE 0.16 -> 22; review of sat33, stop
+# 34). A limit that fails the test is unidentified: the record says only
+# that the output stays inside it wherever the fit part goes, so it is
+# put at no effect (outside anything the fit part shows) and the rest
+# refitted there, before any held-out test or report. Either limit, any
+# split: the fit part alone decides. A limit that only the held-out part
+# would show is, by the same token, not the fit part's to predict. What
+# the test cannot do: tell a limit that absorbs the model's misfit (as
+# significant on the fit part as a true one) from a true limit; the
+# held-out test is the one that can.
+def limit_evidence(pb, b, d) -> float:
+    """The likelihood ratio of fit b's saturation limit whose contribution
+    is d (_limit_contribution) against that limit at no effect, the rest
+    as fitted (K and pc0 re-solved). d None (not simulated): no evidence
+    against the limit."""
     if d is None:
-        return math.inf, math.inf
+        return math.inf
     r1 = b.residual(pb)
-    nm = guards.noise_for(pb, r1)
-    lr = guards._lr(pb, nm, r1, r1 + d, d - float(np.mean(pb.fit_of(d))))
-    sd = math.sqrt(max(nm.var, 1e-300))
-    return lr, float(np.max(np.abs(pb.fit_of(d)))) / sd
+    return guards._lr(pb, guards.noise_for(pb, r1), r1, r1 + d,
+                      d - float(np.mean(pb.fit_of(d))))
 
 
 def _limit_contribution(pb, effects, b, name: str):
@@ -303,10 +309,10 @@ def _limit_contribution(pb, effects, b, name: str):
     return d if np.all(np.isfinite(d)) else None
 
 
-def limit_seen(lr: float, peak: float) -> bool:
-    """Whether a limit with this evidence (limit_evidence) is one the fit
-    part shows (above)."""
-    return lr > guards.Z95 ** 2 and peak >= guards.MATERIAL_SIGMAS
+def limit_seen(pb, b, d) -> bool:
+    """Whether fit b's limit whose contribution is d is one the fit part
+    shows (above): its likelihood ratio over the chi-square(1) 95 % point."""
+    return limit_evidence(pb, b, d) > guards.Z95 ** 2
 
 
 def _unseen_limits_out(pb, effects, b):
@@ -322,7 +328,7 @@ def _unseen_limits_out(pb, effects, b):
         if (st[name] <= out[name]) if name == "sat_lo" else (st[name] >= out[name]):
             continue                        # at no effect already
         d = _limit_contribution(pb, effects, b, name)
-        if limit_seen(*limit_evidence(pb, b, d)):
+        if limit_seen(pb, b, d):
             continue
         st[name] = out[name]
         moved.append(name)
@@ -346,14 +352,14 @@ def limit_notes(pb, fr) -> list[str]:
         return []
     out = []
     for name, side in (("sat_lo", "lower"), ("sat_hi", "upper")):
-        if limit_seen(*limit_evidence(pb, fr, _limit_contribution(pb, fr.effects, fr, name))):
+        if limit_seen(pb, fr, _limit_contribution(pb, fr.effects, fr, name)):
             continue
         out.append(f"saturation: no {side} limit is seen. The fit part's output stays "
                    f"within {pb.y_lo:.4g} to {pb.y_hi:.4g} of the operating point and no "
-                   f"{side} limit acts on the model's output there by more than the noise "
-                   f"(or significantly), so the model has none: the {name} reported is not "
-                   "the record's, and where, or whether, the output is limited on that "
-                   "side the record does not say.")
+                   f"{side} limit acts on the model's output there significantly, so the "
+                   f"model's is put beyond that range, where it clips nothing the fit part "
+                   f"shows: the {name} reported is not the record's, and where, or whether, "
+                   "the output is limited on that side the record does not say.")
     return out
 
 
