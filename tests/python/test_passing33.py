@@ -61,7 +61,8 @@ def _round(pb, truth, noise_, err_w, err_r, nm, monkeypatch):
     w_all = _model(pb, ("lag",), truth + err_w)
     w = _model(late, ("lag",), truth + err_w)
     r = _model(late, (), truth + err_r)
-    found = SimpleNamespace(effect="lag", passes=True, model=w_all, ref=current, pb=pb, nm=nm)
+    found = SimpleNamespace(effect="lag", passes=True, model=w_all, ref=current, pb=pb, nm=nm,
+                            z_asked=nm is pb.nm)     # as guards.test sets it
     play = SimpleNamespace(effect="backlash", passes=False, ref=r, pb=late,
                            model=_Model(effects=("backlash",), nrmse_val=1.0))
     monkeypatch.setattr(selection, "winner_on",
@@ -124,17 +125,17 @@ def test_the_winner_stands_when_the_noise_makes_the_rivals_advantage():
     assert r.nrmse_val < w.nrmse_val
     small = _nm()
     large = noise.NoiseModel(a=small.a, sigma2=100 * small.sigma2, var=100 * small.var, n=small.n)
-    t = SimpleNamespace(pb=pb, nm=small)
+    t = SimpleNamespace(pb=pb, nm=small, z_asked=False)
     assert selection._rival_z(t, r, w) > guards.Z95
     t.nm = large
     assert 0 < selection._rival_z(t, r, w) < guards.Z95
 
 
 def test_the_rivals_z_is_whitened_where_the_fits_were():
-    """With the noise measured at rest kept (the winner's noise model is its
-    problem's), the fits minimised the whitened error and the comparison
-    is made in that criterion (guards._held_z, white); with a model of the
-    residual, as measured."""
+    """Where the winner's test asked its held-out z (z_asked: the noise
+    measured at rest kept, the fits minimised the whitened error) the
+    comparison is made in that criterion (guards._held_z, white); where it
+    did not (a model of the residual), as measured."""
     pb = _problem()
     truth = pb.y.copy()
     pb.y = truth + _ar1(pb.y.size, np.random.default_rng(4))
@@ -143,8 +144,8 @@ def test_the_rivals_z_is_whitened_where_the_fits_were():
     c_r, c_w = (pb.split.centre_held(m.residual(pb)) for m in (r, w))
     nm = _nm()
     pb.nm = nm
-    white = selection._rival_z(SimpleNamespace(pb=pb, nm=nm), r, w)
-    plain = selection._rival_z(SimpleNamespace(pb=pb, nm=_nm()), r, w)
+    white = selection._rival_z(SimpleNamespace(pb=pb, nm=nm, z_asked=True), r, w)
+    plain = selection._rival_z(SimpleNamespace(pb=pb, nm=nm, z_asked=False), r, w)
     assert white == guards._held_z(pb, nm, c_w, c_r, True)
     assert plain == guards._held_z(pb, nm, c_w, c_r, False)
     assert white != plain
@@ -167,3 +168,14 @@ def test_two_nozzle_lag_5_names_both():
     assert set(d.causes) == {"lag", "nozzle"}, " ".join(d.why)
     bad = [b for b in check(rec, d) if not b.startswith("nozzle_xh ")]
     assert not bad, "; ".join(bad)
+
+
+def test_a_verdict_the_refits_left_unchanged_is_said_once():
+    """_passing runs twice a round (before and after the rivals' refits);
+    a line it has said is not said again, a new one is."""
+    said = []
+    once = selection._once(said.append)
+    for m in ("lag stands", "lag stands", "no effect added", "lag stands"):
+        once(m)
+    assert said == ["lag stands", "no effect added"]
+

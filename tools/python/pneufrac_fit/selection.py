@@ -414,13 +414,14 @@ def forward(pb, base, seed, jobs, say, notes=None, sets=None, _tried=None):
             current, cur_pb = _ambiguous(rounds[-2], current, lost, before, say, notes,
                                          sets)
             break
-        if not _passing(tests, current, cur_pb, len(rounds), say):
+        say_new = _once(say)    # _passing runs twice a round: its verdicts, said once
+        if not _passing(tests, current, cur_pb, len(rounds), say_new):
             break
         tests = refit_rivals(cur_pb, current, tests, seed + 7 * len(rounds) + 5, say, jobs)
         tests = refine_final(cur_pb, current, tests, refined, seed + 7 * len(rounds) + 11,
                              say)
         rounds[-1] = tested_on[id(current)] = tests
-        ok = _passing(tests, current, cur_pb, len(rounds), say)   # refits bring new references
+        ok = _passing(tests, current, cur_pb, len(rounds), say_new)   # refits bring new references
         if not ok:
             break
         win = _winner(ok)
@@ -522,6 +523,18 @@ def best_same_fit(tests, current, cur_pb):
     return best
 
 
+def _once(say):
+    """say, silent on a line it has said already: a rival's verdict that
+    the round's refits left unchanged is news only the first time."""
+    said = set()
+
+    def say_once(msg):
+        if msg not in said:
+            said.add(msg)
+            say(msg)
+    return say_once
+
+
 def _passing(tests, current, cur_pb, n_round: int, say) -> list:
     """The round's tests that pass, or none when a model without a new
     effect (models_without) predicts the held-out part significantly
@@ -593,13 +606,13 @@ def _passing(tests, current, cur_pb, n_round: int, say) -> list:
 def _rival_z(t, r, w) -> float:
     """How many sd (guards._held_z) model r, without t's effect, predicts the
     held-out part better than w (t's model on the samples r was fitted to),
-    under t's noise model, whitened where t's fits were (its noise model is
-    its problem's: the noise measured at rest), each held-out block less its
-    own mean as the guards take it."""
+    under t's noise model, whitened where t's fits were (where its test
+    asked its held-out z: t.z_asked), each held-out block less its own mean
+    as the guards take it. t.pb is the problem its test was made on."""
     pb = t.pb
     c_r = pb.split.centre_held(r.residual(pb))
     c_w = pb.split.centre_held(w.residual(pb))
-    return guards._held_z(pb, t.nm, c_w, c_r, t.nm is pb.nm)
+    return guards._held_z(pb, t.nm, c_w, c_r, t.z_asked)
 
 
 def winner_on(t, burn: int):
