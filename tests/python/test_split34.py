@@ -113,8 +113,17 @@ def test_noise_alone_is_not_content():
     assert abs(_band(noisy, "tail") - _band(quiet, "tail")) < 0.1
 
 
-def test_band_share_of_a_signal_without_content_is_zero():
-    split = holdout.layout(1000, "tail")
-    assert holdout.band_outside_share(np.zeros(1000), split, 1.0, 0.025) == 0.0
-    x = np.random.default_rng(0).normal(size=1000)       # white noise at its own level
-    assert holdout.band_outside_share(x, split, 1.0, 0.025) <= 1.0
+def test_a_side_with_only_noise_has_no_band():
+    """White noise is not content: a signal of noise alone, or a tail where
+    the input rests under its noise after a slow sine in the fit part, reads 0
+    (holdout.CONTENT_FLOOR), where the noise bins left after the noise is
+    taken off would put the held-out content at random frequencies."""
+    split = holdout.layout(4000, "tail")
+    rng = np.random.default_rng(0)
+    assert holdout.band_outside_share(np.zeros(4000), split, 1.0, 0.025) == 0.0
+    x = rng.normal(size=4000)
+    assert holdout.band_outside_share(x, split, 1.0, 0.025) == 0.0
+    x[:2800] += 20.0 * np.sin(2 * np.pi * np.arange(2800) / 800)   # the fit part only
+    assert holdout.band_outside_share(x, split, 1.0, 0.025) == 0.0
+    x[2800:] += 20.0 * np.sin(2 * np.pi * np.arange(1200) / 40)    # the tail 20x faster
+    assert holdout.band_outside_share(x, split, 1.0, 0.025) > data.MAX_BAND_OUTSIDE

@@ -209,6 +209,11 @@ def layout(n: int, mode: str = "tail") -> Split:
 # excess).
 NOISE_BINS = 3.0
 TAPER_SHARE = 0.2
+# A side whose content is under CONTENT_FLOOR times what white noise leaves
+# (band_outside_share) is read as resting: the leftover noise would then be
+# a tenth or more of its content, spread over every frequency, and decide
+# its band (a held-out block where the input rests: blind lag-dd-5s-steps-4).
+CONTENT_FLOOR = 10.0
 
 
 def _taper(n: int) -> np.ndarray:
@@ -258,15 +263,20 @@ def band_outside_share(x: np.ndarray, split: Split, noise_var: float, q: float) 
     end: held-out input at frequencies the fit parts' input hardly had,
     where a prediction is an extrapolation in frequency (data.uncovered
     chooses the split by it). 0 when either side has no content above its
-    noise."""
+    noise (CONTENT_FLOOR)."""
     fit = [np.asarray(x[s], float) for s in split.fit_slices()]
     held = [np.asarray(x[s], float) for s in split.held_slices()]
     seg = min((a.size for a in fit + held), default=0)
     if seg < 8:
         return 0.0
     cf, ch = np.cumsum(_content(fit, noise_var, seg)), np.cumsum(_content(held, noise_var, seg))
-    if not (cf[-1] > 0.0 and ch[-1] > 0.0):
-        return 0.0
+    # What white noise alone leaves in a side's content (exp(-NOISE_BINS)
+    # of its mean in every bin); a side with under CONTENT_FLOOR times that
+    # is noise, spread over frequency as noise is, and has no band to read.
+    for c, parts in ((cf, fit), (ch, held)):
+        left = np.exp(-NOISE_BINS) * noise_var * (seg // 2) * sum(a.size for a in parts)
+        if not c[-1] > CONTENT_FLOOR * left:
+            return 0.0
     cf, ch = cf / cf[-1], ch / ch[-1]
     lo = int(np.searchsorted(cf, q))             # the fit parts' band: bins lo..hi
     hi = min(int(np.searchsorted(cf, 1.0 - q)), cf.size - 1)
