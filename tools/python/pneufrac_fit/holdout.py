@@ -62,7 +62,9 @@ LAYOUTS = ("blocks", "tail")
 # data.MAX_OUTSIDE (5 %) of the tail's held-out samples go to levels its fit
 # part never reached, the blocks' do not, and both the blocks' parts move,
 # or when the blocks' go there too but by a share smaller by more than
-# MAX_OUTSIDE (data.split_for, data.uncovered, data._extrapolates_less).
+# MAX_OUTSIDE (data.split_for, data.uncovered, data._extrapolates_less);
+# "uncovered" also counts a tail most of whose input content lies at
+# frequencies its fit part's input hardly had (band_outside_share).
 MODES = LAYOUTS + ("cover",)
 # The default is "cover": the tail, the split every earlier figure was
 # measured with, unless its held-out samples go to levels its fit part
