@@ -539,8 +539,9 @@ def split_for(rec: Record, mode: str = holdout.DEFAULT):
        and an output that responds in both its parts; where it does not,
        the other layout is used if its parts do (_fallback), DataError
        when neither does;
-    2. its held-out samples should stay at levels its fit parts visited
-       (uncovered); when they do, it is used without a note;
+    2. its held-out samples should stay at levels its fit parts visited,
+       and its held-out input's content mostly within their input's band
+       of frequencies (uncovered); when they do, it is used without a note;
     3. when they do not, mode "cover" takes the other layout if that one
        is covered and its parts move (_other_refused names what stops it);
     4. when the other is uncovered too, mode "cover" takes it if its
