@@ -62,7 +62,9 @@ LAYOUTS = ("blocks", "tail")
 # data.MAX_OUTSIDE (5 %) of the tail's held-out samples go to levels its fit
 # part never reached, the blocks' do not, and both the blocks' parts move,
 # or when the blocks' go there too but by a share smaller by more than
-# MAX_OUTSIDE (data.split_for, data.uncovered, data._extrapolates_less).
+# MAX_OUTSIDE (data.split_for, data.uncovered, data._extrapolates_less);
+# "uncovered" also counts a tail most of whose input content lies at
+# frequencies its fit part's input hardly had (band_outside_share).
 MODES = LAYOUTS + ("cover",)
 # The default is "cover": the tail, the split every earlier figure was
 # measured with, unless its held-out samples go to levels its fit part
@@ -191,3 +193,94 @@ def layout(n: int, mode: str = "tail") -> Split:
         a, b = j * n // k, (j + 1) * n // k
         held.append((a + int(FIT_FRACTION * (b - a)), b))
     return Split(n, tuple(held))
+
+
+
+# Content in frequency (data.uncovered's second test). A part's content is
+# its periodogram less its white noise: the noise is at every frequency in
+# every part, so it says nothing about what the input excites. A bin of
+# white noise alone exceeds NOISE_BINS times its mean with probability
+# exp(-NOISE_BINS) (its power is exponential), and what it leaves above
+# that is exp(-NOISE_BINS) of its mean: 5 %, so a quiet part's noise
+# cannot pass for content. The taper is flat but for cosine edges of
+# TAPER_SHARE / 2 of the part at each end: enough to stop the jump at a
+# part's edges leaking over every frequency, short enough that the
+# content near a part's edges (a sweep's highest frequencies at the end of
+# its fit part) still counts (a Hann taper over the whole part counts a
+# third of a sweep's held-out blocks as outside their fit parts' band in
+# excess).
+NOISE_BINS = 3.0
+TAPER_SHARE = 0.2
+# A side whose content is under CONTENT_FLOOR times what white noise leaves
+# (band_outside_share) is read as resting: the leftover noise would then be
+# a tenth or more of its content, spread over every frequency, and decide
+# its band (a held-out block where the input rests: blind lag-dd-5s-steps-4).
+CONTENT_FLOOR = 10.0
+
+
+def _taper(n: int) -> np.ndarray:
+    w = np.ones(n)
+    k = max(int(0.5 * TAPER_SHARE * n), 1)
+    if 2 * k <= n:
+        edge = 0.5 * (1.0 - np.cos(np.pi * (np.arange(k) + 0.5) / k))
+        w[:k], w[n - k:] = edge, edge[::-1]
+    return w
+
+
+def _power(x: np.ndarray, noise_var: float) -> np.ndarray:
+    """The content of one stretch of a signal at rfftfreq(x.size): its
+    tapered periodogram, scaled so that white noise of variance v has v in
+    every bin, less NOISE_BINS times noise_var per bin (at least 0). The
+    taper's weighted mean is taken out first: a stretch's level is the
+    level test's, not this one's."""
+    x = np.asarray(x, float)
+    w = _taper(x.size)
+    y = w * (x - np.sum(w * x) / np.sum(w))
+    p = np.abs(np.fft.rfft(y)) ** 2 / np.sum(w * w)
+    return np.maximum(p - NOISE_BINS * noise_var, 0.0)
+
+
+def _content(parts: list, noise_var: float, seg: int) -> np.ndarray:
+    """The parts' summed content at rfftfreq(seg): each part cut into
+    stretches of seg samples (half overlapping, the last one ending at the
+    part's end), their _power averaged and weighted by the part's length.
+    One length for every part, so that every part's content lies on the
+    same frequencies: a short part's periodogram puts what varies slower
+    than its own length in its lowest bins, above a longer part's lowest
+    bins, and read alone that is content at frequencies the longer part
+    never had."""
+    out = np.zeros(seg // 2 + 1)
+    for x in parts:
+        if x.size < seg:
+            continue
+        starts = sorted(set(range(0, x.size - seg + 1, max(seg // 2, 1))) | {x.size - seg})
+        out += x.size * np.mean([_power(x[a:a + seg], noise_var) for a in starts], axis=0)
+    out[0] = 0.0
+    return out
+
+
+def band_outside_share(x: np.ndarray, split: Split, noise_var: float, q: float) -> float:
+    """The share of the held-out parts' content of x (_power) at frequencies
+    outside the band holding all but q of the fit parts' content at each
+    end: held-out input at frequencies the fit parts' input hardly had,
+    where a prediction is an extrapolation in frequency (data.uncovered
+    chooses the split by it). 0 when either side has no content above its
+    noise (CONTENT_FLOOR)."""
+    fit = [np.asarray(x[s], float) for s in split.fit_slices()]
+    held = [np.asarray(x[s], float) for s in split.held_slices()]
+    seg = min((a.size for a in fit + held), default=0)
+    if seg < 8:
+        return 0.0
+    cf, ch = np.cumsum(_content(fit, noise_var, seg)), np.cumsum(_content(held, noise_var, seg))
+    # What white noise alone leaves in a side's content (exp(-NOISE_BINS)
+    # of its mean in every bin); a side with under CONTENT_FLOOR times that
+    # is noise, spread over frequency as noise is, and has no band to read.
+    for c, parts in ((cf, fit), (ch, held)):
+        left = np.exp(-NOISE_BINS) * noise_var * (seg // 2) * sum(a.size for a in parts)
+        if not c[-1] > CONTENT_FLOOR * left:
+            return 0.0
+    cf, ch = cf / cf[-1], ch / ch[-1]
+    lo = int(np.searchsorted(cf, q))             # the fit parts' band: bins lo..hi
+    hi = min(int(np.searchsorted(cf, 1.0 - q)), cf.size - 1)
+    inside = ch[hi] - (ch[lo - 1] if lo > 0 else 0.0)
+    return float(min(max(1.0 - inside, 0.0), 1.0))
