@@ -127,3 +127,27 @@ def test_a_side_with_only_noise_has_no_band():
     assert holdout.band_outside_share(x, split, 1.0, 0.025) == 0.0
     x[2800:] += 20.0 * np.sin(2 * np.pi * np.arange(1200) / 40)    # the tail 20x faster
     assert holdout.band_outside_share(x, split, 1.0, 0.025) > data.MAX_BAND_OUTSIDE
+
+
+def test_no_switch_from_a_level_extrapolation_to_a_frequency_one():
+    """The tail goes outside the fit part's levels; the blocks stay within
+    their fit parts' levels but each held-out block holds a fast tone the
+    fit parts never had. Step 4 weighs levels only, so it must not take
+    the blocks (one extrapolation for another, unweighed): the tail stays,
+    and its note says it extrapolates."""
+    rng = np.random.default_rng(4)
+    e = _steps(rng, [-1.0, -0.5, 0.0, 0.5, 1.0], 40)
+    blocks = holdout.layout(N, "blocks")
+    for start, stop in blocks.held:     # each held-out block: a fast tone alone
+        e[start:stop] = 0.5 * np.sin(2 * np.pi * 20.0 * T[start:stop])
+    e[int(0.7 * N):int(0.9 * N)] = 1.8      # the tail's levels: outside (no block there)
+    rec = _record(e, "levels-then-tone")
+    tail = holdout.layout(N, "tail")
+    # the premise: the tail fails on levels, the blocks only on frequency
+    assert data.outside(rec, tail)[0] > data.MAX_OUTSIDE
+    assert data.outside(rec, tail)[0] - data.outside(rec, blocks)[0] > data.MAX_OUTSIDE
+    assert _band(rec, "blocks") > data.MAX_BAND_OUTSIDE
+    split, why = data.split_for(rec)
+    assert split == tail
+    assert "extrapolation" in why
+

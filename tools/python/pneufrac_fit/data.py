@@ -638,15 +638,24 @@ def _other_refused(rec: Record, split, other) -> str | None:
 # argument is the same as for a covered other split: the held-out error
 # judges the fit parts' model, and the less of it an effect can act on
 # unseen, the less an extrapolation decides it.
+def _band_outside(rec: Record, split) -> float:
+    """The share of the split's held-out input content outside its fit
+    parts' band (holdout.band_outside_share; Coverage in frequency)."""
+    return holdout.band_outside_share(rec.e, split, rec.sig_e ** 2, MAX_OUTSIDE / 2)
+
+
 def _extrapolates_less(rec: Record, other, split) -> bool:
     """split_for's step 4: the other layout, uncovered like the split,
     lies outside its fit parts' levels by a share smaller than the split's
-    by more than MAX_OUTSIDE, and its parts move."""
+    by more than MAX_OUTSIDE, is covered in frequency, and its parts move.
+    Only levels are weighed here: a layout whose held-out input lies at
+    frequencies its fit parts lack would trade one extrapolation for
+    another, with nothing to say which is the smaller (review of split34)."""
     if other == split:
         return False
     if outside(rec, split)[0] - outside(rec, other)[0] <= MAX_OUTSIDE:
         return False
-    return _rests(rec, other) is None
+    return _band_outside(rec, other) <= MAX_BAND_OUTSIDE and _rests(rec, other) is None
 
 
 def _reason(message: str) -> str:
@@ -815,7 +824,7 @@ def uncovered(rec: Record, split) -> str | None:
     if share > MAX_OUTSIDE:
         return (f"{100 * share:.0f} % of its held-out samples have the {name} outside "
                 f"the range {parts} visited")
-    band = holdout.band_outside_share(rec.e, split, rec.sig_e ** 2, MAX_OUTSIDE / 2)
+    band = _band_outside(rec, split)
     if band > MAX_BAND_OUTSIDE:
         return (f"{100 * band:.0f} % of its held-out input's variation is at frequencies "
                 f"outside the band holding {100 * (1 - MAX_OUTSIDE):.0f} % of the input's "
