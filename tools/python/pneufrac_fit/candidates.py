@@ -285,18 +285,6 @@ def _limits_back_in_range(pb, effects, base, b):
 # the test cannot do: tell a limit that absorbs the model's misfit (as
 # significant on the fit part as a true one) from a true limit; the
 # held-out test is the one that can.
-def limit_evidence(pb, b, d) -> float:
-    """The likelihood ratio of fit b's saturation limit whose contribution
-    is d (_limit_contribution) against that limit at no effect, the rest
-    as fitted (K and pc0 re-solved). d None (not simulated): no evidence
-    against the limit."""
-    if d is None:
-        return math.inf
-    r1 = b.residual(pb)
-    return guards._lr(pb, guards.noise_for(pb, r1), r1, r1 + d,
-                      d - float(np.mean(pb.fit_of(d))))
-
-
 def _limit_contribution(pb, effects, b, name: str):
     """b's output less its output with limit `name` at no effect (None
     when that model does not simulate)."""
@@ -310,9 +298,16 @@ def _limit_contribution(pb, effects, b, name: str):
 
 
 def limit_seen(pb, b, d) -> bool:
-    """Whether fit b's limit whose contribution is d is one the fit part
-    shows (above): its likelihood ratio over the chi-square(1) 95 % point."""
-    return limit_evidence(pb, b, d) > guards.Z95 ** 2
+    """Whether fit b's limit whose contribution is d (_limit_contribution)
+    is one the fit part shows (above): its likelihood ratio against that
+    limit at no effect, the rest as fitted (K and pc0 re-solved), over the
+    chi-square(1) 95 % point. d None (not simulated): no evidence against
+    the limit."""
+    if d is None:
+        return True
+    r1 = b.residual(pb)
+    lr = guards._lr(pb, guards.noise_for(pb, r1), r1, r1 + d, d - float(np.mean(pb.fit_of(d))))
+    return lr > guards.Z95 ** 2
 
 
 def _unseen_limits_out(pb, effects, b):
