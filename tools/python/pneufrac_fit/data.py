@@ -638,12 +638,6 @@ def _other_refused(rec: Record, split, other) -> str | None:
 # argument is the same as for a covered other split: the held-out error
 # judges the fit parts' model, and the less of it an effect can act on
 # unseen, the less an extrapolation decides it.
-def _band_outside(rec: Record, split) -> float:
-    """The share of the split's held-out input content outside its fit
-    parts' band (holdout.band_outside_share; Coverage in frequency)."""
-    return holdout.band_outside_share(rec.e, split, rec.sig_e ** 2, MAX_OUTSIDE / 2)
-
-
 def _extrapolates_less(rec: Record, other, split) -> bool:
     """split_for's step 4: the other layout, uncovered like the split,
     lies outside its fit parts' levels by a share smaller than the split's
@@ -813,6 +807,12 @@ def outside(rec: Record, split) -> tuple:
 # short extrapolation that the tail's is not. The test reads the record
 # alone, before any fit.
 MAX_BAND_OUTSIDE = 0.5
+
+
+def _band_outside(rec: Record, split) -> float:
+    """The share of the split's held-out input content outside its fit
+    parts' band (holdout.band_outside_share; Coverage in frequency)."""
+    return holdout.band_outside_share(rec.e, split, rec.sig_e ** 2, MAX_OUTSIDE / 2)
 
 
 def uncovered(rec: Record, split) -> str | None:

@@ -195,7 +195,6 @@ def layout(n: int, mode: str = "tail") -> Split:
     return Split(n, tuple(held))
 
 
-
 # Content in frequency (data.uncovered's second test). A part's content is
 # its periodogram less its white noise: the noise is at every frequency in
 # every part, so it says nothing about what the input excites. A bin of
