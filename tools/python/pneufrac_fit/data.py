@@ -9,6 +9,7 @@ import csv
 import math
 import re
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -559,20 +560,21 @@ def split_for(rec: Record, mode: str = holdout.DEFAULT):
     rests = _rests(rec, split)
     if rests is not None:
         return _fallback(rec, split, other, rests)
-    why = uncovered(rec, split)
+    mine, theirs = _Coverage(rec, split), _Coverage(rec, other)
+    why = mine.why
     if why is None:
         return split, None
     name, other_where = _split_words(split)[0], _split_words(other)[1]
-    stop = _other_refused(rec, split, other)
+    stop = _other_refused(rec, mine, theirs)
     if stop is None and switch:
         return other, (f"{name} refused ({why}: a prediction there would be an "
                        "extrapolation, and an effect acting only there cannot be fitted): "
                        f"validated on {other_where} instead, whose held-out samples stay "
                        "within the levels and the input's frequencies of its fit parts")
-    if switch and stop is not None and _extrapolates_less(rec, other, split):
+    if switch and stop is not None and _extrapolates_less(rec, theirs, mine):
         return other, (f"{name} refused ({why}): validated on {other_where} instead, "
                        f"whose held-out samples go less outside its fit parts' levels "
-                       f"({uncovered(rec, other)}), so {_EXTRAPOLATES}")
+                       f"({theirs.why}), so {_EXTRAPOLATES}")
     if stop is None:
         stop = (f"validating on {other_where} would keep the held-out samples within the "
                 "fit parts' levels and input frequencies (--holdout cover, the default, "
@@ -602,16 +604,17 @@ def _fallback(rec: Record, split, other, rests: str):
     return other, note if out is None else f"{note}; {out}, so {_EXTRAPOLATES}"
 
 
-def _other_refused(rec: Record, split, other) -> str | None:
-    """split_for's step 3: why the other layout cannot replace an uncovered
-    split (a phrase for the note), or None when it can: the first that
-    holds of: the record is too short for another layout; the other's
-    held-out samples go beyond its fit parts' levels too; a part of the
-    other rests."""
-    if other == split:
+def _other_refused(rec: Record, mine: "_Coverage", theirs: "_Coverage") -> str | None:
+    """split_for's step 3: why the other layout (theirs) cannot replace an
+    uncovered split (mine), a phrase for the note, or None when it can: the
+    first that holds of: the record is too short for another layout; the
+    other's held-out samples go beyond its fit parts' levels or input
+    frequencies too; a part of the other rests."""
+    other = theirs.split
+    if other == mine.split:
         return "the record is too short for another split"
     other_name = _split_words(other)[0]
-    out = uncovered(rec, other)
+    out = theirs.why
     if out is not None:
         return (f"the other split, {other_name}, does not keep them within its fit parts' "
                 f"levels and input frequencies either ({out})")
@@ -638,18 +641,19 @@ def _other_refused(rec: Record, split, other) -> str | None:
 # argument is the same as for a covered other split: the held-out error
 # judges the fit parts' model, and the less of it an effect can act on
 # unseen, the less an extrapolation decides it.
-def _extrapolates_less(rec: Record, other, split) -> bool:
-    """split_for's step 4: the other layout, uncovered like the split,
-    lies outside its fit parts' levels by a share smaller than the split's
-    by more than MAX_OUTSIDE, is covered in frequency, and its parts move.
-    Only levels are weighed here: a layout whose held-out input lies at
-    frequencies its fit parts lack would trade one extrapolation for
-    another, with nothing to say which is the smaller (review of split34)."""
-    if other == split:
+def _extrapolates_less(rec: Record, theirs: "_Coverage", mine: "_Coverage") -> bool:
+    """split_for's step 4: the other layout (theirs), uncovered like the
+    split (mine), lies outside its fit parts' levels by a share smaller
+    than the split's by more than MAX_OUTSIDE, is covered in frequency, and
+    its parts move. Only levels are weighed here: a layout whose held-out
+    input lies at frequencies its fit parts lack would trade one
+    extrapolation for another, with nothing to say which is the smaller
+    (review of split34)."""
+    if theirs.split == mine.split:
         return False
-    if outside(rec, split)[0] - outside(rec, other)[0] <= MAX_OUTSIDE:
+    if mine.levels[0] - theirs.levels[0] <= MAX_OUTSIDE:
         return False
-    return _band_outside(rec, other) <= MAX_BAND_OUTSIDE and _rests(rec, other) is None
+    return theirs.band <= MAX_BAND_OUTSIDE and _rests(rec, theirs.split) is None
 
 
 def _reason(message: str) -> str:
@@ -819,17 +823,40 @@ def uncovered(rec: Record, split) -> str | None:
     """Why the split's held-out part is not covered by its fit parts'
     levels (Coverage, above) or by their input's frequencies (Coverage in
     frequency), or None when it is."""
-    parts = "its fit parts" if len(split.fit_slices()) > 1 else "its fit part"
-    share, name = outside(rec, split)
-    if share > MAX_OUTSIDE:
-        return (f"{100 * share:.0f} % of its held-out samples have the {name} outside "
-                f"the range {parts} visited")
-    band = _band_outside(rec, split)
-    if band > MAX_BAND_OUTSIDE:
-        return (f"{100 * band:.0f} % of its held-out input's variation is at frequencies "
-                f"outside the band holding {100 * (1 - MAX_OUTSIDE):.0f} % of the input's "
-                f"variation in {parts}")
-    return None
+    return _Coverage(rec, split).why
+
+
+class _Coverage:
+    """One split's coverage of the record (uncovered): its level share
+    (outside) and its frequency share (_band_outside), each computed when
+    first read and then kept, since split_for reads the other layout's in
+    its steps 3 and 4 and in its note. The frequency share is read only
+    when the levels are covered, or by step 4."""
+
+    def __init__(self, rec: Record, split):
+        self.rec, self.split = rec, split
+
+    @cached_property
+    def levels(self) -> tuple:
+        return outside(self.rec, self.split)
+
+    @cached_property
+    def band(self) -> float:
+        return _band_outside(self.rec, self.split)
+
+    @cached_property
+    def why(self) -> str | None:
+        parts = "its fit parts" if len(self.split.fit_slices()) > 1 else "its fit part"
+        share, name = self.levels
+        if share > MAX_OUTSIDE:
+            return (f"{100 * share:.0f} % of its held-out samples have the {name} "
+                    f"outside the range {parts} visited")
+        if self.band > MAX_BAND_OUTSIDE:
+            return (f"{100 * self.band:.0f} % of its held-out input's "
+                    f"variation is at frequencies outside the band holding "
+                    f"{100 * (1 - MAX_OUTSIDE):.0f} % of the input's variation in {parts}")
+        return None
+
 
 
 # What to do when no split has moves in both parts: every split was tried
