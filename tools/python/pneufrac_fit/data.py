@@ -849,14 +849,25 @@ class _Coverage:
         parts = "its fit parts" if len(self.split.fit_slices()) > 1 else "its fit part"
         share, name = self.levels
         if share > MAX_OUTSIDE:
-            return (f"{100 * share:.0f} % of its held-out samples have the {name} "
-                    f"outside the range {parts} visited")
+            return (f"{_percent(share, MAX_OUTSIDE)} % of its held-out samples have the "
+                    f"{name} outside the range {parts} visited")
         if self.band > MAX_BAND_OUTSIDE:
-            return (f"{100 * self.band:.0f} % of its held-out input's "
+            return (f"{_percent(self.band, MAX_BAND_OUTSIDE)} % of its held-out input's "
                     f"variation is at frequencies outside the band holding "
                     f"{100 * (1 - MAX_OUTSIDE):.0f} % of the input's variation in {parts}")
         return None
 
+
+def _percent(share: float, limit: float) -> str:
+    """A share over limit as a percentage for a note: whole percents, one
+    decimal more at a time (up to four) while rounding would print it at or
+    under limit's percentage (0.501 over a half reads "50.1", where "50"
+    would say it is not over)."""
+    for digits in range(5):
+        text = f"{100 * share:.{digits}f}"
+        if float(text) > 100 * limit:
+            break
+    return text
 
 
 # What to do when no split has moves in both parts: every split was tried
