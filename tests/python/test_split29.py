@@ -170,8 +170,10 @@ def test_a_level_one_adc_step_beyond_the_fit_range_is_covered():
     rec = _static(np.round(x / q) * q, "adc-step-beyond", sd_e=0.0)
     assert rec.q_e == q
     assert holdout.outside_share(rec.e, tail, 5 * rec.sig_e) > data.MAX_OUTSIDE
-    # the levels' test (its tail's square wave, absent from the ramp of its
-    # fit part, is new in frequency: split34's test, test_split34.py)
+    # the levels' test alone: the frequency test is not this test's subject.
+    # It reads this tail's square wave 21 % outside its fit part's band
+    # (under the half: covered), but only because the wave's fundamental,
+    # 1.67 Hz, falls in the band's top bin (bins of 0.56 Hz); nothing pins that.
     assert data.outside(rec, tail)[0] <= data.MAX_OUTSIDE
 
 

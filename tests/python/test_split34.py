@@ -15,17 +15,18 @@ T = np.arange(N) / FS
 
 
 def _record(e, name, seed=0, sd=2e-3):
-    """A first-order response (time constant 20 ms) to e, white noise of
-    sd on both signals."""
+    """A first-order response (time constant 20 ms) to e (any length, at
+    FS), white noise of sd on both signals."""
     rng = np.random.default_rng(seed)
+    n = e.size
     a = np.exp(-1.0 / (0.02 * FS))
-    y = np.empty(N)
+    y = np.empty(n)
     acc = 0.0
-    for k in range(N):
+    for k in range(n):
         acc = a * acc + (1.0 - a) * e[k]
         y[k] = acc
-    return data.make_record(T, e + sd * rng.normal(size=N),
-                            0.2 + 0.05 * y + sd * rng.normal(size=N), name)
+    return data.make_record(np.arange(n) / FS, e + sd * rng.normal(size=n),
+                            0.2 + 0.05 * y + sd * rng.normal(size=n), name)
 
 
 def _log_sweep(f0, f1, t, dur):
@@ -129,19 +130,25 @@ def test_a_side_with_only_noise_has_no_band():
     assert holdout.band_outside_share(x, split, 1.0, 0.025) > data.MAX_BAND_OUTSIDE
 
 
+def _levels_then_tone():
+    """Steps, but each held-out block of the blocks layout holds a fast tone
+    alone, and the tail (outside every block) goes to a new level."""
+    rng = np.random.default_rng(4)
+    e = _steps(rng, [-1.0, -0.5, 0.0, 0.5, 1.0], 40)
+    for start, stop in holdout.layout(N, "blocks").held:
+        e[start:stop] = 0.5 * np.sin(2 * np.pi * 20.0 * T[start:stop])
+    e[int(0.7 * N):int(0.9 * N)] = 1.8
+    return _record(e, "levels-then-tone")
+
+
 def test_no_switch_from_a_level_extrapolation_to_a_frequency_one():
     """The tail goes outside the fit part's levels; the blocks stay within
     their fit parts' levels but each held-out block holds a fast tone the
     fit parts never had. Step 4 weighs levels only, so it must not take
     the blocks (one extrapolation for another, unweighed): the tail stays,
     and its note says it extrapolates."""
-    rng = np.random.default_rng(4)
-    e = _steps(rng, [-1.0, -0.5, 0.0, 0.5, 1.0], 40)
+    rec = _levels_then_tone()
     blocks = holdout.layout(N, "blocks")
-    for start, stop in blocks.held:     # each held-out block: a fast tone alone
-        e[start:stop] = 0.5 * np.sin(2 * np.pi * 20.0 * T[start:stop])
-    e[int(0.7 * N):int(0.9 * N)] = 1.8      # the tail's levels: outside (no block there)
-    rec = _record(e, "levels-then-tone")
     tail = holdout.layout(N, "tail")
     # the premise: the tail fails on levels, the blocks only on frequency
     assert data.outside(rec, tail)[0] > data.MAX_OUTSIDE
