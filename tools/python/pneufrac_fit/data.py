@@ -535,7 +535,7 @@ def _check_excitation(rec: Record) -> None:
 def split_for(rec: Record, mode: str = holdout.DEFAULT):
     """(split, note): the split of the record into fit parts and held-out
     blocks (holdout.layout), chosen from the record alone before any fit,
-    in three steps:
+    in four steps:
     1. the split asked for ("cover": the tail) must have an input that moves
        and an output that responds in both its parts; where it does not,
        the other layout is used if its parts do (_fallback), DataError
@@ -789,26 +789,36 @@ def outside(rec: Record, split) -> tuple:
 # never saw: an extrapolation in frequency, as a level outside the fit
 # parts' range is one in amplitude, and an effect that shows mainly there
 # (a lag's or a dead time's phase, which grows with frequency) is
-# invisible to every fit and decides the held-out comparison alone
-# (trace34: two-lag-backlash-5, two-dead_time-saturation-5). The fit
-# parts' band is the frequencies holding all but MAX_OUTSIDE / 2 of their
-# input's content at each end (the level test's share, split between the
-# two ends); the held-out share is of the held-out input's content, its
-# power less its white noise (holdout.band_outside_share), so that noise,
-# present at every frequency in both parts, does not count as content.
-# For an input whose two parts are drawn alike (random steps, PRBS, a
-# multisine, a setpoint sequence) that share is about MAX_OUTSIDE by
-# construction (measured, branch split34: at most 5 % on the independent
+# invisible to every fit and decides the held-out comparison alone (branch
+# trace34 traced two two-effect records to it, two-lag-backlash-5 and
+# two-dead_time-saturation-5, but those are 5 s sweeps that this test
+# leaves on the tail, 41 %; on seeds 4-5 it moves the 20 s sweeps to the
+# blocks: clean-sweep-4/5, clean-dd-real-4, lag-sweep-4/5, lag-real-5,
+# branch split34). The fit parts' band is the frequencies holding all but
+# MAX_OUTSIDE / 2 of their input's content at each end (the level test's
+# share, split between the two ends); the held-out share is of the
+# held-out input's content, its power less its white noise
+# (holdout.band_outside_share), so that noise, present at every frequency
+# in both parts, does not count as content. For an input whose two parts
+# are drawn alike from many moves (random steps, PRBS, a multisine) that
+# share is near MAX_OUTSIDE, what the band leaves out of the fit parts'
+# own content (measured, branch split34: at most 5 % on the independent
 # simulator's records of seeds 4-5 other than sweeps, 16 % on 98 blind
-# ones); the tail counts as uncovered in frequency only when most of its content
-# (over MAX_BAND_OUTSIDE) lies outside the band: then the held-out error
-# judges the extrapolation more than what the fit learned. A majority, not
-# the level test's one sample in twenty: the share is of power, and the
-# power of a few random steps is spread over frequency unevenly enough to
-# put far more than MAX_OUTSIDE outside the other part's band by chance;
-# and the held-out blocks of a sweep keep a third of their content just
-# above their fit parts' band (the last block holds the sweep's end), a
-# short extrapolation that the tail's is not. The test reads the record
+# ones; review of split34: 2-5 % on multisines, 30 steps, PRBS, a random
+# walk); with few moves it scatters widely (below). The tail counts as
+# uncovered in frequency only when most of its content (over
+# MAX_BAND_OUTSIDE) lies outside the band: then the held-out error judges
+# the extrapolation more than what the fit learned. A majority, not the
+# level test's one sample in twenty: the share is of power, and the power
+# of a few random steps is spread over frequency unevenly enough to put
+# far more than MAX_OUTSIDE outside the other part's band by chance (review
+# of split34: of random 3- or 5-step sequences, 1 % over the half, up to
+# 79 %, those looked at each with a tail step within 0.1-0.3 s of the
+# tail's edge, which the taper makes a pulse: holdout's taper comment);
+# and the held-out blocks of a 20 s sweep keep a third of their content
+# just above their fit parts' band (the last block holds the sweep's end),
+# a short extrapolation that the tail's is not (a wide 5 s sweep's blocks
+# reach the half: review of split34). The test reads the record
 # alone, before any fit.
 MAX_BAND_OUTSIDE = 0.5
 

@@ -207,7 +207,13 @@ def layout(n: int, mode: str = "tail") -> Split:
 # content near a part's edges (a sweep's highest frequencies at the end of
 # its fit part) still counts (a Hann taper over the whole part counts a
 # third of a sweep's held-out blocks as outside their fit parts' band in
-# excess).
+# excess). Its side effect: a step near a stretch's edge, once the mean is
+# taken off, leaves a level offset over the few samples beyond the step,
+# which the edge shapes into a short pulse, broadband where a step's content
+# falls as 1/f^2; a tail that rests but for a step 0.1-0.3 s from its
+# start or end can then read mostly outside a few-step fit part's band
+# (review of split34: 71 % at 0.1 s; test_splittidy35 pins it as a known
+# failure).
 NOISE_BINS = 3.0
 TAPER_SHARE = 0.2
 # A side whose content is under CONTENT_FLOOR times what white noise leaves
@@ -264,7 +270,10 @@ def band_outside_share(x: np.ndarray, split: Split, noise_var: float, q: float) 
     end: held-out input at frequencies the fit parts' input hardly had,
     where a prediction is an extrapolation in frequency (data.uncovered
     chooses the split by it). 0 when either side has no content above its
-    noise (CONTENT_FLOOR)."""
+    noise (CONTENT_FLOOR), when the shortest part has under 8 samples (too
+    few frequencies to read a band from), and when x or noise_var is not
+    finite (the content's comparison with the floor then fails; records
+    are finite by then, data.make_record)."""
     fit = [np.asarray(x[s], float) for s in split.fit_slices()]
     held = [np.asarray(x[s], float) for s in split.held_slices()]
     seg = min((a.size for a in fit + held), default=0)
