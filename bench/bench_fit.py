@@ -10,7 +10,9 @@
 
 time:   one diagnosis per configuration of a long record (default 100 000
         samples) at 1 kHz and at 10 kHz, wall-clock and CPU seconds (this
-        process and its workers), with the machine's load average.
+        process and its workers), with the machine's load average, and the
+        simulations and simulated steps it made (the work, which does not
+        move with the machine's speed).
 profile: where the time of the slowest of those goes (cProfile, jobs 1).
 sweep:  the hidden-effect matrix (every configuration x every effect, and
         clean records) over several seeds, with tests/python/cases.py's
@@ -74,6 +76,35 @@ def cpu_seconds() -> float:
     return a.ru_utime + a.ru_stime + b.ru_utime + b.ru_stime
 
 
+class SimCount:
+    """Simulations and simulated steps of the library's double runtime
+    (binding.Controller.run: every fit's simulation) in this process and
+    in the workers it forks, which inherit the patch and the shared
+    counters. The work of a diagnosis in numbers the machine does not
+    move: wall and CPU time do (the same code ran about 1.8x slower on
+    2026-11-28 than on 2026-11-27, docs/analysis-bench.md)."""
+
+    def __enter__(self):
+        import multiprocessing as mp
+        from pneufrac import binding
+        self._cls, self._run = binding.Controller, binding.Controller.run
+        self.sims, self.steps = mp.Value("q", 0), mp.Value("q", 0)
+        run, sims, steps = self._run, self.sims, self.steps
+
+        def counted(ctl, e):
+            out = run(ctl, e)
+            with sims.get_lock():
+                sims.value += 1
+            with steps.get_lock():
+                steps.value += out.size
+            return out
+        self._cls.run = counted
+        return self
+
+    def __exit__(self, *exc):
+        self._cls.run = self._run
+
+
 def section(name: str, lines: list[str]) -> None:
     """Replace the section between <!-- name --> markers in OUT."""
     head = ["<!-- SPDX-License-Identifier: MIT -->",
@@ -113,13 +144,15 @@ def run_time(a) -> None:
         ds = cases.make(cfg, eff, 7, n=a.n, fs=fs, size=0.5, size_fs=1000.0)
         rec = data.make_record(ds.t, ds.e, ds.pc, "bench")
         l0, c0, t0 = load(), cpu_seconds(), time.monotonic()
-        d = diagnose.diagnose(rec, cfg, jobs=2, progress=False)
+        with SimCount() as n:
+            d = diagnose.diagnose(rec, cfg, jobs=2, progress=False)
         wall, cpu = time.monotonic() - t0, cpu_seconds() - c0
         bad = cases.check(ds, d)
         ok = "yes" if not bad else "no: " + "; ".join(bad)
-        rows.append((tag, eff, ", ".join(d.causes) or "none", ok, wall, cpu, l0, load()))
-        print(f"[bench_fit] {tag}: {wall:.1f} s wall, {cpu:.1f} s CPU, load {l0}",
-              file=sys.stderr)
+        rows.append((tag, eff, ", ".join(d.causes) or "none", ok, wall, cpu, l0, load(),
+                     n.sims.value, n.steps.value))
+        print(f"[bench_fit] {tag}: {wall:.1f} s wall, {cpu:.1f} s CPU, load {l0}, "
+              f"{n.sims.value} simulations, {n.steps.value / 1e6:.0f} M steps", file=sys.stderr)
     L = ["## Time of a diagnosis", ""] + stamp(f"bench/bench_fit.py time --n {a.n}") + [
         f"One `diagnose` (jobs 2, no report) of a {a.n}-sample record per configuration "
         "and rate (tests/python/cases.py: a bump test, noise sd 0.5 % of the output "
@@ -128,11 +161,17 @@ def run_time(a) -> None:
         "CPU is user + system time of the process and its two workers. The machine is "
         "shared with other work: the load average (1 min) before and after each run "
         "says how busy it was; wall time on a busy machine is longer by about "
-        "load/2 (2 cores).", "",
-        "| record | hidden | verdict | right | wall (s) | CPU (s) | load before / after |",
-        "|---|---|---|---|---|---|---|"]
-    for tag, eff, got, ok, wall, cpu, l0, l1 in rows:
-        L.append(f"| {tag} | {eff} | {got} | {ok} | {wall:.1f} | {cpu:.1f} | {l0} / {l1} |")
+        "load/2 (2 cores). Simulations and simulated steps (the library's double "
+        "runtime, at the simulation rate, in the process and its workers) are the "
+        "work, which the machine's speed does not change: a step costs about 750 "
+        "instructions (callgrind, the mean over p, dd, id and pid with no effect, a "
+        "dead band and a saturation: docs/analysis-bench.md, stop 35).", "",
+        "| record | hidden | verdict | right | wall (s) | CPU (s) | load before / after "
+        "| simulations | steps (M) |",
+        "|---|---|---|---|---|---|---|---|---|"]
+    for tag, eff, got, ok, wall, cpu, l0, l1, sims, steps in rows:
+        L.append(f"| {tag} | {eff} | {got} | {ok} | {wall:.1f} | {cpu:.1f} | {l0} / {l1} "
+                 f"| {sims} | {steps / 1e6:.0f} |")
     section("time", L)
 
 
