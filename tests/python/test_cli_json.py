@@ -78,3 +78,6 @@ def test_operating_point_and_absolute_limits(tmp_path):
     assert j["cause"] == "saturation"
     assert abs(j["effect_params"]["sat_hi"] - 14.0) < 0.5
     assert abs(j["effect_params"]["sat_lo"] - 5.0) < 0.5
+    # both limits clip the fit part: both are the record's, and no note says otherwise
+    assert j["causes"][0]["limits_not_seen"] == []
+    assert not any("limit is seen" in n for n in j["fit_notes"])

@@ -338,24 +338,28 @@ def _unseen_limits_out(pb, effects, b):
     return nb
 
 
-def limit_notes(pb, fr) -> list[str]:
-    """Plain words for each saturation limit of fr (the model reported)
-    that the fit part does not show (limit_seen, the rule of
-    _unseen_limits_out): the record does not say where, or whether, the
-    output is limited on that side."""
+def unseen_limits(pb, fr) -> list[str]:
+    """The saturation limits of fr (the model reported), by name, that the
+    fit part does not show (limit_seen, the rule of _unseen_limits_out):
+    the record does not say where, or whether, the output is limited on
+    that side."""
     if "saturation" not in fr.effects:
         return []
-    out = []
-    for name, side in (("sat_lo", "lower"), ("sat_hi", "upper")):
-        if limit_seen(pb, fr, _limit_contribution(pb, fr.effects, fr, name)):
-            continue
-        out.append(f"saturation: no {side} limit is seen. The fit part's output stays "
-                   f"within {pb.y_lo:.4g} to {pb.y_hi:.4g} of the operating point and no "
-                   f"{side} limit acts on the model's output there significantly, so the "
-                   f"model's is put beyond that range, where it clips nothing the fit part "
-                   f"shows: the {name} reported is not the record's, and where, or whether, "
-                   "the output is limited on that side the record does not say.")
-    return out
+    return [name for name in ("sat_lo", "sat_hi")
+            if not limit_seen(pb, fr, _limit_contribution(pb, fr.effects, fr, name))]
+
+
+def limit_notes(pb, fr, unseen: list[str] | None = None) -> list[str]:
+    """Plain words for each limit of fr the fit part does not show
+    (unseen_limits, or its answer where the caller has it)."""
+    side = {"sat_lo": "lower", "sat_hi": "upper"}
+    return [f"saturation: no {side[name]} limit is seen. The fit part's output stays "
+            f"within {pb.y_lo:.4g} to {pb.y_hi:.4g} of the operating point and no "
+            f"{side[name]} limit acts on the model's output there significantly, so the "
+            f"model's is put beyond that range, where it clips nothing the fit part "
+            f"shows: the {name} reported is not the record's, and where, or whether, "
+            "the output is limited on that side the record does not say."
+            for name in (unseen_limits(pb, fr) if unseen is None else unseen)]
 
 
 def with_freed(pb, groups: list):

@@ -63,6 +63,7 @@ class Diagnosis:
     pb: object = None
     ambiguous: list = field(default_factory=list)   # sets of effects the record cannot tell apart
     corners: dict = field(default_factory=dict)     # baseline groups left at a bound (baseline.corners)
+    unseen_limits: list = field(default_factory=list)  # saturation limits the fit part does not show
 
     @property
     def cause(self) -> str:
@@ -156,8 +157,8 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
     nmf = noise.fit(pbf.fit_pieces(final.residual(pbf)))
     fit_notes += _held_blocks_note(split, nmf)
     fit_notes += candidates.corner_notes(rounds, causes)
-    if "saturation" in causes:
-        fit_notes += candidates.limit_notes(pbf, final)
+    unseen = candidates.unseen_limits(pbf, final) if "saturation" in causes else []
+    fit_notes += candidates.limit_notes(pbf, final, unseen)
     evb = ev_mod.analyse(pb, base, sd)
     eva = ev_mod.analyse(pbf, final, sd)
     evidence = ev_mod.describe(evb, pb, sd, floor, base)
@@ -171,6 +172,7 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
                   float(final.e0), float(final.values["pc0"]), m, pb=pbf)
     d.ambiguous = sets
     d.corners = corners
+    d.unseen_limits = unseen
     d.elapsed = time.monotonic() - t0
     return d
 

@@ -137,6 +137,8 @@ def _cause(d, name) -> dict:
                                     "sat_hi")
                  if k in ci and k in keys},
     }
+    if name == "saturation":    # these limits' params and ci95 are not the record's (fit_notes)
+        out["limits_not_seen"] = list(d.unseen_limits)
     if t is not None:
         out["gain"] = {"nrmse_val_without": _num(t.ref.nrmse_val),
                        "nrmse_val_with": _num(t.model.nrmse_val),
