@@ -9,35 +9,6 @@ from pneufrac_fit import fit, holdout, lib, model
 from test_converge import _problem, _start     # the same small lag record
 
 
-def _objective(pb, effects=("lag",)):
-    sp = fit.specs(pb, effects)
-    return fit._Objective(pb, sp, effects, 0, 10_000), sp
-
-
-def test_the_jacobian_is_the_stacked_forward_differences():
-    """jac writes each column in place: the same quotients (r - f0) / h,
-    bit for bit, as the columns stacked the old way, in C order (scipy's
-    sums over the matrix's rows depend on its layout)."""
-    pb = _problem()
-    ob, sp = _objective(pb)
-    th = fit.to_theta(sp, _start(pb, lag=0.01), pb)
-    f0 = ob(th)
-    J = ob.jac(th, f0)
-    lo, hi = fit.bounds(sp)
-    cols = []
-    for i in range(th.size):
-        h = fit.DIFF_STEP * max(1.0, abs(th[i]))
-        if th[i] + h > hi[i]:
-            h = -h
-        t = th.copy()
-        t[i] += h
-        cols.append((ob.eval(t) - f0) / h)
-    want = np.column_stack(cols)
-    assert J.shape == want.shape and J.flags.c_contiguous
-    assert np.array_equal(J, want)
-    assert J.dtype == want.dtype
-
-
 def test_the_input_shifted_by_e0_is_kept_per_record_length_and_e0_bits():
     """fit._input is e_abs[:n] - e0, read only; the same object again for
     the same record, n and e0; another array for another e0, another n,

@@ -727,12 +727,8 @@ class _Objective:
             self.trail.update(kr)
         self.last = {tuple(from_theta(self.sp, th, self.pb).values()): f0}
         self.last.update(kr)
-        # Each column written where it belongs, not stacked from a list:
-        # the same quotients, one copy of the matrix fewer.
-        J = np.empty((f0.size, len(cols)))
-        for j, ((_, r), (_, h)) in enumerate(zip(kr, cols)):
-            np.divide(r - f0, h, out=J[:, j])
-        return J
+        res = [(r - f0) / h for (_, r), (_, h) in zip(kr, cols)]
+        return np.column_stack(res) if res else np.zeros((f0.size, 0))
 
 
 def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
