@@ -332,7 +332,18 @@ def _enum_id(lookup, name_of, name: str, what: str) -> int:
 def config_id(config: str) -> int:
     """The library's number of a configuration name ("p", "dd", ...)."""
     lib = load()
-    return _enum_id(lib.pf_topology_lookup, lib.pf_topology_name, config, "configuration")
+    v = _config_ids.get(config)
+    if v is None:
+        v = _config_ids[config] = _enum_id(lib.pf_topology_lookup, lib.pf_topology_name,
+                                          config, "configuration")
+    return v
+
+
+# config_id's answers: the library's table of configurations is fixed once
+# it is loaded, and every controller made asks (two ctypes calls and a
+# comparison, about 1 % of a fit's Python side); a name it refuses is not
+# kept, so it is refused again.
+_config_ids: dict = {}
 
 
 def param_used(config: str, name: str) -> bool:
@@ -364,14 +375,27 @@ def whole_number(v) -> bool:
         return False
 
 
+def _field_types(cls) -> dict:
+    """{member name: ctypes type} of a mirrored struct class, made once per
+    class (a controller is made for every simulation of a fit, and each
+    fills three structs)."""
+    got = _FIELD_TYPES.get(cls)
+    if got is None:
+        got = _FIELD_TYPES[cls] = dict(cls._fields_)
+    return got
+
+
+_FIELD_TYPES: dict = {}
+
+
 def _fill(struct, values: dict, what: str) -> None:
     """Set fields of a mirrored struct by name; a name it lacks is an
     error (ctypes would quietly add an attribute instead)."""
-    names = {n for n, _ in struct._fields_}
+    types = _field_types(type(struct))
     for k, v in values.items():
-        if k not in names:
+        if k not in types:
             raise KeyError(f"{what} has no field '{k}'")
-        if dict(struct._fields_)[k] is C.c_int:
+        if types[k] is C.c_int:
             # int() would truncate 2.5 to 2 and ctypes wrap an int that does
             # not fit round, both silently: a placement or an order asked
             # for must be the one the library gets.

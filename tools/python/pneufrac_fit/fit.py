@@ -139,12 +139,12 @@ class Problem:
     @property
     def nsim(self) -> int:
         """Samples the fit simulates (to the end of its last part)."""
-        return self.split.end
+        return _split_end(self.split)
 
     @property
     def fit_parts(self) -> list:
         """The samples the fit counts: slices from burn on."""
-        return self.split.fit_slices(self.burn)
+        return list(_fit_slices(self.split, self.burn))
 
     @property
     def held_parts(self) -> list:
@@ -175,6 +175,20 @@ class Problem:
 
     def held_white(self, x: np.ndarray, nm) -> np.ndarray:
         return noise.whiten_parts(nm, x, self.held_parts)
+
+
+# A split's part arithmetic, asked several times for every evaluation of a
+# fit (nsim, fit_parts: about 1 % of a diagnosis's Python side), kept per
+# split and burn: a Split is frozen (holdout.Split), so the answer for one
+# is fixed.
+@functools.lru_cache(maxsize=64)
+def _fit_slices(split, burn: int) -> tuple:
+    return tuple(split.fit_slices(burn))
+
+
+@functools.lru_cache(maxsize=64)
+def _split_end(split) -> int:
+    return split.end
 
 
 @dataclass
@@ -355,10 +369,38 @@ def simulate_raw(pb: Problem, effects, vals: dict, dead: int = 0, n: int | None 
     """The library's output (deviation, at the groups' K) over the first n
     samples, for input e_abs - e0."""
     g = _groups(pb, vals)
-    e = pb.e_abs if n is None else pb.e_abs[:n]
     ev = {**pb.held, **vals}
     ev["dead"] = dead
-    return pb.setup.simulate(g, e - g["e0"], effects, ev, oversample)
+    return pb.setup.simulate(g, _input(pb.e_abs, n, g["e0"]), effects, ev, oversample)
+
+
+def _input(e_abs: np.ndarray, n: int | None, e0) -> np.ndarray:
+    """e_abs[:n] - e0, read only. A Jacobian simulates one record's input at
+    the same e0 for every column but e0's, and each subtraction (and the
+    hold that model.held_input makes of its result) is a pass over the
+    record: the last few are kept (_INPUTS), keyed by the record's array
+    (held, so that its id is not reused; no code writes into a problem's
+    e_abs, as _fixed_regressors assumes of its y), n and e0's bits (0.0
+    and -0.0 are different keys: their differences differ in the sign of a
+    zero)."""
+    e = e_abs if n is None else e_abs[:n]
+    key = (id(e_abs), n, float(e0).hex())
+    hit = _INPUTS.get(key)
+    if hit is not None and hit[0] is e_abs:
+        return hit[1]
+    out = e - e0
+    out.flags.writeable = False
+    if len(_INPUTS) >= INPUTS_KEPT:
+        _INPUTS.clear()
+    _INPUTS[key] = (e_abs, out)
+    return out
+
+
+# _input's answers: a few records' inputs at a few e0 at a time (each the
+# size of the record; the pool's threads may ask for the same one at once,
+# and either answer is the same numbers)
+_INPUTS: dict = {}
+INPUTS_KEPT = 8
 
 
 # ------------------------------------------------------- the unknown start

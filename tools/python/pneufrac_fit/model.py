@@ -278,12 +278,40 @@ class Setup:
             if got is not None:
                 return got
         ctl = lib.Controller(self.config, p, fx, self.fs * m, order=self.order, t_slow=t_slow)
-        out = ctl.run(e if m == 1 else np.repeat(e, m))
+        out = ctl.run(held_input(e, m))
         if m > 1 and not internal:
             out = out[::m]
         if key is not None and ctl.limited == 0:
             store.put(key, e, out)
         return out
+
+
+def held_input(e: np.ndarray, m: int) -> np.ndarray:
+    """e held over m samples of the simulation rate (np.repeat). The fits
+    simulate the same input (fit._input's read-only array) for most points
+    of a Jacobian, and the hold is a pass over m times the record: the last
+    few holds of a read-only e are kept (_HELD), keyed by e itself (held,
+    so that its id is not reused) and m. A writable e could change under
+    the key: it is held afresh."""
+    if m == 1:
+        return e
+    if e.flags.writeable:
+        return np.repeat(e, m)
+    key = (id(e), m)
+    hit = _HELD.get(key)
+    if hit is not None and hit[0] is e:
+        return hit[1]
+    out = np.repeat(e, m)
+    out.flags.writeable = False
+    if len(_HELD) >= HELD_KEPT:
+        _HELD.clear()
+    _HELD[key] = (e, out)
+    return out
+
+
+# held_input's answers (each m times the size of a record)
+_HELD: dict = {}
+HELD_KEPT = 4
 
 
 def fmt_value(name: str, v: float) -> str:
