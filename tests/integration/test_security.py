@@ -598,9 +598,12 @@ def test_unstable_set_is_refused(daemon, gain):
     commit is refused with exception 03, commit_result 6 and
     commit_err_addr naming k1 (the change that alone makes it so), and the
     running set goes on as if nothing happened."""
+    # The reference first: a connection must make its first request within
+    # the daemon's first-request timeout (2 s), and the CLI under ASan on a
+    # busy machine can take longer than that.
+    ref = simulate("--config", "dd", "--fs", "1000", "--duration", "0.05", "--arith", "float")
     d = daemon("--clock", "external", "--substeps", "1")
     r = Regs(d.client())
-    ref = simulate("--config", "dd", "--fs", "1000", "--duration", "0.05", "--arith", "float")
     r.write("e", 1.0)
     r.write("k1", gain)
     r.write("k2", gain)
@@ -628,9 +631,9 @@ def test_set_beyond_the_rules_rate_is_refused(daemon):
     so the first of the two changed most), and nothing changes. With
     substeps given, the client chose the rate, and stability at that rate
     is what is checked: the same gains at 200 substeps are accepted."""
-    d = daemon("--clock", "external")
-    r = Regs(d.client())
     ref = simulate("--config", "dd", "--fs", "20000", "--duration", "0.05")[::20]
+    d = daemon("--clock", "external")   # after the reference: the first-request timeout
+    r = Regs(d.client())
     r.write("e", 1.0)
     r.write("k1", 1e9)
     r.write("k2", 1e9)
