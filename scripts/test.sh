@@ -94,9 +94,14 @@ step_pytest() {
     return 77
   fi
   # Test files exist, so pytest's "no tests collected" (exit 5) is a failure too.
+  # One pytest worker per core (pytest-xdist): the diagnoses are CPU-bound and
+  # one process took 28 of a 35-min run. --dist loadfile keeps each file on
+  # one worker, so that a module-scoped fixture (a record built and diagnosed
+  # once for all of its file's tests) is not computed again on another one.
+  # --durations: the log names the slowest tests, where the time goes.
   PNEUFRAC_BUILD_DIR="$PWD/build" \
   PNEUFRAC_LIBRARY="$PWD/build/lib/libpneufrac.so" \
-    .venv/bin/python -m pytest -q tests/python
+    .venv/bin/python -m pytest -q -n "$jobs" --dist loadfile --durations=20 tests/python
 }
 
 # A user's clone has nothing beside it (no ../shared): the reference test
