@@ -379,28 +379,14 @@ def _input(e_abs: np.ndarray, n: int | None, e0) -> np.ndarray:
     the same e0 for every column but e0's, and each subtraction (and the
     hold that model.held_input makes of its result) is a pass over the
     record: the last few are kept (_INPUTS), keyed by the record's array
-    (held, so that its id is not reused; no code writes into a problem's
-    e_abs, as _fixed_regressors assumes of its y), n and e0's bits (0.0
-    and -0.0 are different keys: their differences differ in the sign of a
-    zero)."""
+    (no code writes into a problem's e_abs, as _fixed_regressors assumes of
+    its y), n and e0's bits (0.0 and -0.0 are different keys: their
+    differences differ in the sign of a zero)."""
     e = e_abs if n is None else e_abs[:n]
-    key = (id(e_abs), n, float(e0).hex())
-    hit = _INPUTS.get(key)
-    if hit is not None and hit[0] is e_abs:
-        return hit[1]
-    out = e - e0
-    out.flags.writeable = False
-    if len(_INPUTS) >= INPUTS_KEPT:
-        _INPUTS.clear()
-    _INPUTS[key] = (e_abs, out)
-    return out
+    return _INPUTS.get(e_abs, (n, float(e0).hex()), lambda: e - e0)
 
 
-# _input's answers: a few records' inputs at a few e0 at a time (each the
-# size of the record; the pool's threads may ask for the same one at once,
-# and either answer is the same numbers)
-_INPUTS: dict = {}
-INPUTS_KEPT = 8
+_INPUTS = model.DerivedArrays(8)   # a few records' inputs at a few e0, each a record long
 
 
 # ------------------------------------------------------- the unknown start

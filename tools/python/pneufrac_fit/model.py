@@ -286,32 +286,45 @@ class Setup:
         return out
 
 
+class DerivedArrays:
+    """The last few read-only arrays made from a source array, each kept
+    with its source (held, so that the source's id is not reused while the
+    entry lives) and keyed by the source's id and the making's arguments;
+    all dropped when full. For passes over a whole record that a fit makes
+    again and again with the same arguments (held_input, fit._input). The
+    pool's threads may ask for the same one at once: either answer is the
+    same numbers."""
+
+    def __init__(self, kept: int):
+        self.kept, self._got = kept, {}
+
+    def get(self, src: np.ndarray, args: tuple, make) -> np.ndarray:
+        key = (id(src),) + args
+        hit = self._got.get(key)
+        if hit is not None and hit[0] is src:
+            return hit[1]
+        out = make()
+        out.flags.writeable = False
+        if len(self._got) >= self.kept:
+            self._got.clear()
+        self._got[key] = (src, out)
+        return out
+
+
 def held_input(e: np.ndarray, m: int) -> np.ndarray:
     """e held over m samples of the simulation rate (np.repeat). The fits
     simulate the same input (fit._input's read-only array) for most points
     of a Jacobian, and the hold is a pass over m times the record: the last
-    few holds of a read-only e are kept (_HELD), keyed by e itself (held,
-    so that its id is not reused) and m. A writable e could change under
-    the key: it is held afresh."""
+    few holds of a read-only e are kept (_HELD). A writable e could change
+    under the key: it is held afresh."""
     if m == 1:
         return e
     if e.flags.writeable:
         return np.repeat(e, m)
-    key = (id(e), m)
-    hit = _HELD.get(key)
-    if hit is not None and hit[0] is e:
-        return hit[1]
-    out = np.repeat(e, m)
-    out.flags.writeable = False
-    if len(_HELD) >= HELD_KEPT:
-        _HELD.clear()
-    _HELD[key] = (e, out)
-    return out
+    return _HELD.get(e, (m,), lambda: np.repeat(e, m))
 
 
-# held_input's answers (each m times the size of a record)
-_HELD: dict = {}
-HELD_KEPT = 4
+_HELD = DerivedArrays(4)     # each m times the size of a record
 
 
 def fmt_value(name: str, v: float) -> str:
