@@ -124,7 +124,7 @@ def test_a_limit_the_fit_part_never_reaches_is_put_out(side, mode, inside):
     assert out.nrmse_val < 1.1 * good.nrmse_val, (out.nrmse_val, good.nrmse_val)
     # the report says which limit was not seen, and only that one
     assert candidates.unseen_limits(pk, out) == [other]
-    notes = candidates.limit_notes(pk, out)
+    notes = candidates.limit_notes(pk, candidates.unseen_limits(pk, out))
     word = "upper" if other == "sat_hi" else "lower"
     assert len(notes) == 1 and f"no {word} limit is seen" in notes[0], notes
 
@@ -144,7 +144,7 @@ def test_limits_the_fit_part_shows_are_kept():
         assert abs(both.values[k] + c - truth[k]) < 0.05 * span, (k, both.values, truth)
     assert candidates._unseen_limits_out(pk, ("saturation",), both) is both
     assert candidates.unseen_limits(pk, both) == []
-    assert candidates.limit_notes(pk, both) == []
+    assert candidates.limit_notes(pk, candidates.unseen_limits(pk, both)) == []
 
 
 def test_a_true_limit_that_clips_the_fit_part_by_under_the_noise_is_kept():
@@ -188,7 +188,7 @@ def test_a_true_limit_that_clips_the_fit_part_by_under_the_noise_is_kept():
     assert candidates.limit_seen(pk, both, d)
     assert candidates._unseen_limits_out(pk, ("saturation",), both) is both
     assert candidates.unseen_limits(pk, both) == []
-    assert candidates.limit_notes(pk, both) == []
+    assert candidates.limit_notes(pk, candidates.unseen_limits(pk, both)) == []
     floor = fit.nrmse(pk.held_of(ds.pc - ds.clean), pk.held_of(pk.y))
     assert both.nrmse_val < 1.5 * floor, (both.nrmse_val, floor)
 

@@ -349,9 +349,9 @@ def unseen_limits(pb, fr) -> list[str]:
             if not limit_seen(pb, fr, _limit_contribution(pb, fr.effects, fr, name))]
 
 
-def limit_notes(pb, fr, unseen: list[str] | None = None) -> list[str]:
-    """Plain words for each limit of fr the fit part does not show
-    (unseen_limits, or its answer where the caller has it)."""
+def limit_notes(pb, unseen: list[str]) -> list[str]:
+    """Plain words for each limit the fit part does not show (unseen, the
+    answer of unseen_limits)."""
     side = {"sat_lo": "lower", "sat_hi": "upper"}
     return [f"saturation: no {side[name]} limit is seen. The fit part's output stays "
             f"within {pb.y_lo:.4g} to {pb.y_hi:.4g} of the operating point and no "
@@ -359,7 +359,7 @@ def limit_notes(pb, fr, unseen: list[str] | None = None) -> list[str]:
             f"model's is put beyond that range, where it clips nothing the fit part "
             f"shows: the {name} reported is not the record's, and where, or whether, "
             "the output is limited on that side the record does not say."
-            for name in (unseen_limits(pb, fr) if unseen is None else unseen)]
+            for name in unseen]
 
 
 def with_freed(pb, groups: list):

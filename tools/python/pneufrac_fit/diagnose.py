@@ -158,7 +158,7 @@ def diagnose(rec, config: str, fixes: dict | None = None, *, order: int = 8,
     fit_notes += _held_blocks_note(split, nmf)
     fit_notes += candidates.corner_notes(rounds, causes)
     unseen = candidates.unseen_limits(pbf, final) if "saturation" in causes else []
-    fit_notes += candidates.limit_notes(pbf, final, unseen)
+    fit_notes += candidates.limit_notes(pbf, unseen)
     evb = ev_mod.analyse(pb, base, sd)
     eva = ev_mod.analyse(pbf, final, sd)
     evidence = ev_mod.describe(evb, pb, sd, floor, base)
