@@ -38,13 +38,16 @@ def _fresh(monkeypatch, keep=True):
 
 
 def _counting(monkeypatch):
-    """Points (their values) simulated by model_output, in call order."""
+    """Points (their values, and the rate multiple they were simulated at:
+    a coarse Jacobian's points are another model's) simulated by
+    model_output, in call order."""
     seen = []
     orig = fit.model_output
 
     def counted(pb, effects, vals, *a, **k):
         seen.append(tuple(sorted((k2, v) for k2, v in vals.items()
-                                 if k2 not in ("sat_kind", "sat_kind_told"))))
+                                 if k2 not in ("sat_kind", "sat_kind_told")))
+                    + (("oversample", k.get("oversample")),))
         return orig(pb, effects, vals, *a, **k)
     monkeypatch.setattr(fit, "model_output", counted)
     return seen

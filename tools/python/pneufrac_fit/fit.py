@@ -37,6 +37,11 @@ from . import digest, holdout, lib, model, noise
 NOZZLE_BIAS = (-0.5, 3.0)   # the fitted range of the nozzle's bias point
 BURN = 0.02          # without an opening rest (of at least this much): 2 % of the fit part's samples, at the start, not counted
 DIFF_STEP = 1e-4     # relative finite-difference step (transformed parameters)
+# A search's Jacobians are made at half the simulation rate while each
+# step still saves at least COARSE_PROGRESS of the cost (relative), then at
+# the full rate to the end (_Objective._coarse_differences); 0: always at
+# the full rate.
+COARSE_PROGRESS = 1e-3
 
 _pool = None
 _pool_pid = 0
@@ -624,6 +629,13 @@ class _Objective:
         # of theta but not of the values.
         self.memo = memo if memo is not None else {}
         self.last = {}
+        # Jacobians at half the rate (_coarse_differences) while allowed:
+        # where the rate can be halved, until the search's steps save
+        # little (jac) or it has stopped once (lm_fit). The last
+        # Jacobian's point and residual, and whether it was made so.
+        self.coarse = pb.setup.oversample >= 2 and COARSE_PROGRESS > 0
+        self.J_at = None
+        self.J_coarse = False
         # Every point this fit evaluates, when asked (lm_fit's trail): for
         # another fit that starts where this one did (candidates._apart)
         self.trail = trail
@@ -669,13 +681,14 @@ class _Objective:
         if cst < self.best[0]:
             self.best = (cst, np.array(th, copy=True), mo)
 
-    def _residual(self, vals):
+    def _residual(self, vals, oversample: int | None = None):
         """(the residual at these values, model_output's answer there or
-        None where the library refused it or K came out unusable)."""
+        None where the library refused it or K came out unusable);
+        simulated at oversample x the data rate (default: the problem's)."""
         pb = self.pb
         mo = None
         try:
-            mo = model_output(pb, self.effects, vals, self.dead, pb.nsim)
+            mo = model_output(pb, self.effects, vals, self.dead, pb.nsim, oversample=oversample)
             out, K = mo[0], mo[1]
             r = pb.fit_white(out - pb.y[:out.size]) / self.scale
             ok = math.isfinite(K) and K > 0
@@ -688,19 +701,27 @@ class _Objective:
         return r, mo
 
     def jac(self, th, f0=None):
-        """Forward differences, one column per thread."""
-        lo, hi = bounds(self.sp)
+        """Forward differences, one column per thread: of the model at half
+        the simulation rate while the search still makes headway
+        (_coarse_differences), else of the residual itself."""
         th = np.asarray(th, float)
         if f0 is None:
             f0 = self(th)
-        cols = []
-        for i in range(th.size):
-            h = DIFF_STEP * max(1.0, abs(th[i]))
-            if th[i] + h > hi[i]:
-                h = -h
-            t = th.copy()
-            t[i] += h
-            cols.append((t, h))
+        if self.coarse and self.J_at is not None:
+            # The last step saved less than COARSE_PROGRESS of the cost:
+            # the search is near its end, where the Jacobian decides where
+            # it stops (its gradient and its last steps), so from here on
+            # the residual's own
+            c_prev = float(self.J_at[1] @ self.J_at[1])
+            if c_prev - float(f0 @ f0) < COARSE_PROGRESS * c_prev:
+                self.coarse = False
+        self.J_at = (th.copy(), f0)
+        J = self._coarse_differences(th) if self.coarse else None
+        self.J_coarse = J is not None
+        if J is not None:        # its base point, for a fit continued from here
+            self.last = {tuple(from_theta(self.sp, th, self.pb).values()): f0}
+            return J
+        cols = self._steps(th)
         self.calls += len(cols)
         if self.calls > self.budget:
             raise _Budget()
@@ -715,6 +736,53 @@ class _Objective:
         self.last.update(kr)
         res = [(r - f0) / h for (_, r), (_, h) in zip(kr, cols)]
         return np.column_stack(res) if res else np.zeros((f0.size, 0))
+
+    def _coarse_differences(self, th):
+        """The Jacobian by forward differences at th of the model simulated
+        at half the simulation rate (still at least the data rate: the
+        oversample is 2 or more), its base point included; None where the
+        library refuses one of its points. A diagnosis's simulated steps
+        are mostly finite-difference Jacobians (85 % on a pid record of
+        100 000 samples, docs/analysis-bench.md, branch speedproto35), and
+        a Jacobian only steers the search: the fit's cost, its best point
+        and (jac, lm_fit) its stop are the residual's at the full rate. The
+        model at half the rate has the same groups and effects and differs
+        in the discretisation of its fastest modes only, so its
+        sensitivities are the full-rate model's to within that; p + 1
+        simulations of half the steps cost about (p + 1) / 2p of the p full
+        ones. Its points are not kept (memo, trail, best): they are another
+        model's residuals. Counted against the budget as the p full
+        simulations they stand in for, so that a budget ends a search after
+        as many iterations as before."""
+        cols = self._steps(th)
+        self.calls += len(cols)
+        if self.calls > self.budget:
+            raise _Budget()
+        m = self.pb.setup.oversample // 2
+
+        def at(t):
+            return self._residual(from_theta(self.sp, t, self.pb), m)
+        pts = [th] + [t for t, _ in cols]
+        got = list(_pool.map(at, pts)) if _pool is not None else [at(t) for t in pts]
+        if any(mo is None for _, mo in got):
+            return None
+        f0 = got[0][0]
+        res = [(r - f0) / h for (r, _), (_, h) in zip(got[1:], cols)]
+        return np.column_stack(res) if res else np.zeros((f0.size, 0))
+
+    def _steps(self, th):
+        """Each parameter's difference step at th: (the point, the step),
+        taken backwards where forwards would leave the bounds."""
+        lo, hi = bounds(self.sp)
+        cols = []
+        for i in range(th.size):
+            h = DIFF_STEP * max(1.0, abs(th[i]))
+            if th[i] + h > hi[i]:
+                h = -h
+            t = th.copy()
+            t[i] += h
+            cols.append((t, h))
+        return cols
 
 
 def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
@@ -766,10 +834,23 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
     status, nfev = "budget", 0
     if th0.size:
         try:
-            res = least_squares(fun, th0, jac=jac, bounds=(lo, hi), method="trf",
-                                x_scale="jac", xtol=1e-6, ftol=ftol, gtol=1e-8,
-                                max_nfev=max_nfev)
-            status, nfev = f"{res.status}", res.nfev
+            x = th0
+            while True:
+                res = least_squares(fun, x, jac=jac, bounds=(lo, hi), method="trf",
+                                    x_scale="jac", xtol=1e-6, ftol=ftol, gtol=1e-8,
+                                    max_nfev=max_nfev - nfev)
+                status, nfev = f"{res.status}", nfev + res.nfev
+                # A stop at a tolerance judged on a Jacobian made at half
+                # the rate (_Objective._coarse_differences: the search
+                # stopped while its steps still saved much) is not taken as
+                # convergence: that Jacobian is another model's, and the
+                # stop can lie short of this model's optimum. The search
+                # goes on from the best point with the residual's own, to
+                # its stop (or max_nfev's, or the budget's).
+                if res.status <= 0 or not obj.J_coarse or nfev >= max_nfev:
+                    break
+                x, obj.coarse, obj.J_coarse = obj.best[1], False, False
+                state.clear()
         except _Budget:
             pass
     if _TRACE:
