@@ -37,11 +37,11 @@ from . import digest, holdout, lib, model, noise
 NOZZLE_BIAS = (-0.5, 3.0)   # the fitted range of the nozzle's bias point
 BURN = 0.02          # without an opening rest (of at least this much): 2 % of the fit part's samples, at the start, not counted
 DIFF_STEP = 1e-4     # relative finite-difference step (transformed parameters)
-# A search's Jacobians are made at half the simulation rate while each
-# step still saves at least COARSE_PROGRESS of the cost (relative), then at
-# the full rate to the end (_Objective._coarse_differences); 0: always at
-# the full rate.
-COARSE_PROGRESS = 1e-3
+# A search's Jacobians after its first are made at half the simulation
+# rate while each step still saves more than COARSE_DEVIANCE in deviance,
+# then at the full rate to the end (_Objective.jac); 0: always at the full
+# rate.
+COARSE_DEVIANCE = 10.0
 
 _pool = None
 _pool_pid = 0
@@ -630,10 +630,15 @@ class _Objective:
         self.memo = memo if memo is not None else {}
         self.last = {}
         # Jacobians at half the rate (_coarse_differences) while allowed:
-        # where the rate can be halved, until the search's steps save
-        # little (jac) or it has stopped once (lm_fit). The last
-        # Jacobian's point and residual, and whether it was made so.
-        self.coarse = pb.setup.oversample >= 2 and COARSE_PROGRESS > 0
+        # where the rate halves exactly, dead time included (the library
+        # rounds a delay to whole samples of the rate it runs at: an odd
+        # delay at half the rate would be another delay, and the Jacobian
+        # another model's), until the search's steps save little (jac),
+        # the half rate's model is refused, or the search has stopped once
+        # (lm_fit). The last Jacobian's point and residual, and whether it
+        # was made so.
+        m = pb.setup.oversample
+        self.coarse = COARSE_DEVIANCE > 0 and m % 2 == 0 and dead % 2 == 0
         self.J_at = None
         self.J_coarse = False
         # Every point this fit evaluates, when asked (lm_fit's trail): for
@@ -707,16 +712,23 @@ class _Objective:
         th = np.asarray(th, float)
         if f0 is None:
             f0 = self(th)
+        # The first Jacobian is the residual's own: a fit that starts at
+        # or near an optimum (a refinement, a confirmation, a continued
+        # stage of the halving, whose last Jacobian the memo holds) is
+        # decided by it, as before. After it, half the rate while the last
+        # step saved more than COARSE_DEVIANCE in deviance (n ln of the
+        # cost ratio; a guard resolves nothing under a BIC change of 10):
+        # the search is then far from where it stops. From the first step
+        # that saves less, and to the end, the residual's own again: near
+        # its end the Jacobian decides where the search stops (its
+        # gradient test and its last steps).
+        half = False
         if self.coarse and self.J_at is not None:
-            # The last step saved less than COARSE_PROGRESS of the cost:
-            # the search is near its end, where the Jacobian decides where
-            # it stops (its gradient and its last steps), so from here on
-            # the residual's own
-            c_prev = float(self.J_at[1] @ self.J_at[1])
-            if c_prev - float(f0 @ f0) < COARSE_PROGRESS * c_prev:
-                self.coarse = False
+            c_prev, c = float(self.J_at[1] @ self.J_at[1]), float(f0 @ f0)
+            half = c > 0 and self.n * math.log(c_prev / c) > COARSE_DEVIANCE
+            self.coarse = half
         self.J_at = (th.copy(), f0)
-        J = self._coarse_differences(th) if self.coarse else None
+        J = self._coarse_differences(th) if half else None
         self.J_coarse = J is not None
         if J is not None:        # its base point, for a fit continued from here
             self.last = {tuple(from_theta(self.sp, th, self.pb).values()): f0}
@@ -753,18 +765,24 @@ class _Objective:
         ones. Its points are not kept (memo, trail, best): they are another
         model's residuals. Counted against the budget as the p full
         simulations they stand in for, so that a budget ends a search after
-        as many iterations as before."""
+        as many iterations as before. Only where the oversample is even and
+        the dead time a whole number of half-rate samples (_Objective)."""
         cols = self._steps(th)
         self.calls += len(cols)
         if self.calls > self.budget:
             raise _Budget()
-        m = self.pb.setup.oversample // 2
+        m = self.pb.setup.oversample // 2          # even: see _Objective
 
         def at(t):
             return self._residual(from_theta(self.sp, t, self.pb), m)
         pts = [th] + [t for t, _ in cols]
         got = list(_pool.map(at, pts)) if _pool is not None else [at(t) for t in pts]
         if any(mo is None for _, mo in got):
+            # the half rate's model refused where the full rate's was not:
+            # the full rate's differences, counted once, for the rest of
+            # the fit
+            self.calls -= len(cols)
+            self.coarse = False
             return None
         f0 = got[0][0]
         res = [(r - f0) / h for (r, _), (_, h) in zip(got[1:], cols)]
@@ -836,6 +854,7 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
         try:
             x = th0
             while True:
+                status = "budget"        # until this run returns
                 res = least_squares(fun, x, jac=jac, bounds=(lo, hi), method="trf",
                                     x_scale="jac", xtol=1e-6, ftol=ftol, gtol=1e-8,
                                     max_nfev=max_nfev - nfev)
@@ -847,7 +866,10 @@ def lm_fit(pb: Problem, effects, start: dict, dead: int = 0, budget: int = 400,
                 # stop can lie short of this model's optimum. The search
                 # goes on from the best point with the residual's own, to
                 # its stop (or max_nfev's, or the budget's).
-                if res.status <= 0 or not obj.J_coarse or nfev >= max_nfev:
+                if res.status <= 0 or not obj.J_coarse:
+                    break
+                if nfev >= max_nfev:     # stopped short, and nothing left to go on with
+                    status = "0"
                     break
                 x, obj.coarse, obj.J_coarse = obj.best[1], False, False
                 state.clear()
