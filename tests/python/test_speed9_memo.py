@@ -79,7 +79,9 @@ def test_halving_stages_reuse_the_last_jacobian(monkeypatch):
     _same(got, plain)
     # a run that converged within its stage ended with a Jacobian at its
     # final point, where its next stage starts: those p + 1 points are not
-    # simulated again (a run that ran out of budget ended without one)
+    # simulated again (a run that ran out of budget ended without one; a
+    # run whose last Jacobian was made at half the rate, while it still
+    # made headway, leaves only its base point: fit.COARSE_DEVIANCE)
     assert n_memo < len(seen)
 
 
