@@ -105,7 +105,7 @@ def test_an_effect_is_compared_with_a_fit_on_fewer_samples_on_those_samples():
     lag model fitted on every sample; refitted on the same samples, the
     lag model predicts better than it, and the lag is added."""
     # 0.04 of the span: at 0.035 the lag model's search (with Jacobians at
-    # half the rate on its way, fit.COARSE_PROGRESS) reached a lower cost
+    # half the rate on its way, fit.COARSE_DEVIANCE) reached a lower cost
     # than it had and predicted the held-out part better than the late
     # half's fit (0.0459 against 0.0480), and the premise failed; at 0.04
     # it holds with a margin of 7 % on either side (0.0480 < 0.0514 <
