@@ -1,7 +1,16 @@
 # SPDX-License-Identifier: MIT
 """Fixtures of the on-target tests (cases in target_cases.py): the images
-are linked once per session, each test gets a fresh emulator on them."""
+are linked once per run, each test gets a fresh emulator on them.
+
+scripts/test.sh runs these tests on one pytest-xdist worker per core. The
+images are then built once for all workers: in a folder they share, each
+under its own lock, by the first worker that needs it; the others wait
+for it and load the same files."""
 from __future__ import annotations
+
+import fcntl
+import os
+from pathlib import Path
 
 import pytest
 
@@ -14,13 +23,35 @@ from target_cases import every_design
 
 @pytest.fixture(scope="session")
 def workdir(tmp_path_factory):
-    return tmp_path_factory.mktemp("mcuemu")
+    """The run's image folder: under pytest-xdist the parent of the
+    workers' own temporary folders (one per run, shared by its workers),
+    else the session's."""
+    base = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        base = base.parent
+    d = base / "mcuemu"
+    d.mkdir(exist_ok=True)
+    return d
+
+
+def built(out: Path, build) -> Path:
+    """build(out) -> the file it made, run once per run: under out's lock,
+    it records the file's path in out/done; a later call (this worker's or
+    another's) reads it there. A build that raised records nothing, so the
+    next call builds again and fails the same way."""
+    out.mkdir(exist_ok=True)
+    with open(out.with_suffix(".lock"), "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        done = out / "done"
+        if not done.exists():
+            done.write_text(str(build(out)))
+        return Path(done.read_text())
 
 
 @pytest.fixture(scope="session")
 def host(workdir):
     ds = every_design("q15") + every_design("float")
-    so = build_host_sets(ds, workdir / "host")
+    so = built(workdir / "host", lambda out: build_host_sets(ds, out))
     return HostRunner(host_build_dir() / "lib" / "libpneufrac.so", so)
 
 
@@ -36,6 +67,7 @@ def target_of(workdir):
         if (core, bank_c) not in _targets:
             ds = every_design("q15") + (every_design("float") if core == "m4" else [])
             name = core + ("-c" if bank_c else "")
-            _targets[(core, bank_c)] = link_target(core, "-Os", ds, workdir / name, bank_c)
+            _targets[(core, bank_c)] = built(
+                workdir / name, lambda out: link_target(core, "-Os", ds, out, bank_c))
         return TargetRunner(Target(str(_targets[(core, bank_c)]), core))
     return get
