@@ -8,13 +8,11 @@ under its own lock, by the first worker that needs it; the others wait
 for it and load the same files."""
 from __future__ import annotations
 
-import fcntl
 import os
-from pathlib import Path
 
 import pytest
 
-from mcuemu.images import build_host_sets, host_build_dir, link_target
+from mcuemu.images import build_host_sets, built_once, host_build_dir, link_target
 from mcuemu.runner import HostRunner, TargetRunner
 from mcuemu.target import Target
 
@@ -34,24 +32,10 @@ def workdir(tmp_path_factory):
     return d
 
 
-def built(out: Path, build) -> Path:
-    """build(out) -> the file it made, run once per run: under out's lock,
-    it records the file's path in out/done; a later call (this worker's or
-    another's) reads it there. A build that raised records nothing, so the
-    next call builds again and fails the same way."""
-    out.mkdir(exist_ok=True)
-    with open(out.with_suffix(".lock"), "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
-        done = out / "done"
-        if not done.exists():
-            done.write_text(str(build(out)))
-        return Path(done.read_text())
-
-
 @pytest.fixture(scope="session")
 def host(workdir):
     ds = every_design("q15") + every_design("float")
-    so = built(workdir / "host", lambda out: build_host_sets(ds, out))
+    so = built_once(workdir / "host", lambda out: build_host_sets(ds, out))
     return HostRunner(host_build_dir() / "lib" / "libpneufrac.so", so)
 
 
@@ -67,7 +51,7 @@ def target_of(workdir):
         if (core, bank_c) not in _targets:
             ds = every_design("q15") + (every_design("float") if core == "m4" else [])
             name = core + ("-c" if bank_c else "")
-            _targets[(core, bank_c)] = built(
+            _targets[(core, bank_c)] = built_once(
                 workdir / name, lambda out: link_target(core, "-Os", ds, out, bank_c))
         return TargetRunner(Target(str(_targets[(core, bank_c)]), core))
     return get

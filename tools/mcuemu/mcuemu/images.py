@@ -187,3 +187,18 @@ def build_host_table(src: Path, out: Path) -> Path:
     _run([os.environ.get("CC", "cc"), "-std=c99", "-shared", "-fPIC", "-O2",
           f"-I{ROOT / 'lib' / 'include'}", f"-I{out}", str(src), "-o", str(so)])
     return so
+
+
+def built_once(out: Path, build) -> Path:
+    """build(out) -> the file it made, run once however many processes ask
+    (pytest-xdist workers sharing out's parent): under out's lock, it
+    records the file's path in out/done; a later call (this process's or
+    another's) reads it there. A build that raised records nothing, so the
+    next call builds again and fails the same way."""
+    out.mkdir(parents=True, exist_ok=True)
+    with open(out.with_suffix(".lock"), "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        done = out / "done"
+        if not done.exists():
+            done.write_text(str(build(out)))
+        return Path(done.read_text())
