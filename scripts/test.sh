@@ -83,8 +83,11 @@ step_firmware() {
   ./scripts/firmware-check.sh
 }
 
+# One pytest-xdist worker per core, as step_pytest: each test runs its own
+# emulator in its worker's process; the images are built once for both
+# (tests/target/conftest.py), the cross builds under a lock (mcuemu.images).
 step_target() {
-  PNEUFRAC_BUILD_DIR="$PWD/build" .venv/bin/python -m pytest -q tests/target
+  PNEUFRAC_BUILD_DIR="$PWD/build" .venv/bin/python -m pytest -q -n "$jobs" --durations=10 tests/target
 }
 
 step_pytest() {

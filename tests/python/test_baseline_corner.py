@@ -14,15 +14,13 @@ is checked by it too."""
 import pytest
 
 import cases
-from indepsim.make import make
-from pneufrac_fit import data, diagnose, model, output
+from pneufrac_fit import model, output
 
 
 @pytest.fixture(scope="module")
-def diag():
-    rec = make("lag-real", 1)
-    r = data.make_record(rec.t, rec.e, rec.pc, "lag-real-1")
-    return diagnose.diagnose(r, rec.truth["config"], jobs=2, progress=False)
+def diag(lag_real_1):
+    """The record's diagnosis, shared with another file (conftest.SHARED)."""
+    return lag_real_1
 
 
 def _at_bound(d) -> list[str]:

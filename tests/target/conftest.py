@@ -1,11 +1,18 @@
 # SPDX-License-Identifier: MIT
 """Fixtures of the on-target tests (cases in target_cases.py): the images
-are linked once per session, each test gets a fresh emulator on them."""
+are linked once per run, each test gets a fresh emulator on them.
+
+scripts/test.sh runs these tests on one pytest-xdist worker per core. The
+images are then built once for all workers: in a folder they share, each
+under its own lock, by the first worker that needs it; the others wait
+for it and load the same files."""
 from __future__ import annotations
+
+import os
 
 import pytest
 
-from mcuemu.images import build_host_sets, host_build_dir, link_target
+from mcuemu.images import build_host_sets, built_once, host_build_dir, link_target
 from mcuemu.runner import HostRunner, TargetRunner
 from mcuemu.target import Target
 
@@ -14,13 +21,21 @@ from target_cases import every_design
 
 @pytest.fixture(scope="session")
 def workdir(tmp_path_factory):
-    return tmp_path_factory.mktemp("mcuemu")
+    """The run's image folder: under pytest-xdist the parent of the
+    workers' own temporary folders (one per run, shared by its workers),
+    else the session's."""
+    base = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        base = base.parent
+    d = base / "mcuemu"
+    d.mkdir(exist_ok=True)
+    return d
 
 
 @pytest.fixture(scope="session")
 def host(workdir):
     ds = every_design("q15") + every_design("float")
-    so = build_host_sets(ds, workdir / "host")
+    so = built_once(workdir / "host", lambda out: build_host_sets(ds, out))
     return HostRunner(host_build_dir() / "lib" / "libpneufrac.so", so)
 
 
@@ -36,6 +51,7 @@ def target_of(workdir):
         if (core, bank_c) not in _targets:
             ds = every_design("q15") + (every_design("float") if core == "m4" else [])
             name = core + ("-c" if bank_c else "")
-            _targets[(core, bank_c)] = link_target(core, "-Os", ds, workdir / name, bank_c)
+            _targets[(core, bank_c)] = built_once(
+                workdir / name, lambda out: link_target(core, "-Os", ds, out, bank_c))
         return TargetRunner(Target(str(_targets[(core, bank_c)]), core))
     return get

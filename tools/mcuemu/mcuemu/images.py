@@ -8,6 +8,7 @@ is between two builds of the same C code on the same data: the target's
 """
 from __future__ import annotations
 
+import fcntl
 import os
 import subprocess
 import sys
@@ -87,12 +88,27 @@ def write_sets(designs: list[Design], out: Path) -> Path:
     if len(set(names)) != len(names):
         raise ValueError("design names must be unique")
     for d in designs:
-        with open(out / f"{d.name}.h", "w") as f:
-            r = subprocess.run(d.exporter() + d.cli_args(), cwd=ROOT, stdout=f,
-                               stderr=subprocess.PIPE, text=True)
-        if r.returncode != 0:
-            raise RuntimeError(f"{' '.join(d.exporter() + d.cli_args())}: {r.stderr}")
+        (out / f"{d.name}.h").write_text(_header(d))
     return write_table([(d.name, d.kind, d.arith) for d in designs], out)
+
+
+# A design's header, by design and exporter command: one export per process
+# however many images hold the design (the on-target tests link the same
+# designs into the host table and three images; pneufrac-reduce takes
+# seconds each). The exporter is the build's, which a process does not
+# rebuild, so the same command gives the same header.
+_HEADERS: dict[tuple, str] = {}
+
+
+def _header(d: Design) -> str:
+    cmd = d.exporter() + d.cli_args()
+    key = (d, tuple(cmd))
+    if key not in _HEADERS:
+        r = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+        if r.returncode != 0:
+            raise RuntimeError(f"{' '.join(cmd)}: {r.stderr}")
+        _HEADERS[key] = r.stdout
+    return _HEADERS[key]
 
 
 def write_table(sets: list[tuple[str, str, str]], out: Path) -> Path:
@@ -130,8 +146,16 @@ def cross_archive(core: str, opt: str, bank_c: bool = False) -> Path:
         raise ValueError("only the Cortex-M0+ build has the bank's assembly loop")
     short = {"m0plus": "m0", "m4": "m4"}[core] + ("-c" if bank_c else "")
     d = ROOT / (f"build-arm-{short}" if opt == "-Os" else f"build-arm-{short}{opt}")
-    _run(["bash", "scripts/fw-image.sh", "fw_build", CPUS[core], str(d), opt]
-         + (["-DPNEUFRAC_BANK_ASM=OFF"] if bank_c else []))
+    # The build directory is shared by every process of the checkout (the
+    # on-target tests run on one pytest-xdist worker per core): two cmake
+    # runs in one directory at once corrupt it, so each holds the
+    # directory's lock while it configures and builds. The lock file is
+    # inside the directory, which .gitignore covers (/build*/).
+    d.mkdir(parents=True, exist_ok=True)
+    with open(d / ".mcuemu.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        _run(["bash", "scripts/fw-image.sh", "fw_build", CPUS[core], str(d), opt]
+             + (["-DPNEUFRAC_BANK_ASM=OFF"] if bank_c else []))
     return d / "lib" / "libpneufrac.a"
 
 
@@ -163,3 +187,18 @@ def build_host_table(src: Path, out: Path) -> Path:
     _run([os.environ.get("CC", "cc"), "-std=c99", "-shared", "-fPIC", "-O2",
           f"-I{ROOT / 'lib' / 'include'}", f"-I{out}", str(src), "-o", str(so)])
     return so
+
+
+def built_once(out: Path, build) -> Path:
+    """build(out) -> the file it made, run once however many processes ask
+    (pytest-xdist workers sharing out's parent): under out's lock, it
+    records the file's path in out/done; a later call (this process's or
+    another's) reads it there. A build that raised records nothing, so the
+    next call builds again and fails the same way."""
+    out.mkdir(parents=True, exist_ok=True)
+    with open(out.with_suffix(".lock"), "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        done = out / "done"
+        if not done.exists():
+            done.write_text(str(build(out)))
+        return Path(done.read_text())
