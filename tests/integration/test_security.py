@@ -220,8 +220,17 @@ def waiting_request_round(d, r, split, tls=None):
     if tls:
         # The handshake, with the daemon running; TLS 1.3's client is done
         # before the server has checked its Finished, so wait for the
-        # client's thread to be past the handshake.
-        legit = tls.wrap_socket(legit)
+        # client's thread to be past the handshake. A client refused at
+        # accept (the last round's slot not yet reaped: the daemon closes
+        # it with no client-closed line) sees the handshake end at EOF; the
+        # caller tries that round again, as it does a plain one refused
+        # (an ASan run at load 6 met it, 2026-11-28).
+        port = legit.getsockname()[1]
+        try:
+            legit = tls.wrap_socket(legit)
+        except (ssl.SSLError, OSError):
+            legit.close()
+            return False, port
         me = rf"msg=client-connected peer=127\.0\.0\.1:{legit.getsockname()[1]} "
         wait_until(lambda: re.search(me, d.log()), 10, "the TLS handshake")
     if split:  # the header now, and time for the client's thread to take it
