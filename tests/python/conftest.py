@@ -43,6 +43,9 @@ def _no_answers_from_an_earlier_test():
 SHARED = {"lag_real_1": ("test_baseline_corner.py", "test_interval_notes.py")}
 
 
+# optionalhook: a run without pytest-xdist (plain `pytest`, or `-p
+# no:xdist`) does not know the hook, and would stop at collection
+@pytest.hookimpl(optionalhook=True)
 def pytest_xdist_make_scheduler(config, log):
     """--dist loadfile, with the files of one SHARED entry one unit of work
     (xdist's LoadFileScheduling takes a test's file as its unit, from the
