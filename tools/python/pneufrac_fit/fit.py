@@ -635,11 +635,11 @@ class _Objective:
         # delay at half the rate would be another delay, and the Jacobian
         # another model's), until the search's steps save little (jac),
         # the half rate's model is refused, or the search has stopped once
-        # (lm_fit). The last Jacobian's point and residual, and whether it
+        # (lm_fit). The cost at the last Jacobian's point, and whether it
         # was made so.
         m = pb.setup.oversample
         self.coarse = COARSE_DEVIANCE > 0 and m % 2 == 0 and dead % 2 == 0
-        self.J_at = None
+        self.J_cost = None
         self.J_coarse = False
         # Every point this fit evaluates, when asked (lm_fit's trail): for
         # another fit that starts where this one did (candidates._apart)
@@ -723,11 +723,12 @@ class _Objective:
         # its end the Jacobian decides where the search stops (its
         # gradient test and its last steps).
         half = False
-        if self.coarse and self.J_at is not None:
-            c_prev, c = float(self.J_at[1] @ self.J_at[1]), float(f0 @ f0)
+        c = float(f0 @ f0)
+        if self.coarse and self.J_cost is not None:
+            c_prev = self.J_cost
             half = c > 0 and self.n * math.log(c_prev / c) > COARSE_DEVIANCE
             self.coarse = half
-        self.J_at = (th.copy(), f0)
+        self.J_cost = c
         J = self._coarse_differences(th) if half else None
         self.J_coarse = J is not None
         if J is not None:        # its base point, for a fit continued from here
